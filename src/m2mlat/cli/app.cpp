@@ -1,0 +1,46 @@
+// Builds the CLI from the subcommand table and maps errors to exit codes.
+#include "m2mlat/cli/app.hpp"
+
+#include <fmt/format.h>
+
+#include <iostream>
+#include <string>
+
+#include "m2mlat/cli/command.hpp"
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/core/version.hpp"
+
+namespace m2mlat::cli {
+
+int run(int argc, char** argv) {
+  CLI::App app{"m2mlat: measure Motion-to-Motion latency between two boards (cause -> effect edges)", "m2mlat"};
+  app.set_version_flag("--version", std::string("m2mlat ") + core::kVersion);
+  app.require_subcommand(1);
+  app.fallthrough(false);
+
+  std::vector<std::pair<CLI::App*, Runner>> runners;
+  for (const auto& command : commands()) {
+    CLI::App* sub = app.add_subcommand(std::string(command.name), std::string(command.summary));
+    runners.emplace_back(sub, command.attach(*sub));
+  }
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);  // prints help or the usage error; 0 for --help, non-zero otherwise
+  }
+
+  try {
+    for (auto& [sub, runner] : runners)
+      if (sub->parsed()) return runner();
+  } catch (const core::Error& e) {
+    std::cerr << "m2mlat: error: " << e.what() << '\n';
+    return core::exit_code(e.kind());
+  } catch (const std::exception& e) {
+    std::cerr << "m2mlat: internal error: " << e.what() << '\n';
+    return core::exit_code(core::ErrorKind::internal);
+  }
+  return core::exit_code(core::ErrorKind::usage);
+}
+
+}  // namespace m2mlat::cli
