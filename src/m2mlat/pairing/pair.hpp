@@ -1,0 +1,42 @@
+// A matched cause -> effect pair and the reasons an event can stay unmatched.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+#include "m2mlat/core/time.hpp"
+
+namespace m2mlat::pairing {
+
+// One latency sample: the cause edge and the effect edge it produced. Both timestamps are on the
+// same clock (CLOCK_REALTIME of two synchronised boards in the field); latency = effect - cause.
+struct Pair {
+  std::int64_t cause_index = 0;   // index of the cause event in the matcher's input (or its store id)
+  std::int64_t effect_index = 0;  // index of the effect event in the matcher's input (or its store id)
+  core::TimePoint cause_time;
+  core::TimePoint effect_time;
+
+  core::Duration latency() const { return effect_time - cause_time; }
+  friend bool operator==(const Pair&, const Pair&) = default;
+};
+
+enum class Side : std::uint8_t { cause = 0, effect = 1 };
+std::string_view to_string(Side side);
+
+// Why an event has no partner. Stored and exported by name: keep the names stable.
+enum class UnmatchedReason : std::uint8_t {
+  bounce = 0,         // within the refractory period after a kept edge on the same side
+  no_candidate = 1,   // no event on the other side within the latency window
+  outmatched = 2,     // candidates existed, but a consistent one-to-one ordering used them elsewhere
+};
+std::string_view to_string(UnmatchedReason reason);
+
+struct Unmatched {
+  Side side = Side::cause;
+  std::int64_t index = 0;  // index in the matcher's input on that side
+  core::TimePoint time;
+  UnmatchedReason reason = UnmatchedReason::no_candidate;
+  friend bool operator==(const Unmatched&, const Unmatched&) = default;
+};
+
+}  // namespace m2mlat::pairing
