@@ -1,0 +1,56 @@
+// The cause -> effect matcher: pairs each cause edge with the effect edge it produced.
+//
+// The problem: a wheel with several magnets fires a burst of edges tens of ms apart on each side,
+// while the latency between the sides is ~0.8 s, so many effect edges fall inside every cause's
+// latency window. Taking the nearest (or the first) effect after each cause pairs the wrong edges as
+// soon as one edge is missed or a spurious one appears. Instead the matcher finds the ONE-TO-ONE,
+// ORDER-PRESERVING assignment (if cause a precedes cause b, a's effect precedes b's) that best agrees
+// with the locally typical latency, by dynamic programming over the candidate pairs:
+//
+//  1. a refractory filter removes bounces on each side (refractory.hpp);
+//  2. pass 1 aligns against a global reference latency (the mode of all candidate latencies);
+//  3. the reference is then made local: a running median over the neighbouring pass-1 pairs;
+//  4. pass 2 aligns again against the local reference, allowing only pairs whose latency is within
+//     `tolerance` of it.
+// Each alignment maximises the sum over pairs of (tolerance - |latency - reference|) in integer ns,
+// so it is exact and deterministic. Its cost is linear in the number of candidate pairs (events times
+// the average number of effect edges inside one latency window), with 8 bytes kept per candidate.
+// Every event left without a partner is reported with a reason. docs/matcher.md has the details.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "m2mlat/core/event.hpp"
+#include "m2mlat/core/time.hpp"
+#include "m2mlat/pairing/pair.hpp"
+
+namespace m2mlat::pairing {
+
+struct MatchOptions {
+  core::Duration min_latency{0};                 // smallest plausible latency (ns); may be negative
+  core::Duration max_latency{3'000'000'000};     // largest plausible latency (ns): the window's end
+  core::Duration refractory{10'000'000};         // bounce suppression per side (ns); 0 disables
+  core::Duration tolerance{1'000'000'000};       // largest |latency - local typical latency| (ns)
+  int reference_neighbours = 10;                 // running median over this many pairs each side
+};
+
+struct MatchResult {
+  std::vector<Pair> pairs;            // in cause order (and so in effect order)
+  std::vector<Unmatched> unmatched;   // sorted by side, then index
+  core::Clock clock = core::Clock::realtime;
+  std::int64_t cause_count = 0;       // input sizes, for the reader of a report
+  std::int64_t effect_count = 0;
+};
+
+// Matches two sorted timestamp sequences (ns, same clock). Indices in the result refer to these spans.
+// Throws core::Error(usage) on bad options and core::Error(data) if a sequence is not sorted.
+MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
+                  core::Clock clock, const MatchOptions& options = {});
+
+// The same for events (each side's events must share one clock and be in time order).
+MatchResult match(std::span<const core::Event> causes, std::span<const core::Event> effects,
+                  const MatchOptions& options = {});
+
+}  // namespace m2mlat::pairing

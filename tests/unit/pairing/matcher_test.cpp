@@ -1,0 +1,112 @@
+#include "m2mlat/pairing/matcher.hpp"
+
+#include <gtest/gtest.h>
+
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/pairing/refractory.hpp"
+
+using namespace m2mlat;
+using pairing::match;
+using pairing::UnmatchedReason;
+
+namespace {
+constexpr std::int64_t kMs = 1'000'000;
+
+std::vector<std::pair<std::int64_t, std::int64_t>> index_pairs(const pairing::MatchResult& r) {
+  std::vector<std::pair<std::int64_t, std::int64_t>> out;
+  for (const auto& p : r.pairs) out.emplace_back(p.cause_index, p.effect_index);
+  return out;
+}
+using IndexPairs = std::vector<std::pair<std::int64_t, std::int64_t>>;
+}  // namespace
+
+TEST(Refractory, KeepsFirstEdgeOfEachBurst) {
+  const std::vector<std::int64_t> t{0, 2 * kMs, 9 * kMs, 12 * kMs, 30 * kMs};
+  const auto r = pairing::refractory_filter(t, std::chrono::milliseconds(10));
+  EXPECT_EQ(r.kept, (std::vector<std::int64_t>{0, 3, 4}));
+  EXPECT_EQ(r.bounces, (std::vector<std::int64_t>{1, 2}));
+}
+
+TEST(Matcher, SingleMagnetClean) {
+  const std::vector<std::int64_t> c{0, 2500 * kMs, 5100 * kMs};
+  const std::vector<std::int64_t> e{800 * kMs, 3350 * kMs, 5850 * kMs};
+  const auto r = match(c, e, core::Clock::realtime);
+  EXPECT_EQ(index_pairs(r), (IndexPairs{{0, 0}, {1, 1}, {2, 2}}));
+  EXPECT_TRUE(r.unmatched.empty());
+  EXPECT_EQ(r.pairs[1].latency().count(), 850 * kMs);
+}
+
+TEST(Matcher, MultiMagnetBurstWithMissedEffectEdge) {
+  // Three magnets 30 ms apart on the operator wheel; the vehicle wheel turns a bit slower (40 ms
+  // spacing) 800 ms later and its middle edge is missed. A nearest-neighbour or first-after rule
+  // pairs cause 1 with effect 1 (the third magnet); the right answer leaves cause 1 alone.
+  const std::vector<std::int64_t> c{0, 30 * kMs, 60 * kMs, 3000 * kMs, 3030 * kMs, 3060 * kMs};
+  const std::vector<std::int64_t> e{800 * kMs, 880 * kMs, 3790 * kMs, 3830 * kMs, 3870 * kMs};
+  const auto r = match(c, e, core::Clock::realtime);
+  EXPECT_EQ(index_pairs(r), (IndexPairs{{0, 0}, {2, 1}, {3, 2}, {4, 3}, {5, 4}}));
+  ASSERT_EQ(r.unmatched.size(), 1u);
+  EXPECT_EQ(r.unmatched[0].side, pairing::Side::cause);
+  EXPECT_EQ(r.unmatched[0].index, 1);
+  EXPECT_EQ(r.unmatched[0].reason, UnmatchedReason::outmatched);
+}
+
+TEST(Matcher, MissingEffectDoesNotShiftLaterPairs) {
+  // Manoeuvres 2 s apart, latency ~0.8 s: the first effect is missing and a spurious effect follows.
+  // Order-preserving cardinality alone would pair cause 0 with effect 0 (2.8 s) and cause 1 with the
+  // spurious edge; the local latency says cause 1 -> effect 0.
+  std::vector<std::int64_t> c, e;
+  for (int k = 0; k < 30; ++k) {
+    c.push_back(k * 2000 * kMs);
+    if (k != 10) e.push_back(k * 2000 * kMs + 800 * kMs + (k % 3) * 20 * kMs);
+  }
+  e.push_back(11 * 2000 * kMs + 1500 * kMs);  // spurious
+  std::sort(e.begin(), e.end());
+  const auto r = match(c, e, core::Clock::realtime);
+  ASSERT_EQ(r.pairs.size(), 29u);
+  for (const auto& p : r.pairs) {
+    EXPECT_GE(p.latency().count(), 800 * kMs);
+    EXPECT_LE(p.latency().count(), 840 * kMs);
+  }
+  std::size_t reasons_cause = 0, reasons_effect = 0;
+  for (const auto& u : r.unmatched) (u.side == pairing::Side::cause ? reasons_cause : reasons_effect)++;
+  EXPECT_EQ(reasons_cause, 1u);
+  EXPECT_EQ(reasons_effect, 1u);
+}
+
+TEST(Matcher, BouncesAreReportedAndIgnored) {
+  const std::vector<std::int64_t> c{0, 1 * kMs, 3 * kMs, 2000 * kMs};
+  const std::vector<std::int64_t> e{750 * kMs, 752 * kMs, 2760 * kMs};
+  const auto r = match(c, e, core::Clock::realtime);
+  EXPECT_EQ(index_pairs(r), (IndexPairs{{0, 0}, {3, 2}}));
+  ASSERT_EQ(r.unmatched.size(), 3u);
+  for (const auto& u : r.unmatched) EXPECT_EQ(u.reason, UnmatchedReason::bounce);
+}
+
+TEST(Matcher, NoCandidateReason) {
+  const std::vector<std::int64_t> c{0, 10'000 * kMs};
+  const std::vector<std::int64_t> e{800 * kMs, 20'000 * kMs};
+  const auto r = match(c, e, core::Clock::realtime);
+  EXPECT_EQ(index_pairs(r), (IndexPairs{{0, 0}}));
+  ASSERT_EQ(r.unmatched.size(), 2u);
+  EXPECT_EQ(r.unmatched[0].reason, UnmatchedReason::no_candidate);
+  EXPECT_EQ(r.unmatched[1].reason, UnmatchedReason::no_candidate);
+}
+
+TEST(Matcher, EmptyAndInvalidInput) {
+  EXPECT_TRUE(match(std::span<const std::int64_t>{}, std::span<const std::int64_t>{}, core::Clock::realtime).pairs.empty());
+  const std::vector<std::int64_t> unsorted{5, 3};
+  const std::vector<std::int64_t> sorted{1, 2};
+  EXPECT_THROW(match(unsorted, sorted, core::Clock::realtime), core::Error);
+  pairing::MatchOptions bad;
+  bad.max_latency = bad.min_latency;
+  EXPECT_THROW(match(sorted, sorted, core::Clock::realtime, bad), core::Error);
+}
+
+TEST(Matcher, EventsOfDifferentClocksAreRefused) {
+  std::vector<core::Event> c(1), e(1);
+  c[0].time = core::TimePoint::from_ns(core::Clock::realtime, 0);
+  e[0].time = core::TimePoint::from_ns(core::Clock::monotonic, 800 * kMs);
+  EXPECT_THROW(match(c, e), core::Error);
+  e[0].time = core::TimePoint::from_ns(core::Clock::realtime, 800 * kMs);
+  EXPECT_EQ(match(c, e).pairs.size(), 1u);
+}
