@@ -6,9 +6,21 @@
 namespace m2mlat::cli {
 
 Runner attach_help(CLI::App& sub);
+Runner attach_demo(CLI::App& sub);
+Runner attach_pair(CLI::App& sub);
+Runner attach_stats(CLI::App& sub);
+Runner attach_simulate(CLI::App& sub);
+Runner attach_import(CLI::App& sub);
+Runner attach_export(CLI::App& sub);
 
 namespace {
 constexpr std::array kCommands{
+    Command{"demo", "Simulate a campaign of several scenarios and check the results against the truth", &attach_demo},
+    Command{"simulate", "Run the simulated rig into a store or into per-node files with the truth", &attach_simulate},
+    Command{"pair", "Pair cause and effect edges into latency samples", &attach_pair},
+    Command{"stats", "Latency statistics per scenario, from stores or data files", &attach_stats},
+    Command{"import", "Read the reference rig's files or m2mlat's own into a store", &attach_import},
+    Command{"export", "Write a store's events, or its pairs, as CSV or JSON Lines", &attach_export},
     Command{"help", "List the subcommands with a line on each", &attach_help},
 };
 }  // namespace

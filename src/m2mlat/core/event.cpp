@@ -36,7 +36,7 @@ ChannelRef parse_channel_ref(std::string_view text, std::string_view default_cha
   const auto slash = text.find('/');
   ChannelRef ref{std::string(text.substr(0, slash)),
                  std::string(slash == std::string_view::npos ? default_channel : text.substr(slash + 1))};
-  if (ref.node.empty() || ref.channel.empty())
+  if (ref.node.empty() || (slash != std::string_view::npos && ref.channel.empty()))
     throw Error(ErrorKind::usage, fmt::format("'{}' is not a channel (expected node/channel)", text));
   return ref;
 }

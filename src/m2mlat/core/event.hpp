@@ -40,7 +40,8 @@ struct Event {
   friend bool operator==(const Event&, const Event&) = default;
 };
 
-// A channel on a node: "vehicle/wheel". Parses "node/channel" or "node" (channel defaults).
+// A channel on a node: "vehicle/wheel". Parses "node/channel" or "node" (channel = default_channel,
+// which may be empty to mean "the node's only channel").
 struct ChannelRef {
   std::string node;
   std::string channel;

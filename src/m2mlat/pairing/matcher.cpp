@@ -69,20 +69,26 @@ std::int64_t global_reference(const std::vector<std::int64_t>& causes, const std
   return min_ns + static_cast<std::int64_t>(best_bin - 1) * kBin + kBin / 2;
 }
 
-// One alignment pass. reference(i) is the expected latency of cause i (ns). A candidate (i, j) scores
-// tolerance - |latency - reference(i)| > 0; the pass returns for each cause the matched effect or kNone.
+// One alignment pass. reference(i) is the expected latency of cause i (ns). A candidate (i, j) is
+// allowed if |latency - reference(i)| < tolerance and then fits by tolerance - |latency - reference(i)|.
+// A chain's value is (pairs, total fit) compared lexicographically when `most_pairs_first`, else
+// (total fit) alone. Returns for each cause the matched effect or kNone.
 //
-// G(i, j) = score(i, j) + max(0, max{ G(i', j') : i' < i, j' < j }) is the best total of an ordered chain
-// of pairs ending in (i, j). Causes are processed in order; for effects we keep best[j] = max over the
-// causes so far of G(., j). Because candidate windows only move forward, effects left behind by the
-// window are folded into one `frozen` maximum, so each cause costs O(its window).
+// G(i, j) = value(i, j) + max(0, max{ G(i', j') : i' < i, j' < j }) is the best value of an ordered
+// chain of pairs ending in (i, j). Causes are processed in order; for effects we keep best[j] = max
+// over the causes so far of G(., j). Because candidate windows only move forward, effects left behind
+// by the window are folded into one `frozen` maximum, so each cause costs O(its window).
 template <typename Reference>
 std::vector<std::uint32_t> align(const std::vector<std::int64_t>& causes, const std::vector<std::int64_t>& effects,
-                                 const Windows& w, std::int64_t tolerance_ns, Reference reference) {
+                                 const Windows& w, std::int64_t tolerance_ns, bool most_pairs_first,
+                                 Reference reference) {
   struct Best {
-    std::int64_t value = 0;
+    std::int64_t pairs = 0;  // counted only when most_pairs_first
+    std::int64_t fit = 0;    // sum of (tolerance - deviation), ns
     std::uint32_t candidate = kNone;  // the chain's last candidate, or kNone for the empty chain
+    bool operator>(const Best& o) const { return pairs != o.pairs ? pairs > o.pairs : fit > o.fit; }
   };
+  const std::int64_t pair_count = most_pairs_first ? 1 : 0;
   // Candidates, in cause order: the effect index and the predecessor candidate (8 bytes each).
   std::vector<std::uint32_t> cand_effect, cand_pred;
   std::vector<std::uint32_t> row_start(causes.size() + 1, 0);
@@ -94,31 +100,31 @@ std::vector<std::uint32_t> align(const std::vector<std::int64_t>& causes, const 
   for (std::size_t i = 0; i < causes.size(); ++i) {
     row_start[i] = static_cast<std::uint32_t>(cand_effect.size());
     for (; folded < w.lo[i]; ++folded)
-      if (best[folded].value > frozen.value) frozen = best[folded];
+      if (best[folded] > frozen) frozen = best[folded];
     const std::int64_t ref = reference(i);
     Best running = frozen;  // max over effects < j, from causes < i
     row.clear();
     for (auto j = w.lo[i]; j < w.hi[i]; ++j) {
       const std::int64_t latency = effects[j] - causes[i];
       const std::int64_t deviation = latency > ref ? latency - ref : ref - latency;
-      const std::int64_t score = tolerance_ns - deviation;
-      if (score > 0) {
-        if (cand_effect.size() >= kNone) throw core::Error(core::ErrorKind::usage, "too many candidate pairs: narrow the latency window");
+      if (deviation < tolerance_ns) {
+        if (cand_effect.size() >= kNone)
+          throw core::Error(core::ErrorKind::usage, "too many candidate pairs: narrow the latency window");
         const auto id = static_cast<std::uint32_t>(cand_effect.size());
         cand_effect.push_back(j);
         cand_pred.push_back(running.candidate);
-        row.emplace_back(j, Best{running.value + score, id});
+        row.emplace_back(j, Best{running.pairs + pair_count, running.fit + (tolerance_ns - deviation), id});
       }
-      if (best[j].value > running.value) running = best[j];
+      if (best[j] > running) running = best[j];
     }
     for (const auto& [j, chain] : row)
-      if (chain.value > best[j].value) best[j] = chain;
+      if (chain > best[j]) best[j] = chain;
   }
   row_start[causes.size()] = static_cast<std::uint32_t>(cand_effect.size());
 
   Best overall = frozen;
   for (std::size_t j = folded; j < effects.size(); ++j)
-    if (best[j].value > overall.value) overall = best[j];
+    if (best[j] > overall) overall = best[j];
 
   // Walk the chain back; candidates are numbered in cause order, so the row pointer only moves down.
   std::vector<std::uint32_t> match(causes.size(), kNone);
@@ -161,6 +167,67 @@ std::vector<std::int64_t> local_reference(const std::vector<std::int64_t>& cause
   return reference;
 }
 
+// Bursts: runs of kept edges on one side closer than `gap` to the previous one. Returns the burst
+// number of every edge.
+std::vector<std::uint32_t> bursts(const std::vector<std::int64_t>& times, std::int64_t gap_ns) {
+  std::vector<std::uint32_t> id(times.size(), 0);
+  for (std::size_t k = 1; k < times.size(); ++k) id[k] = id[k - 1] + (times[k] - times[k - 1] >= gap_ns ? 1 : 0);
+  return id;
+}
+
+// Marks the pairs whose assignment the data cannot make certain (PairFlag kPairAmbiguous):
+//  - a burst on either side holds an edge without partner (a pass missed on one side, or an extra
+//    edge): the order-preserving rule then had a choice of which edges to leave out;
+//  - within a burst, the effect edges' spacing does not follow the cause edges' spacing: for two
+//    consecutive pairs in one burst, (effect interval / cause interval) differs from the median of
+//    that ratio over all bursts by more than a factor kPatternFactor. The vehicle's wheel replays the
+//    operator's motion at a similar speed, so both sides show the same pattern of magnet passes;
+//    passes missed on BOTH sides at different magnets leave the counts equal but break the pattern.
+std::vector<bool> ambiguous_pairs(const std::vector<std::int64_t>& causes, const std::vector<std::int64_t>& effects,
+                                  const std::vector<std::uint32_t>& matched, std::int64_t gap_ns) {
+  constexpr double kPatternFactor = 1.5;
+  const auto cause_burst = bursts(causes, gap_ns), effect_burst = bursts(effects, gap_ns);
+  const std::size_t n_cause_bursts = causes.empty() ? 0 : cause_burst.back() + 1;
+  const std::size_t n_effect_bursts = effects.empty() ? 0 : effect_burst.back() + 1;
+  std::vector<bool> cause_bad(n_cause_bursts, false), effect_bad(n_effect_bursts, false);
+  std::vector<bool> effect_used(effects.size(), false);
+  for (std::size_t i = 0; i < matched.size(); ++i) {
+    if (matched[i] == kNone) cause_bad[cause_burst[i]] = true;
+    else effect_used[matched[i]] = true;
+  }
+  for (std::size_t j = 0; j < effects.size(); ++j)
+    if (!effect_used[j]) effect_bad[effect_burst[j]] = true;
+
+  // Interval ratios of consecutive pairs sharing a burst on both sides.
+  struct Step {
+    std::uint32_t burst;
+    double ratio;
+  };
+  std::vector<Step> steps;
+  std::size_t prev = kNone;
+  for (std::size_t i = 0; i < matched.size(); ++i) {
+    if (matched[i] == kNone) continue;
+    if (prev != kNone && cause_burst[prev] == cause_burst[i] && effect_burst[matched[prev]] == effect_burst[matched[i]])
+      steps.push_back({cause_burst[i], static_cast<double>(effects[matched[i]] - effects[matched[prev]]) /
+                                           static_cast<double>(causes[i] - causes[prev])});
+    prev = i;
+  }
+  if (!steps.empty()) {
+    std::vector<double> ratios;
+    for (const auto& s : steps) ratios.push_back(s.ratio);
+    auto mid = ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2);
+    std::nth_element(ratios.begin(), mid, ratios.end());
+    const double median = *mid;
+    for (const auto& s : steps)
+      if (s.ratio > median * kPatternFactor || s.ratio < median / kPatternFactor) cause_bad[s.burst] = true;
+  }
+
+  std::vector<bool> ambiguous(matched.size(), false);
+  for (std::size_t i = 0; i < matched.size(); ++i)
+    if (matched[i] != kNone) ambiguous[i] = cause_bad[cause_burst[i]] || effect_bad[effect_burst[matched[i]]];
+  return ambiguous;
+}
+
 void check_sorted(std::span<const std::int64_t> times, const char* side) {
   const auto it = std::is_sorted_until(times.begin(), times.end());
   if (it != times.end())
@@ -188,14 +255,15 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   const std::int64_t min_ns = options.min_latency.count(), max_ns = options.max_latency.count();
   const Windows windows = latency_windows(causes.ns, effects.ns, min_ns, max_ns);
 
-  // Pass 1: one global reference; every candidate in the window is allowed.
+  // Pass 1: one global reference; every candidate in the window is allowed, and the best fit wins
+  // (not the most pairs, so a missing edge cannot shift a chain of pairs to gain one).
   const std::int64_t global = global_reference(causes.ns, effects.ns, windows, min_ns, max_ns);
   const std::int64_t wide = (max_ns - min_ns) + 1;
-  auto match1 = align(causes.ns, effects.ns, windows, wide, [&](std::size_t) { return global; });
-  // Pass 2: the local reference, within the tolerance.
+  auto match1 = align(causes.ns, effects.ns, windows, wide, false, [&](std::size_t) { return global; });
+  // Pass 2: the local reference; within the tolerance, the most pairs, then the best fit.
   const auto reference = local_reference(causes.ns, effects.ns, match1, options.reference_neighbours, global);
   match1 = {};
-  const auto matched = align(causes.ns, effects.ns, windows, options.tolerance.count(),
+  const auto matched = align(causes.ns, effects.ns, windows, options.tolerance.count(), true,
                              [&](std::size_t i) { return reference[i]; });
 
   MatchResult result;
@@ -203,13 +271,14 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   result.cause_count = static_cast<std::int64_t>(cause_ns.size());
   result.effect_count = static_cast<std::int64_t>(effect_ns.size());
   std::vector<bool> effect_used(effects.ns.size(), false);
+  const auto ambiguous = ambiguous_pairs(causes.ns, effects.ns, matched, options.burst_gap.count());
   for (std::size_t i = 0; i < matched.size(); ++i) {
     if (matched[i] == kNone) continue;
     const auto j = matched[i];
     effect_used[j] = true;
     result.pairs.push_back(Pair{causes.input_index[i], effects.input_index[j],
                                 core::TimePoint::from_ns(clock, causes.ns[i]),
-                                core::TimePoint::from_ns(clock, effects.ns[j])});
+                                core::TimePoint::from_ns(clock, effects.ns[j]), ambiguous[i] ? kPairAmbiguous : 0u});
   }
 
   // Reasons for everything left over, in input order per side.

@@ -15,7 +15,8 @@
 // Each alignment maximises the sum over pairs of (tolerance - |latency - reference|) in integer ns,
 // so it is exact and deterministic. Its cost is linear in the number of candidate pairs (events times
 // the average number of effect edges inside one latency window), with 8 bytes kept per candidate.
-// Every event left without a partner is reported with a reason. docs/matcher.md has the details.
+// Every event left without a partner is reported with a reason, and a pair whose burst of edges
+// holds such an event is flagged ambiguous (kPairAmbiguous). docs/matcher.md has the details.
 #pragma once
 
 #include <cstdint>
@@ -34,6 +35,7 @@ struct MatchOptions {
   core::Duration refractory{10'000'000};         // bounce suppression per side (ns); 0 disables
   core::Duration tolerance{1'000'000'000};       // largest |latency - local typical latency| (ns)
   int reference_neighbours = 10;                 // running median over this many pairs each side
+  core::Duration burst_gap{250'000'000};         // edges closer than this (ns) form one burst
 };
 
 struct MatchResult {

@@ -10,13 +10,23 @@ namespace m2mlat::pairing {
 
 // One latency sample: the cause edge and the effect edge it produced. Both timestamps are on the
 // same clock (CLOCK_REALTIME of two synchronised boards in the field); latency = effect - cause.
+// Bits of Pair::flags. Exported: never renumber.
+enum PairFlag : std::uint32_t {
+  // The pair's burst of edges (on either side) has an edge without partner: a magnet pass was missed
+  // on one side or an extra edge appeared, so which edge belongs to which may be ambiguous. Such
+  // pairs are reported but left out of the statistics unless asked for (docs/matcher.md).
+  kPairAmbiguous = 1u << 0,
+};
+
 struct Pair {
   std::int64_t cause_index = 0;   // index of the cause event in the matcher's input (or its store id)
   std::int64_t effect_index = 0;  // index of the effect event in the matcher's input (or its store id)
   core::TimePoint cause_time;
   core::TimePoint effect_time;
+  std::uint32_t flags = 0;        // PairFlag bits
 
   core::Duration latency() const { return effect_time - cause_time; }
+  bool ambiguous() const { return (flags & kPairAmbiguous) != 0; }
   friend bool operator==(const Pair&, const Pair&) = default;
 };
 

@@ -1,0 +1,32 @@
+// One scenario analysed: its pairs (with the unmatched events and their reasons) and the latency
+// statistics. Everything here is recomputed from raw events: nothing derived is stored.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "m2mlat/analysis/selection.hpp"
+#include "m2mlat/pairing/matcher.hpp"
+#include "m2mlat/stats/summary.hpp"
+
+namespace m2mlat::analysis {
+
+struct ScenarioResult {
+  ScenarioInput input;
+  pairing::MatchResult match;  // indices in match refer to input.cause / input.effect positions
+  // Over the pairs not flagged ambiguous (all pairs with include_ambiguous); sample ids are the cause
+  // events' seq (store) or index (files).
+  stats::Summary summary;
+  bool include_ambiguous = false;
+  std::size_t ambiguous_pairs() const;
+
+  std::vector<std::int64_t> latencies_ns() const;  // of the pairs the summary is over
+  std::int64_t cause_seq(const pairing::Pair& p) const { return input.cause.seq[static_cast<std::size_t>(p.cause_index)]; }
+  std::int64_t effect_seq(const pairing::Pair& p) const { return input.effect.seq[static_cast<std::size_t>(p.effect_index)]; }
+};
+
+// Pairs the input and summarises the latencies of the pairs that are not ambiguous (or of all pairs).
+ScenarioResult analyse(ScenarioInput input, const pairing::MatchOptions& match_options,
+                       const stats::SummaryOptions& summary_options, bool include_ambiguous = false);
+
+}  // namespace m2mlat::analysis

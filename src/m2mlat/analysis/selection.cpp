@@ -1,0 +1,170 @@
+// Loading cause and effect timestamps of a scenario from a store or from events in memory.
+#include "m2mlat/analysis/selection.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <numeric>
+#include <set>
+
+#include "m2mlat/core/error.hpp"
+
+namespace m2mlat::analysis {
+
+namespace {
+
+constexpr std::array kClocks{core::Clock::realtime, core::Clock::monotonic, core::Clock::boottime,
+                             core::Clock::simulated};
+
+// The node of one side: the given one, or the single node whose sessions have `role`.
+std::string side_node(const std::vector<store::Session>& sessions, const std::string& scenario,
+                      const std::optional<core::ChannelRef>& given, core::Role role) {
+  const auto side = core::to_string(role);
+  std::set<std::string> nodes;
+  for (const auto& s : sessions)
+    if (given ? s.node == given->node : s.role == role) nodes.insert(s.node);
+  if (nodes.empty())
+    throw core::Error(core::ErrorKind::data,
+                      given ? fmt::format("scenario '{}' has no session of node '{}'", scenario, given->node)
+                            : fmt::format("scenario '{}' has no {} session (record or import one with role {})",
+                                          scenario, side, side));
+  if (nodes.size() > 1)
+    throw core::Error(core::ErrorKind::data,
+                      fmt::format("scenario '{}' has several {} nodes ({}): choose one with --{} node/channel",
+                                  scenario, side, fmt::join(nodes, ", "), side));
+  return *nodes.begin();
+}
+
+// Sorts the two parallel columns by time (stable, so equal times keep their seq order).
+void sort_by_time(store::Timestamps& t) {
+  if (std::is_sorted(t.t_ns.begin(), t.t_ns.end())) return;
+  std::vector<std::size_t> order(t.t_ns.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return t.t_ns[a] < t.t_ns[b]; });
+  store::Timestamps sorted{t.clock, {}, {}};
+  sorted.seq.reserve(order.size());
+  sorted.t_ns.reserve(order.size());
+  for (auto k : order) {
+    sorted.seq.push_back(t.seq[k]);
+    sorted.t_ns.push_back(t.t_ns[k]);
+  }
+  t = std::move(sorted);
+}
+
+// Loads one side: every session of the scenario on `node`, the chosen channel (or the node's only
+// channel) and edge, on whichever single clock they use.
+store::Timestamps load_side(const store::Store& store, const std::vector<store::Session>& sessions,
+                            const std::string& scenario, core::ChannelRef& ref, std::optional<core::Edge> edge) {
+  if (ref.channel.empty()) {
+    std::set<std::string> channels;
+    for (const auto& s : sessions)
+      if (s.node == ref.node)
+        for (auto& c : store.channels(s.id)) channels.insert(std::move(c));
+    if (channels.size() > 1)
+      throw core::Error(core::ErrorKind::data,
+                        fmt::format("node '{}' has several channels in scenario '{}' ({}): choose one as {}/<channel>",
+                                    ref.node, scenario, fmt::join(channels, ", "), ref.node));
+    if (!channels.empty()) ref.channel = *channels.begin();
+  }
+  store::Timestamps side;
+  std::optional<core::Clock> seen;
+  for (const auto& s : sessions) {
+    if (s.node != ref.node) continue;
+    store::EventFilter filter;
+    filter.session_id = s.id;
+    filter.channel = ref.channel;
+    filter.edge = edge;
+    for (auto clock : kClocks) {
+      auto part = store.timestamps(core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::min()),
+                                   core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::max()), filter);
+      if (part.t_ns.empty()) continue;
+      if (seen && *seen != clock)
+        throw core::Error(core::ErrorKind::data,
+                          fmt::format("{} has events on two clocks ({} and {}) in scenario '{}'", core::to_string(ref),
+                                      core::to_string(*seen), core::to_string(clock), scenario));
+      seen = clock;
+      side.seq.insert(side.seq.end(), part.seq.begin(), part.seq.end());
+      side.t_ns.insert(side.t_ns.end(), part.t_ns.begin(), part.t_ns.end());
+    }
+  }
+  side.clock = seen.value_or(core::Clock::realtime);
+  sort_by_time(side);
+  return side;
+}
+
+void check_clocks(const ScenarioInput& input) {
+  if (!input.cause.t_ns.empty() && !input.effect.t_ns.empty() && input.cause.clock != input.effect.clock)
+    throw core::Error(core::ErrorKind::data,
+                      fmt::format("scenario '{}': cause {} is on {} but effect {} is on {}; only timestamps of one "
+                                  "clock can be subtracted",
+                                  input.scenario, core::to_string(input.cause_ref), core::to_string(input.cause.clock),
+                                  core::to_string(input.effect_ref), core::to_string(input.effect.clock)));
+}
+
+}  // namespace
+
+std::vector<std::string> scenarios(const store::Store& store) {
+  std::vector<std::string> names;
+  for (const auto& s : store.sessions())
+    if (std::find(names.begin(), names.end(), s.scenario) == names.end()) names.push_back(s.scenario);
+  return names;
+}
+
+ScenarioInput load_scenario(const store::Store& store, const std::string& scenario, const Selection& selection) {
+  std::vector<store::Session> sessions;
+  for (auto& s : store.sessions())
+    if (s.scenario == scenario) sessions.push_back(std::move(s));
+  if (sessions.empty())
+    throw core::Error(core::ErrorKind::data, fmt::format("{}: no scenario '{}'", store.path(), scenario));
+
+  ScenarioInput input;
+  input.scenario = scenario;
+  input.cause_ref = {side_node(sessions, scenario, selection.cause, core::Role::cause),
+                     selection.cause ? selection.cause->channel : ""};
+  input.effect_ref = {side_node(sessions, scenario, selection.effect, core::Role::effect),
+                      selection.effect ? selection.effect->channel : ""};
+  input.cause = load_side(store, sessions, scenario, input.cause_ref, selection.edge);
+  input.effect = load_side(store, sessions, scenario, input.effect_ref, selection.edge);
+  input.clock = input.cause.clock;
+  check_clocks(input);
+  return input;
+}
+
+ScenarioInput from_events(std::string scenario, std::span<const core::Event> causes,
+                          std::span<const core::Event> effects, const Selection& selection) {
+  ScenarioInput input;
+  input.scenario = std::move(scenario);
+  auto take = [&](std::span<const core::Event> events, const std::optional<core::ChannelRef>& want,
+                  core::ChannelRef& ref, store::Timestamps& out, const char* side) {
+    std::optional<core::Clock> seen;
+    for (std::size_t k = 0; k < events.size(); ++k) {
+      const auto& e = events[k];
+      if (want && (e.node != want->node || (!want->channel.empty() && e.channel != want->channel))) continue;
+      if (selection.edge && e.edge != *selection.edge) continue;
+      if (ref.node.empty()) ref = {e.node, e.channel};
+      if ((!want || want->channel.empty()) && (e.node != ref.node || e.channel != ref.channel))
+        throw core::Error(core::ErrorKind::data,
+                          fmt::format("the {} input has events of {} and {}/{}: choose one with --{} node/channel",
+                                      side, core::to_string(ref), e.node, e.channel, side));
+      if (seen && *seen != e.time.clock())
+        throw core::Error(core::ErrorKind::data, fmt::format("the {} input mixes {} and {} timestamps", side,
+                                                             core::to_string(*seen), core::to_string(e.time.clock())));
+      seen = e.time.clock();
+      out.seq.push_back(static_cast<std::int64_t>(k));
+      out.t_ns.push_back(e.time.ns());
+    }
+    if (want && ref.node.empty()) ref = *want;
+    out.clock = seen.value_or(core::Clock::realtime);
+    sort_by_time(out);
+  };
+  take(causes, selection.cause, input.cause_ref, input.cause, "cause");
+  take(effects, selection.effect, input.effect_ref, input.effect, "effect");
+  input.clock = input.cause.clock;
+  check_clocks(input);
+  return input;
+}
+
+}  // namespace m2mlat::analysis

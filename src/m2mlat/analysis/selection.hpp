@@ -1,0 +1,46 @@
+// Which events of a campaign are causes and which are effects, and loading them.
+//
+// A campaign store holds sessions of several nodes, grouped by scenario. For one scenario the cause
+// events are those of the cause channel (by default: the sessions whose role is cause), the effect
+// events those of the effect channel; both as plain timestamp columns for the matcher.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "m2mlat/core/event.hpp"
+#include "m2mlat/store/records.hpp"
+#include "m2mlat/store/store.hpp"
+
+namespace m2mlat::analysis {
+
+struct Selection {
+  std::optional<core::ChannelRef> cause;   // unset: the node of the scenario's cause sessions
+  std::optional<core::ChannelRef> effect;  // unset: the node of the scenario's effect sessions
+  std::optional<core::Edge> edge = core::Edge::falling;  // unset: both edges
+};
+
+// One scenario's two sides, ready for the matcher. `seq` says where each timestamp came from: the
+// store's sequence number, or the index in an imported file's events.
+struct ScenarioInput {
+  std::string scenario;
+  core::ChannelRef cause_ref, effect_ref;
+  core::Clock clock = core::Clock::realtime;
+  store::Timestamps cause, effect;
+};
+
+// Scenario names in the order of their first session.
+std::vector<std::string> scenarios(const store::Store& store);
+
+// Loads one scenario. Throws core::Error(data) naming the scenario when a side has no session, when
+// a node has several channels and none was chosen, or when the two sides use different clocks.
+ScenarioInput load_scenario(const store::Store& store, const std::string& scenario, const Selection& selection);
+
+// The same from events in memory (e.g. imported files): filters by selection and sorts by time.
+ScenarioInput from_events(std::string scenario, std::span<const core::Event> causes,
+                          std::span<const core::Event> effects, const Selection& selection);
+
+}  // namespace m2mlat::analysis

@@ -1,0 +1,33 @@
+// Recording a simulated run into a store exactly as two boards would: one session per node (the
+// operator's with role cause, the vehicle's with role effect), its events in batches, and each
+// node's clock state as clock samples (source "sim"). The demo, `m2mlat simulate --store` and the
+// tests use this, so the simulated path goes through the same store as a real recording.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "m2mlat/sim/generator.hpp"
+#include "m2mlat/sim/rig_config.hpp"
+#include "m2mlat/store/store.hpp"
+
+namespace m2mlat::campaign {
+
+struct RecordedRun {
+  std::int64_t cause_session = 0;
+  std::int64_t effect_session = 0;
+  std::int64_t cause_events = 0;
+  std::int64_t effect_events = 0;
+};
+
+// Called after every chunk with the events produced so far (both nodes): for progress lines.
+using ChunkObserver = std::function<void(const sim::Chunk&, std::int64_t events_so_far)>;
+
+// Streams the run of `config` into `store` (bounded memory whatever the run's length). `label` names
+// the sessions; the scenario is config.scenario. `observer`, if set, sees every chunk (e.g. to keep
+// the truth). Sessions are closed at the last event's time.
+RecordedRun record_simulation(store::Store& store, const sim::RigConfig& config, const std::string& label,
+                              const ChunkObserver& observer = {});
+
+}  // namespace m2mlat::campaign

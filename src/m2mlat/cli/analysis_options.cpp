@@ -1,0 +1,83 @@
+// Registration and conversion of the shared pairing/statistics/selection flags.
+#include "m2mlat/cli/analysis_options.hpp"
+
+#include <fmt/format.h>
+
+#include "m2mlat/core/error.hpp"
+
+namespace m2mlat::cli {
+
+namespace {
+core::Duration duration_flag(const std::string& flag, const std::string& text) {
+  try {
+    return core::parse_duration(text);
+  } catch (const core::Error& e) {
+    throw core::Error(core::ErrorKind::usage, fmt::format("{}: {}", flag, e.what()));
+  }
+}
+}  // namespace
+
+void MatchFlags::add_to(CLI::App& sub) {
+  auto* group = sub.add_option_group("pairing");
+  group->add_option("--min-latency", min_latency, "Smallest plausible latency (e.g. 0ms)")->capture_default_str();
+  group->add_option("--max-latency", max_latency, "Largest plausible latency: the pairing window")->capture_default_str();
+  group->add_option("--refractory", refractory, "Edges closer than this after a kept edge are bounces")->capture_default_str();
+  group->add_option("--tolerance", tolerance, "Largest deviation of a pair from the local typical latency")
+      ->capture_default_str();
+  group->add_option("--burst-gap", burst_gap, "Edges closer than this form one burst (multi-magnet wheels)")
+      ->capture_default_str();
+  group->add_flag("--include-ambiguous", include_ambiguous,
+                  "Include pairs of bursts with a missed or extra edge in the statistics");
+}
+
+pairing::MatchOptions MatchFlags::options() const {
+  pairing::MatchOptions o;
+  o.min_latency = duration_flag("--min-latency", min_latency);
+  o.max_latency = duration_flag("--max-latency", max_latency);
+  o.refractory = duration_flag("--refractory", refractory);
+  o.tolerance = duration_flag("--tolerance", tolerance);
+  o.burst_gap = duration_flag("--burst-gap", burst_gap);
+  return o;
+}
+
+void StatsFlags::add_to(CLI::App& sub) {
+  auto* group = sub.add_option_group("statistics");
+  group->add_option("--threshold", thresholds, "Report the share of latencies above each (comma-separated)")
+      ->delimiter(',')
+      ->capture_default_str();
+  group->add_option("--percentile", percentiles, "Extra percentiles to report, e.g. 99.9")->delimiter(',');
+  group->add_option("--bootstrap", bootstrap, "Bootstrap resamples for the CIs of median and IQR (0: none)")
+      ->capture_default_str();
+  group->add_option("--seed", seed, "Seed of the bootstrap (same seed, same intervals)")->capture_default_str();
+  group->add_option("--level", level, "Confidence level of the intervals")->capture_default_str();
+}
+
+stats::SummaryOptions StatsFlags::options() const {
+  stats::SummaryOptions o;
+  o.thresholds.clear();
+  for (const auto& t : thresholds) o.thresholds.push_back(duration_flag("--threshold", t));
+  o.extra_percentiles = percentiles;
+  if (bootstrap > 0) o.bootstrap = stats::BootstrapOptions{bootstrap, seed, level};
+  return o;
+}
+
+void SelectionFlags::add_to(CLI::App& sub) {
+  auto* group = sub.add_option_group("channels");
+  group->add_option("--cause", cause, "Cause channel as node[/channel] (default: the cause sessions' node)");
+  group->add_option("--effect", effect, "Effect channel as node[/channel] (default: the effect sessions' node)");
+  group->add_option("--edge", edge, "Edges to pair: falling, rising or both")->capture_default_str();
+}
+
+analysis::Selection SelectionFlags::selection() const {
+  analysis::Selection s;
+  // An empty channel part means "the node's only channel".
+  if (!cause.empty()) s.cause = core::parse_channel_ref(cause, "");
+  if (!effect.empty()) s.effect = core::parse_channel_ref(effect, "");
+  if (edge == "both")
+    s.edge.reset();
+  else
+    s.edge = core::parse_edge(edge);
+  return s;
+}
+
+}  // namespace m2mlat::cli

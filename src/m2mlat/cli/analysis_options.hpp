@@ -1,0 +1,45 @@
+// Options shared by the subcommands that pair and summarise (pair, stats, export, demo): the
+// matcher's window, the statistics' thresholds and bootstrap, and which channels are cause and
+// effect. Registered on a CLI11 subcommand, turned into library options after parsing.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+#include "m2mlat/analysis/selection.hpp"
+#include "m2mlat/pairing/matcher.hpp"
+#include "m2mlat/stats/summary.hpp"
+
+namespace m2mlat::cli {
+
+struct MatchFlags {
+  std::string min_latency = "0ms";
+  std::string max_latency = "3s";
+  std::string refractory = "10ms";
+  std::string tolerance = "1s";
+  std::string burst_gap = "250ms";
+  bool include_ambiguous = false;  // statistics over ambiguous pairs too
+  void add_to(CLI::App& sub);
+  pairing::MatchOptions options() const;  // throws core::Error(usage) naming the flag
+};
+
+struct StatsFlags {
+  std::vector<std::string> thresholds{"170ms", "300ms", "400ms", "1s"};
+  std::vector<double> percentiles;
+  std::size_t bootstrap = 2000;  // resamples; 0 = no confidence intervals
+  std::uint64_t seed = 1;
+  double level = 0.95;
+  void add_to(CLI::App& sub);
+  stats::SummaryOptions options() const;
+};
+
+struct SelectionFlags {
+  std::string cause, effect;  // node[/channel]; empty = by session role
+  std::string edge = "falling";
+  void add_to(CLI::App& sub);
+  analysis::Selection selection() const;
+};
+
+}  // namespace m2mlat::cli

@@ -1,0 +1,140 @@
+// `m2mlat simulate`: run the simulated rig and record it into a store (as two boards would) and/or
+// write each node's events to a file, with the ground truth beside them.
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "m2mlat/campaign/sim_to_store.hpp"
+#include "m2mlat/cli/command.hpp"
+#include "m2mlat/cli/output.hpp"
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/formats/format.hpp"
+#include "m2mlat/formats/import_file.hpp"
+#include "m2mlat/formats/kernel_log_writer.hpp"
+#include "m2mlat/formats/output_text.hpp"
+#include "m2mlat/sim/generator.hpp"
+#include "m2mlat/sim/overrides.hpp"
+#include "m2mlat/sim/presets.hpp"
+#include "m2mlat/sim/simulate.hpp"
+
+namespace m2mlat::cli {
+
+namespace {
+
+struct SimulateCommand {
+  std::string preset = "static_wifi";
+  std::uint64_t seed = 1;
+  std::int64_t manoeuvres = 0;
+  std::vector<std::string> overrides;
+  std::string store_path;
+  std::string out_dir;
+  std::string format = "events-csv";
+  std::uint32_t pin = 16;
+  std::string label = "sim";
+  bool list = false;
+};
+
+// The true pairs: which cause and effect events (0-based index in each node's file) belong together.
+void write_truth(std::ostream& out, const std::vector<sim::TruePair>& pairs) {
+  formats::OutputBuffer buffer(out);
+  buffer << "pass,cause_index,effect_index,true_latency_ns,measured_latency_ns\n";
+  for (const auto& p : pairs) {
+    buffer.integer(p.pass) << ',';
+    buffer.integer(p.cause_index) << ',';
+    buffer.integer(p.effect_index) << ',';
+    buffer.integer(p.true_latency.count()) << ',';
+    buffer.integer(p.measured_latency.count()) << '\n';
+    buffer.end_record();
+  }
+  buffer.flush();
+}
+
+void list_presets() {
+  for (const auto& p : sim::presets()) fmt::print("{:<24} {}\n", p.name, p.description);
+  fmt::print("\nsettable with --set key=value:\n");
+  for (const auto& f : sim::settable_fields()) fmt::print("  {:<40} {}\n", f.key, f.help);
+}
+
+// Files: kernel-log streams chunk by chunk (any length); the event formats are written whole.
+void write_files(const sim::RigConfig& config, const std::string& dir, formats::Format format, std::uint32_t pin) {
+  std::filesystem::create_directories(dir);
+  const auto name = [&](const std::string& node, const char* ext) { return (std::filesystem::path(dir) / (node + ext)).string(); };
+  std::vector<sim::TruePair> truth;
+  if (format == formats::Format::kernel_log) {
+    std::ofstream cause(name(config.cause_node, ".log")), effect(name(config.effect_node, ".log"));
+    if (!cause || !effect) throw core::Error(core::ErrorKind::io, fmt::format("cannot write in {}", dir));
+    formats::KernelLogWriter cause_log(cause, pin), effect_log(effect, pin);
+    sim::Generator generator(config);
+    sim::Chunk chunk;
+    std::int64_t total = 0;
+    while (generator.next(chunk, 1 << 18)) {
+      cause_log.write(chunk.cause_events);
+      effect_log.write(chunk.effect_events);
+      truth.insert(truth.end(), chunk.pairs.begin(), chunk.pairs.end());
+      total += static_cast<std::int64_t>(chunk.event_count());
+      progress(fmt::format("simulating: {} events", total));
+    }
+    progress_done();
+  } else {
+    const auto run = sim::simulate(config);
+    const char* ext = format == formats::Format::events_jsonl ? ".jsonl" : ".csv";
+    formats::export_events(name(config.cause_node, ext), format, run.cause_events);
+    formats::export_events(name(config.effect_node, ext), format, run.effect_events);
+    truth = run.pairs;
+  }
+  formats::write_file_atomically(name("truth", ".csv"), [&](std::ostream& out) { write_truth(out, truth); });
+}
+
+int run_simulate(const SimulateCommand& c) {
+  if (c.list) {
+    list_presets();
+    return 0;
+  }
+  if (c.store_path.empty() && c.out_dir.empty())
+    throw core::Error(core::ErrorKind::usage, "say where the run goes: --store FILE and/or --out-dir DIR");
+  auto config = sim::preset(c.preset);
+  config.seed = c.seed;
+  if (c.manoeuvres > 0) config.manoeuvres = c.manoeuvres;
+  sim::apply_overrides(config, c.overrides);
+  const auto format = formats::parse_format(c.format);
+  if (format != formats::Format::kernel_log && format != formats::Format::events_csv &&
+      format != formats::Format::events_jsonl)
+    throw core::Error(core::ErrorKind::usage, "--format: kernel-log, events-csv or events-jsonl");
+
+  if (!c.store_path.empty()) {
+    auto store = store::Store::open(c.store_path);
+    const auto run = campaign::record_simulation(store, config, c.label, [](const sim::Chunk&, std::int64_t events) {
+      progress(fmt::format("recording: {} events", events));
+    });
+    progress_done();
+    fmt::print("{}: scenario {} recorded: {} events on {} (session {}), {} on {} (session {})\n", c.store_path,
+               config.scenario, run.cause_events, config.cause_node, run.cause_session, run.effect_events,
+               config.effect_node, run.effect_session);
+  }
+  if (!c.out_dir.empty()) {
+    write_files(config, c.out_dir, format, c.pin);
+    fmt::print("{}: {} and {} events ({}), truth.csv\n", c.out_dir, config.cause_node, config.effect_node, c.format);
+  }
+  return 0;
+}
+
+}  // namespace
+
+Runner attach_simulate(CLI::App& sub) {
+  auto c = std::make_shared<SimulateCommand>();
+  sub.add_option("--scenario", c->preset, "Preset to start from (--list shows them)")->capture_default_str();
+  sub.add_option("--seed", c->seed, "Seed: the same seed gives the same run")->capture_default_str();
+  sub.add_option("--manoeuvres", c->manoeuvres, "Number of manoeuvres (default: the preset's)");
+  sub.add_option("--set", c->overrides, "Override a field, key=value (repeatable; --list shows the keys)");
+  sub.add_option("--store", c->store_path, "Record into this store (created if missing)");
+  sub.add_option("--out-dir", c->out_dir, "Write <node>.<ext> per node and truth.csv into this folder");
+  sub.add_option("--format", c->format, "File format: events-csv, events-jsonl or kernel-log")->capture_default_str();
+  sub.add_option("--pin", c->pin, "GPIO pin number written in kernel-log lines")->capture_default_str();
+  sub.add_option("--label", c->label, "Session label in the store")->capture_default_str();
+  sub.add_flag("--list", c->list, "List the presets and the settable fields");
+  return [c] { return run_simulate(*c); };
+}
+
+}  // namespace m2mlat::cli

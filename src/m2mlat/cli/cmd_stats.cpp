@@ -1,0 +1,97 @@
+// `m2mlat stats`: latency statistics per scenario, from stores or data files.
+#include <fmt/format.h>
+
+#include <memory>
+
+#include "m2mlat/cli/analysis_options.hpp"
+#include "m2mlat/cli/command.hpp"
+#include "m2mlat/cli/inputs.hpp"
+#include "m2mlat/cli/output.hpp"
+#include "m2mlat/report/scenario_json.hpp"
+#include "m2mlat/report/scenario_text.hpp"
+#include "m2mlat/report/table.hpp"
+#include "m2mlat/formats/import_file.hpp"
+
+namespace m2mlat::cli {
+
+namespace {
+
+// Offsets (t_B - t_A of one shared pulse) summarised like latencies: signed, and by magnitude.
+stats::Summary offset_summary(const formats::SyncImport& sync, bool magnitude, stats::SummaryOptions options) {
+  std::vector<std::int64_t> offsets, lines;
+  for (const auto& s : sync.samples) {
+    offsets.push_back(magnitude && s.offset_ns < 0 ? -s.offset_ns : s.offset_ns);
+    lines.push_back(s.line);
+  }
+  options.thresholds.clear();
+  return stats::summarize(offsets, lines, options);
+}
+
+nlohmann::json sync_json(const std::string& path, const formats::SyncImport& sync, const stats::SummaryOptions& options) {
+  return {{"file", path},
+          {"offset", report::summary_json(offset_summary(sync, false, options))},
+          {"abs_offset", report::summary_json(offset_summary(sync, true, options))}};
+}
+
+std::string sync_text(const std::string& path, const formats::SyncImport& sync, const stats::SummaryOptions& options) {
+  report::Table table({"offset (ms)", "n", "mean", "sd", "min", "median", "P95", "max"});
+  for (bool magnitude : {false, true}) {
+    const auto s = offset_summary(sync, magnitude, options);
+    table.add_row({magnitude ? "|t_B - t_A|" : "t_B - t_A", std::to_string(s.n), report::ms_text(s.mean_ms, 3),
+                   report::ms_text(s.sd_ms, 3), s.min ? report::ms_text(s.min->ms(), 3) : "-",
+                   report::ms_text(s.median_ms, 3), report::ms_text(s.p95_ms, 3),
+                   s.max ? report::ms_text(s.max->ms(), 3) : "-"});
+  }
+  return fmt::format("synchronisation test {}\n{}", path, table.render());
+}
+
+struct StatsCommand {
+  InputFlags inputs;
+  SelectionFlags selection;
+  MatchFlags match;
+  StatsFlags stats;
+  bool json = false;
+  bool detail = false;
+};
+}  // namespace
+
+Runner attach_stats(CLI::App& sub) {
+  auto c = std::make_shared<StatsCommand>();
+  c->inputs.add_to(sub, true);
+  c->selection.add_to(sub);
+  c->match.add_to(sub);
+  c->stats.add_to(sub);
+  sub.add_flag("--json", c->json, "Print m2mlat-stats/1 JSON instead of tables");
+  sub.add_flag("--detail", c->detail, "Print every statistic of each scenario");
+  return [c] {
+    // Synchronisation-test files (offsets between two boards) are summarised on their own.
+    auto inputs = c->inputs;
+    std::vector<std::pair<std::string, formats::SyncImport>> sync_files;
+    std::erase_if(inputs.inputs, [&](const std::string& path) {
+      if (is_sqlite_file(path)) return false;
+      auto file = formats::import_file(path, std::nullopt, {});
+      if (auto* sync = std::get_if<formats::SyncImport>(&file.content)) {
+        sync_files.emplace_back(path, std::move(*sync));
+        return true;
+      }
+      return false;
+    });
+    std::vector<analysis::ScenarioResult> results;
+    if (!inputs.inputs.empty() || !inputs.cause_file.empty() || sync_files.empty())
+      results = analyse_inputs(inputs, c->selection, c->match, c->stats);
+    if (c->json) {
+      auto doc = report::stats_document(results);
+      for (const auto& [path, sync] : sync_files) doc["sync_tests"].push_back(sync_json(path, sync, c->stats.options()));
+      print_json(doc);
+      return 0;
+    }
+    for (const auto& [path, sync] : sync_files) fmt::print("{}\n", sync_text(path, sync, c->stats.options()));
+    if (results.empty()) return 0;
+    fmt::print("{}\n{}", report::pairing_table(results), report::scenario_table(results));
+    if (c->detail)
+      for (const auto& r : results) fmt::print("\n{}", report::scenario_detail(r));
+    return 0;
+  };
+}
+
+}  // namespace m2mlat::cli

@@ -1,0 +1,126 @@
+// Resolving the inputs of the analysis subcommands into analysed scenarios.
+#include "m2mlat/cli/inputs.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/formats/import_file.hpp"
+#include "m2mlat/store/store.hpp"
+
+namespace m2mlat::cli {
+
+namespace {
+
+std::optional<formats::Format> format_of(const InputFlags& flags) {
+  if (flags.format.empty()) return std::nullopt;
+  return formats::parse_format(flags.format);
+}
+
+std::vector<core::Event> events_of(const formats::ImportedFile& file, const std::string& path) {
+  if (const auto* events = std::get_if<formats::EventImport>(&file.content)) return events->events;
+  if (const auto* paired = std::get_if<formats::PairedImport>(&file.content)) {
+    auto all = paired->causes;
+    all.insert(all.end(), paired->effects.begin(), paired->effects.end());
+    return all;
+  }
+  throw core::Error(core::ErrorKind::data,
+                    fmt::format("{}: a synchronisation-test file holds offsets, not edge events", path));
+}
+
+// A paired-results CSV analysed with its own rows as the pairs (what the rig itself reported).
+analysis::ScenarioResult as_given(std::string scenario, const formats::PairedImport& paired,
+                                  const stats::SummaryOptions& options) {
+  analysis::ScenarioResult r;
+  r.input.scenario = std::move(scenario);
+  if (!paired.causes.empty()) r.input.cause_ref = {paired.causes.front().node, paired.causes.front().channel};
+  if (!paired.effects.empty()) r.input.effect_ref = {paired.effects.front().node, paired.effects.front().channel};
+  std::vector<std::int64_t> latencies, ids;
+  for (std::size_t i = 0; i < paired.pairs.size(); ++i) {
+    const auto line = static_cast<std::int64_t>(paired.checks.at(i).line);
+    r.input.cause.seq.push_back(line);
+    r.input.cause.t_ns.push_back(paired.pairs[i].cause_time.ns());
+    r.input.effect.seq.push_back(line);
+    r.input.effect.t_ns.push_back(paired.pairs[i].effect_time.ns());
+    latencies.push_back(paired.pairs[i].latency().count());
+    ids.push_back(line);
+  }
+  r.match.pairs = paired.pairs;
+  r.match.cause_count = r.match.effect_count = static_cast<std::int64_t>(paired.pairs.size());
+  r.summary = stats::summarize(latencies, ids, options);
+  return r;
+}
+
+}  // namespace
+
+void InputFlags::add_to(CLI::App& sub, bool allow_rematch) {
+  sub.add_option("inputs", inputs, "Campaign stores (.db) or data files (one scenario each)");
+  sub.add_option("--scenario", scenarios, "Only these scenarios of the stores (repeatable)");
+  sub.add_option("--cause-file", cause_file, "A file with the cause edges (with --effect-file)");
+  sub.add_option("--effect-file", effect_file, "A file with the effect edges (with --cause-file)");
+  sub.add_option("--format", format, "Format of the data files (default: detected)");
+  if (allow_rematch)
+    sub.add_flag("--rematch", rematch, "Re-pair the events of a paired-results CSV instead of using its rows");
+}
+
+bool is_sqlite_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[16] = {};
+  in.read(magic, sizeof magic);
+  return in.gcount() == sizeof magic && std::string_view(magic, sizeof magic) == std::string_view("SQLite format 3\0", 16);
+}
+
+std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags, const SelectionFlags& selection_flags,
+                                                     const MatchFlags& match_flags, const StatsFlags& stats_flags) {
+  const auto selection = selection_flags.selection();
+  const auto match_options = match_flags.options();
+  const auto summary_options = stats_flags.options();
+  const auto format = format_of(flags);
+  formats::ImportOptions import_options;
+
+  if (flags.inputs.empty() && flags.cause_file.empty())
+    throw core::Error(core::ErrorKind::usage, "no input: give a store or data files, or --cause-file and --effect-file");
+  if (flags.cause_file.empty() != flags.effect_file.empty())
+    throw core::Error(core::ErrorKind::usage, "--cause-file and --effect-file go together");
+
+  std::vector<analysis::ScenarioResult> results;
+  if (!flags.cause_file.empty()) {
+    import_options.node = "cause";
+    const auto causes = events_of(formats::import_file(flags.cause_file, format, import_options), flags.cause_file);
+    import_options.node = "effect";
+    const auto effects = events_of(formats::import_file(flags.effect_file, format, import_options), flags.effect_file);
+    results.push_back(analysis::analyse(analysis::from_events(std::filesystem::path(flags.cause_file).stem().string(),
+                                                              causes, effects, selection),
+                                        match_options, summary_options, match_flags.include_ambiguous));
+  }
+  for (const auto& path : flags.inputs) {
+    if (!std::filesystem::exists(path) && path != "-")
+      throw core::Error(core::ErrorKind::no_input, fmt::format("{}: no such file", path));
+    if (is_sqlite_file(path)) {
+      store::Options options;
+      options.read_only = true;
+      const auto store = store::Store::open(path, options);
+      const auto names = flags.scenarios.empty() ? analysis::scenarios(store) : flags.scenarios;
+      for (const auto& name : names)
+        results.push_back(analysis::analyse(analysis::load_scenario(store, name, selection), match_options, summary_options, match_flags.include_ambiguous));
+      continue;
+    }
+    const auto scenario = std::filesystem::path(path).stem().string();
+    const auto file = formats::import_file(path, format, import_options);
+    if (const auto* paired = std::get_if<formats::PairedImport>(&file.content); paired && !flags.rematch) {
+      results.push_back(as_given(scenario, *paired, summary_options));
+      continue;
+    }
+    // An events file with both sides: split by the selection (or by the conventional node names).
+    auto sel = selection;
+    if (!sel.cause) sel.cause = core::ChannelRef{"operator", ""};
+    if (!sel.effect) sel.effect = core::ChannelRef{"vehicle", ""};
+    const auto events = events_of(file, path);
+    results.push_back(analysis::analyse(analysis::from_events(scenario, events, events, sel), match_options, summary_options, match_flags.include_ambiguous));
+  }
+  return results;
+}
+
+}  // namespace m2mlat::cli

@@ -1,0 +1,26 @@
+// Output helpers shared by the subcommands.
+#include "m2mlat/cli/output.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+
+namespace m2mlat::cli {
+
+void print_json(const nlohmann::json& document) { std::cout << document.dump(2) << '\n'; }
+
+bool stderr_is_terminal() { return isatty(STDERR_FILENO) == 1; }
+
+void progress(std::string_view text) {
+  if (stderr_is_terminal()) fmt::print(stderr, "\r\x1b[2K{}", text);
+}
+
+void progress_done() {
+  if (stderr_is_terminal()) fmt::print(stderr, "\r\x1b[2K");
+}
+
+void warn(std::string_view text) { fmt::print(stderr, "m2mlat: warning: {}\n", text); }
+
+}  // namespace m2mlat::cli

@@ -1,0 +1,29 @@
+// m2mlat's own events as JSON Lines (format m2mlat-events/1; fields in event_fields.hpp): one
+// object per line, the version in its "format" member.
+//
+//   {"format":"m2mlat-events/1","node":"operator","channel":"wheel","edge":"falling",
+//    "clock":"realtime","time_ns":1762872545550296135,"seqno":1041,"line_seqno":17,"flags":0}
+//
+// (one line in the file). time_ns must be a JSON integer: a float (1.762e18) would have lost the
+// nanoseconds and is refused; "time_s" is accepted instead as a string of exact decimal seconds.
+// Members may come in any order; edge, clock, seqno, line_seqno and flags may be left out (then
+// ImportOptions::edge, realtime, 0, 0, 0); unknown members are refused. Export then import gives
+// back the very same events.
+#pragma once
+
+#include <ostream>
+#include <span>
+#include <string_view>
+
+#include "m2mlat/core/event.hpp"
+#include "m2mlat/formats/imported.hpp"
+
+namespace m2mlat::formats {
+
+// Throws core::Error(data) naming file, line and member for anything malformed.
+EventImport import_events_jsonl(std::string_view text, std::string_view name, const ImportOptions& options);
+
+// Throws core::Error(data) for an event that could not be read back (empty node, line break).
+void write_events_jsonl(std::ostream& out, std::span<const core::Event> events);
+
+}  // namespace m2mlat::formats

@@ -1,0 +1,53 @@
+// Importing a file by name, in a format given by the caller or detected from its content, and
+// exporting events and pairs to a file by format.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "m2mlat/core/event.hpp"
+#include "m2mlat/formats/format.hpp"
+#include "m2mlat/formats/imported.hpp"
+#include "m2mlat/formats/pairs_export.hpp"
+#include "m2mlat/formats/rig_paired.hpp"
+#include "m2mlat/formats/rig_sync.hpp"
+#include "m2mlat/pairing/pair.hpp"
+
+namespace m2mlat::formats {
+
+struct ImportedFile {
+  Format format = Format::events_csv;
+  // EventImport for the event formats, PairedImport for rig_paired_csv, SyncImport for rig_sync_csv
+  // (see content_of(format)).
+  std::variant<EventImport, PairedImport, SyncImport> content;
+};
+
+// Imports `text` (named `name` in messages) as `format`, or as the detected format if none is
+// given. Throws core::Error(data) for malformed or unrecognisable input, core::Error(usage) for a
+// format m2mlat only writes. Nothing is returned unless the whole input is valid.
+ImportedFile import_text(std::string_view text, std::string_view name, std::optional<Format> format,
+                         const ImportOptions& options);
+// The same for a file ("-" = standard input), read whole first. Also throws core::Error(no_input)
+// if it does not exist and core::Error(io) if it cannot be read.
+ImportedFile import_file(const std::string& path, std::optional<Format> format, const ImportOptions& options);
+
+// The lean import of a file: timestamps only (CLOCK_REALTIME ns), per pin or label for the kernel
+// log and the rig's export CSV (without building events), per "node/channel" for the other event
+// formats and for the two sides of a paired CSV. `only_line` filters pins/labels (kernel log,
+// export CSV). Throws core::Error(usage) for a sync-test CSV, which holds no timestamps.
+std::vector<TimestampSeries> read_timestamps(const std::string& path, std::optional<Format> format,
+                                             std::string_view only_line = {});
+
+// Writes events as events_csv or events_jsonl to `path` ("-" = standard output), atomically.
+// Throws core::Error(usage) for another format.
+void export_events(const std::string& path, Format format, std::span<const core::Event> events);
+// Writes pairs as pairs_csv, pairs_jsonl or rig_paired_csv (which has no names, uncertainty or
+// flags: options only feed the other two), atomically. Throws core::Error(usage) for another format.
+void export_pairs(const std::string& path, Format format, std::span<const pairing::Pair> pairs,
+                  const PairExportOptions& options = {});
+
+}  // namespace m2mlat::formats

@@ -1,0 +1,89 @@
+// Reading a whole input file into memory in one go (regular files: one read(2) of the size fstat(2)
+// reports; pipes and standard input: growing blocks).
+#include "m2mlat/formats/input_text.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <system_error>
+
+#include "m2mlat/core/error.hpp"
+
+namespace m2mlat::formats {
+
+namespace {
+
+// Closes the descriptor when the read ends, whichever way it ends.
+class FileDescriptor {
+ public:
+  explicit FileDescriptor(int fd) : fd_(fd) {}
+  FileDescriptor(const FileDescriptor&) = delete;
+  FileDescriptor& operator=(const FileDescriptor&) = delete;
+  ~FileDescriptor() {
+    if (fd_ > 2) ::close(fd_);  // never close stdin
+  }
+  int get() const { return fd_; }
+
+ private:
+  int fd_;
+};
+
+[[noreturn]] void throw_io(const std::string& name, const char* what, int err) {
+  throw core::Error(core::ErrorKind::io,
+                    fmt::format("{}: {}: {}", name, what, std::generic_category().message(err)));
+}
+
+}  // namespace
+
+InputText InputText::read_file(const std::string& path) {
+  const bool is_stdin = path == "-";
+  const std::string name = is_stdin ? "<stdin>" : path;
+  const int raw_fd = is_stdin ? 0 : ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (raw_fd < 0) {
+    const int err = errno;
+    if (err == ENOENT || err == ENOTDIR)
+      throw core::Error(core::ErrorKind::no_input, fmt::format("{}: no such file", name));
+    throw_io(name, "cannot open", err);
+  }
+  FileDescriptor fd(raw_fd);
+
+  struct stat st {};
+  if (::fstat(fd.get(), &st) != 0) throw_io(name, "cannot stat", errno);
+  if (S_ISDIR(st.st_mode))
+    throw core::Error(core::ErrorKind::no_input, fmt::format("{}: is a directory, not a file", name));
+
+  // A regular file's size is known: read it into a buffer of exactly that size (plus one byte to
+  // notice a file that grew meanwhile). Otherwise start with 1 MiB and double.
+  std::size_t capacity =
+      S_ISREG(st.st_mode) ? static_cast<std::size_t>(st.st_size) + 1 : std::size_t{1} << 20;
+  auto buffer = std::make_unique_for_overwrite<char[]>(capacity);
+  std::size_t size = 0;
+  for (;;) {
+    if (size == capacity) {
+      const std::size_t grown = capacity * 2;
+      auto bigger = std::make_unique_for_overwrite<char[]>(grown);
+      std::memcpy(bigger.get(), buffer.get(), size);
+      buffer = std::move(bigger);
+      capacity = grown;
+    }
+    const ssize_t got = ::read(fd.get(), buffer.get() + size, capacity - size);
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      throw_io(name, "cannot read", errno);
+    }
+    if (got == 0) break;
+    size += static_cast<std::size_t>(got);
+  }
+  return InputText(std::move(buffer), size, name);
+}
+
+InputText InputText::from_string(std::string_view text, std::string name) {
+  auto buffer = std::make_unique_for_overwrite<char[]>(text.size() + 1);
+  std::memcpy(buffer.get(), text.data(), text.size());
+  return InputText(std::move(buffer), text.size(), std::move(name));
+}
+
+}  // namespace m2mlat::formats

@@ -1,0 +1,49 @@
+// Exporting matched cause -> effect pairs as CSV or JSON Lines (format m2mlat-pairs/1).
+//
+//   # format: m2mlat-pairs/1
+//   cause_node,cause_channel,effect_node,effect_channel,clock,cause_time_ns,effect_time_ns,latency_ns,
+//     latency_ms,uncertainty_ns,flags
+//   operator,wheel,vehicle,wheel,realtime,1762872545550296135,1762872546417585462,867289327,
+//     867.289327,250000,0
+//
+// (one line each in the file). Times are integer ns on `clock`; latency_ns = effect_time_ns -
+// cause_time_ns exactly, and latency_ms is the same value as exact decimal text (core::format_ms:
+// always 6 decimals). Two optional columns follow: uncertainty_ns when the caller gives it (a bound
+// on the latency's error from both boards' clock state, integer ns; empty / null when unknown) and
+// flags (Pair::flags, decimal; written unless switched off). In JSON
+// Lines each pair is one object with the same members and "format":"m2mlat-pairs/1"; latency_ms is
+// written as a JSON number with the exact decimal text.
+//
+// For comparison with the reference rig's scripts, see write_rig_paired_csv in rig_paired.hpp.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <span>
+#include <string_view>
+
+#include "m2mlat/core/event.hpp"
+#include "m2mlat/pairing/pair.hpp"
+
+namespace m2mlat::formats {
+
+inline constexpr std::string_view kPairsFormat = "m2mlat-pairs/1";
+
+struct PairExportOptions {
+  core::ChannelRef cause{"operator", "wheel"};  // where the cause edges were measured
+  core::ChannelRef effect{"vehicle", "wheel"};  // where the effect edges were measured
+  // Empty: no uncertainty_ns column. Otherwise one entry per pair (nullopt = unknown), ns.
+  std::span<const std::optional<std::int64_t>> uncertainty_ns;
+  // Write the flags column (Pair::flags, pairing::PairFlag bits, e.g. 1 = ambiguous burst).
+  bool flags = true;
+};
+
+// Both throw core::Error(internal) if a non-empty uncertainty_ns does not have one entry per pair, and
+// core::Error(data) for an empty node or channel name or one with a line break.
+void write_pairs_csv(std::ostream& out, std::span<const pairing::Pair> pairs,
+                     const PairExportOptions& options);
+void write_pairs_jsonl(std::ostream& out, std::span<const pairing::Pair> pairs,
+                       const PairExportOptions& options);
+
+}  // namespace m2mlat::formats

@@ -1,0 +1,85 @@
+// Scenario results as JSON. NaN (undefined statistics) becomes null; exact values stay integer ns.
+#include "m2mlat/report/scenario_json.hpp"
+
+#include <cmath>
+
+#include "m2mlat/core/time.hpp"
+
+namespace m2mlat::report {
+
+namespace {
+nlohmann::json number(double x) { return std::isnan(x) ? nlohmann::json(nullptr) : nlohmann::json(x); }
+
+nlohmann::json extreme(const std::optional<stats::Extreme>& e) {
+  if (!e) return nullptr;
+  return {{"ns", e->ns}, {"ms", e->ms()}, {"sample_id", e->id}};
+}
+
+nlohmann::json interval(const stats::Interval& i) { return nlohmann::json::array({i.lower, i.upper}); }
+}  // namespace
+
+nlohmann::json summary_json(const stats::Summary& s) {
+  nlohmann::json j{{"n", s.n},
+                   {"min", extreme(s.min)},
+                   {"max", extreme(s.max)},
+                   {"mean_ms", number(s.mean_ms)},
+                   {"sd_ms", number(s.sd_ms)},
+                   {"p5_ms", number(s.p5_ms)},
+                   {"q1_ms", number(s.q1_ms)},
+                   {"median_ms", number(s.median_ms)},
+                   {"q3_ms", number(s.q3_ms)},
+                   {"p90_ms", number(s.p90_ms)},
+                   {"p95_ms", number(s.p95_ms)},
+                   {"p99_ms", number(s.p99_ms)},
+                   {"iqr_ms", number(s.iqr_ms)}};
+  auto& extra = j["percentiles"] = nlohmann::json::array();
+  for (const auto& p : s.extra_percentiles) extra.push_back({{"percent", p.percent}, {"ms", number(p.value_ms)}});
+  auto& above = j["above"] = nlohmann::json::array();
+  for (const auto& t : s.thresholds)
+    above.push_back({{"threshold_ns", t.threshold.count()}, {"count", t.count_above}, {"fraction", number(t.fraction_above)}});
+  if (s.bootstrap)
+    j["bootstrap"] = {{"level", s.bootstrap->level},
+                      {"resamples", s.bootstrap->resamples},
+                      {"seed", s.bootstrap->seed},
+                      {"median_ms", interval(s.bootstrap->median_ms)},
+                      {"iqr_ms", interval(s.bootstrap->iqr_ms)}};
+  else
+    j["bootstrap"] = nullptr;
+  return j;
+}
+
+nlohmann::json pairing_json(const analysis::ScenarioResult& r) {
+  nlohmann::json unmatched{{"cause", nlohmann::json::object()}, {"effect", nlohmann::json::object()}};
+  for (auto reason : {pairing::UnmatchedReason::bounce, pairing::UnmatchedReason::no_candidate,
+                      pairing::UnmatchedReason::outmatched}) {
+    unmatched["cause"][std::string(pairing::to_string(reason))] = 0;
+    unmatched["effect"][std::string(pairing::to_string(reason))] = 0;
+  }
+  for (const auto& u : r.match.unmatched) {
+    auto& n = unmatched[std::string(pairing::to_string(u.side))][std::string(pairing::to_string(u.reason))];
+    n = n.get<std::int64_t>() + 1;
+  }
+  return {{"cause_events", r.match.cause_count},
+          {"effect_events", r.match.effect_count},
+          {"pairs", r.match.pairs.size()},
+          {"ambiguous_pairs", r.ambiguous_pairs()},
+          {"ambiguous_in_statistics", r.include_ambiguous},
+          {"unmatched", unmatched}};
+}
+
+nlohmann::json scenario_json(const analysis::ScenarioResult& r) {
+  return {{"scenario", r.input.scenario},
+          {"cause", core::to_string(r.input.cause_ref)},
+          {"effect", core::to_string(r.input.effect_ref)},
+          {"clock", core::to_string(r.input.clock)},
+          {"pairing", pairing_json(r)},
+          {"latency", summary_json(r.summary)}};
+}
+
+nlohmann::json stats_document(std::span<const analysis::ScenarioResult> results) {
+  nlohmann::json doc{{"format", kStatsFormat}, {"scenarios", nlohmann::json::array()}};
+  for (const auto& r : results) doc["scenarios"].push_back(scenario_json(r));
+  return doc;
+}
+
+}  // namespace m2mlat::report

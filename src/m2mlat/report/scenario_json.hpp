@@ -1,0 +1,21 @@
+// The machine-readable result of `m2mlat stats --json` / `pair --json` / `demo --json`:
+// format "m2mlat-stats/1", documented in docs/formats.md. Kept apart from the in-memory types so
+// that the wire format is versioned on its own.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <span>
+
+#include "m2mlat/analysis/scenario_result.hpp"
+
+namespace m2mlat::report {
+
+inline constexpr const char* kStatsFormat = "m2mlat-stats/1";
+
+nlohmann::json summary_json(const stats::Summary& summary);
+nlohmann::json pairing_json(const analysis::ScenarioResult& result);  // counts and unmatched by reason
+nlohmann::json scenario_json(const analysis::ScenarioResult& result);  // both of the above + names
+// {"format": "m2mlat-stats/1", "scenarios": [...]}
+nlohmann::json stats_document(std::span<const analysis::ScenarioResult> results);
+
+}  // namespace m2mlat::report

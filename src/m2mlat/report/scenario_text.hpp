@@ -1,0 +1,18 @@
+// Terminal views of analysed scenarios: one row per scenario, and the full detail of one.
+#pragma once
+
+#include <span>
+#include <string>
+
+#include "m2mlat/analysis/scenario_result.hpp"
+
+namespace m2mlat::report {
+
+// One row per scenario: pairs, unmatched, median, IQR, mean, sd, min, max, P95, shares above.
+std::string scenario_table(std::span<const analysis::ScenarioResult> results);
+// Every statistic of one scenario, with the identity of the min/max samples and the CIs.
+std::string scenario_detail(const analysis::ScenarioResult& result);
+// Counts of pairs and of unmatched events by side and reason, one row per scenario.
+std::string pairing_table(std::span<const analysis::ScenarioResult> results);
+
+}  // namespace m2mlat::report

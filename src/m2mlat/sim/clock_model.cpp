@@ -1,0 +1,188 @@
+// The disciplined clock pair: see clock_model.hpp for the model.
+#include "m2mlat/sim/clock_model.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cmath>  // sqrt (correctly rounded) and llround (exact)
+#include <utility>
+
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/sim/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
+
+namespace m2mlat::sim {
+
+using namespace std::chrono_literals;
+
+namespace {
+constexpr std::array<std::string_view, 4> kModeNames{"perfect", "co_referenced", "autonomous", "free"};
+
+constexpr std::array<SyncInfo, 4> kSyncProfiles{{
+    {"co_referenced", "the operator board serves time to the vehicle board: tight, with rare spikes"},
+    {"autonomous", "each board follows its own time servers: larger wander, no shared reference"},
+    {"perfect", "both clocks read true time exactly (isolates the latency model)"},
+    {"free", "no synchronisation: each clock drifts from its initial offset at its drift rate"},
+}};
+
+// Clock stream numbers (the generator uses others for its concerns).
+constexpr std::uint64_t kCauseClockStream = 0x636c6f636b2d6361;   // "clock-ca"
+constexpr std::uint64_t kEffectClockStream = 0x636c6f636b2d6566;  // "clock-ef"
+
+constexpr double kPrecisionNs = 1000;        // clock reading precision assumed by the bound, ns
+constexpr double kMaxSkewRate = 15e-6;       // chrony's assumed worst frequency error between polls
+constexpr double kDispersionAverage = 0.05;  // weight of a new measurement in the jitter estimate
+
+[[noreturn]] void fail(std::string_view field, std::string_view what) {
+  throw core::Error(core::ErrorKind::usage, fmt::format("simulator setting '{}': {}", field, what));
+}
+}  // namespace
+
+std::string_view to_string(SyncMode mode) { return kModeNames.at(static_cast<std::size_t>(mode)); }
+
+SyncMode parse_sync_mode(std::string_view text) {
+  for (std::size_t i = 0; i < kModeNames.size(); ++i)
+    if (kModeNames[i] == text) return static_cast<SyncMode>(i);
+  throw core::Error(
+      core::ErrorKind::usage,
+      fmt::format("unknown sync mode '{}' (expected perfect, co_referenced, autonomous or free)", text));
+}
+
+std::span<const SyncInfo> sync_profiles() { return kSyncProfiles; }
+
+SyncConfig sync_profile(std::string_view name) {
+  SyncConfig sync;
+  sync.mode = parse_sync_mode(name);
+  // A board to public or campus time servers: a few hundred microseconds of noise per measurement.
+  sync.upstream = SyncLink{500us, 30ms, 0, 0ms};
+  // The vehicle to the operator board over the teleoperation network: less noise (one hop, frequent
+  // polls), but now and then a sync packet waits behind a burst and the clock is pulled ahead.
+  sync.peer = SyncLink{150us, 10ms, 0.02, 4ms};
+  return sync;
+}
+
+void validate(const ClockConfig& clock, std::string_view field) {
+  auto key = [&](std::string_view part) { return fmt::format("{}.{}", field, part); };
+  if (!(std::abs(clock.drift_ppm) <= 500)) fail(key("drift_ppm"), "must be within +-500");
+  if (!(clock.wander_ppm_per_sqrt_s >= 0 && clock.wander_ppm_per_sqrt_s <= 1))
+    fail(key("wander_ppm_per_sqrt_s"), "must be in [0, 1]");
+  if (clock.initial_offset > 24h || clock.initial_offset < -24h)
+    fail(key("initial_offset"), "must be within a day");
+  if (clock.sync_bias > 1s || clock.sync_bias < -1s) fail(key("sync_bias"), "must be within a second");
+}
+
+void validate(const SyncConfig& sync, std::string_view field) {
+  auto key = [&](std::string_view part) { return fmt::format("{}.{}", field, part); };
+  if (sync.poll_interval < 1ms || sync.poll_interval > 1h)
+    fail(key("poll_interval"), "must be between 1ms and 1h");
+  for (const auto& entry : {std::pair{&sync.upstream, "upstream"}, std::pair{&sync.peer, "peer"}}) {
+    const SyncLink* link = entry.first;
+    const char* name = entry.second;
+    auto link_key = [&](std::string_view part) { return fmt::format("{}.{}.{}", field, name, part); };
+    if (link->noise.count() < 0) fail(link_key("noise"), "must not be negative");
+    if (link->rtt.count() < 0) fail(link_key("rtt"), "must not be negative");
+    if (!(link->outlier_probability >= 0 && link->outlier_probability <= 1))
+      fail(link_key("outlier_probability"), "must be in [0, 1]");
+    if (link->outlier_mean > 1s || link->outlier_mean < -1s)
+      fail(link_key("outlier_mean"), "must be within a second");
+  }
+  // Outside these the loop oscillates or diverges.
+  if (!(sync.loop_gain > 0 && sync.loop_gain <= 1)) fail(key("loop_gain"), "must be in (0, 1]");
+  if (!(sync.frequency_gain >= 0 && sync.frequency_gain <= 0.25))
+    fail(key("frequency_gain"), "must be in [0, 0.25]");
+}
+
+ClockPair::ClockPair(const ClockConfig& cause, const ClockConfig& effect, const SyncConfig& sync,
+                     std::int64_t start_ns, std::uint64_t seed)
+    : sync_(sync),
+      cause_(cause, seed, kCauseClockStream),
+      effect_(effect, seed, kEffectClockStream),
+      grid_ns_(start_ns),
+      wander_scale_(std::sqrt(static_cast<double>(sync.poll_interval.count()) * 1e-9) * 1e-6) {
+  if (sync_.mode == SyncMode::perfect) return;
+  if (sync_.mode != SyncMode::free) {
+    cause_.disciplined = effect_.disciplined = true;
+    cause_.link = sync_.upstream;
+    effect_.link = sync_.mode == SyncMode::co_referenced ? sync_.peer : sync_.upstream;
+  }
+  for (Node* node : {&cause_, &effect_}) {
+    node->oscillator = node->config.drift_ppm * 1e-6;
+    if (!node->disciplined) {
+      node->error_ns = static_cast<double>(node->config.initial_offset.count());
+      node->rate = node->oscillator;
+    } else {
+      // Converged before the run starts: at the bias from its reference, the drift already learnt.
+      node->correction = node->oscillator;
+      const auto noise = static_cast<double>(node->link.noise.count());
+      node->dispersion_var = noise * noise;
+      node->error_ns = static_cast<double>(node->config.sync_bias.count());
+    }
+  }
+  if (sync_.mode == SyncMode::co_referenced) effect_.error_ns += cause_.error_ns;
+}
+
+void ClockPair::discipline(Node& node, double reference_error_ns) {
+  const SyncLink& link = node.link;
+  const double noise = static_cast<double>(link.noise.count()) * node.rng.normal();
+  const bool outlier = link.outlier_probability > 0 && node.rng.bernoulli(link.outlier_probability);
+  const double outlier_size =
+      outlier ? static_cast<double>(link.outlier_mean.count()) * node.rng.exponential() : 0.0;
+  // The daemon sees the offset to its reference, shifted by the path's asymmetry; an outlier makes
+  // the clock look behind by `outlier_size`, so the loop pulls it ahead.
+  const double measured = node.error_ns - reference_error_ns -
+                          static_cast<double>(node.config.sync_bias.count()) + noise - outlier_size;
+  node.measured_ns = measured;
+  node.dispersion_var += kDispersionAverage * (measured * measured - node.dispersion_var);
+  const auto interval = static_cast<double>(sync_.poll_interval.count());
+  node.correction += sync_.frequency_gain * measured / interval;
+  node.rate = node.oscillator - node.correction - sync_.loop_gain * measured / interval;
+}
+
+void ClockPair::step() {
+  const auto interval = static_cast<double>(sync_.poll_interval.count());
+  for (Node* node : {&cause_, &effect_}) {
+    node->error_ns += node->rate * interval;
+    if (node->config.wander_ppm_per_sqrt_s > 0)
+      node->oscillator += node->config.wander_ppm_per_sqrt_s * wander_scale_ * node->rng.normal();
+    if (!node->disciplined) node->rate = node->oscillator;
+  }
+  grid_ns_ += sync_.poll_interval.count();
+  if (cause_.disciplined) discipline(cause_, 0.0);
+  if (effect_.disciplined) discipline(effect_, sync_.mode == SyncMode::co_referenced ? cause_.error_ns : 0.0);
+}
+
+ClockState ClockPair::state_of(const Node& node, std::int64_t true_ns) const {
+  ClockState state;
+  const auto since_grid = static_cast<double>(true_ns - grid_ns_);
+  state.error_ns = node.error_ns + node.rate * since_grid;
+  if (!node.disciplined) {
+    state.error_bound = core::Duration::max();
+    return state;
+  }
+  state.estimated_offset = core::Duration{std::llround(node.measured_ns)};
+  // chrony's maximum error: half the root delay plus the root dispersion (measurement jitter,
+  // precision, and the worst drift since the last measurement). In co_referenced mode the vehicle's
+  // root includes the operator's, as a stratum-2 client's does.
+  auto bound = [&](const Node& n) {
+    return static_cast<double>(n.link.rtt.count()) / 2 + 3 * std::sqrt(n.dispersion_var) + kPrecisionNs +
+           kMaxSkewRate * since_grid;
+  };
+  double total = bound(node);
+  if (&node == &effect_ && sync_.mode == SyncMode::co_referenced) total += bound(cause_);
+  state.error_bound = core::Duration{std::llround(total)};
+  return state;
+}
+
+ClockState ClockPair::at(core::Role role, std::int64_t true_ns) {
+  if (true_ns < grid_ns_)
+    throw core::Error(core::ErrorKind::internal, "clock model queried at an earlier time than before");
+  if (sync_.mode == SyncMode::perfect) return ClockState{0, core::Duration{0}, core::Duration{0}};
+  const std::int64_t interval = sync_.poll_interval.count();
+  while (true_ns - grid_ns_ >= interval) step();
+  return state_of(role == core::Role::effect ? effect_ : cause_, true_ns);
+}
+
+core::Duration ClockPair::error(core::Role role, std::int64_t true_ns) {
+  return core::Duration{std::llround(at(role, true_ns).error_ns)};
+}
+
+}  // namespace m2mlat::sim

@@ -1,0 +1,15 @@
+// Logarithm and exponential computed with + - * / only, so that they give the same bits on every
+// platform. The C library's log and exp are not required to be correctly rounded and differ in the
+// last place between glibc, musl, libc++ platforms and CPU generations; a one-ulp difference can
+// move a simulated timestamp by a nanosecond and break the simulator's reproducibility.
+// Accuracy: a few ulp, far more than a simulation needs.
+#pragma once
+
+namespace m2mlat::sim {
+
+// Natural logarithm of a finite x > 0 (x <= 0 returns -infinity).
+double portable_log(double x);
+// e^x for finite x; underflows to 0 below about -745 and overflows to infinity above about 709.
+double portable_exp(double x);
+
+}  // namespace m2mlat::sim

@@ -1,0 +1,119 @@
+// The values the store takes and gives back: sessions, stored events, clock samples, losses, and
+// the options of a store. These are the store's API types; how they map to SQLite rows is in
+// rows.hpp and the schema in schema.cpp, so the file format can change without touching them.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "m2mlat/core/event.hpp"
+#include "m2mlat/core/time.hpp"
+
+namespace m2mlat::store {
+
+// What a commit promises about surviving a crash.
+enum class Durability : std::uint8_t {
+  full,    // WAL + synchronous=FULL: every commit is fsynced; survives power loss
+  normal,  // WAL + synchronous=NORMAL: survives a process crash (kill -9); a power loss may lose
+           // the last commits, never the file
+  off,     // WAL + synchronous=OFF: survives a process crash; a power loss may corrupt the file
+};
+std::string_view to_string(Durability durability);
+Durability parse_durability(std::string_view text);  // "full" | "normal" | "off"; throws Error(usage)
+
+struct Options {
+  Durability durability = Durability::normal;
+  bool read_only = false;      // no writes; the store must exist and be at the current schema version
+  bool create = true;          // create the file if it does not exist (ignored when read_only)
+  int busy_timeout_ms = 5000;  // how long to wait for another process's lock, milliseconds
+};
+
+// One recording run of one node: the events it captured belong to it.
+struct Session {
+  std::int64_t id = 0;   // assigned by the store; ignored by begin_session
+  std::string label;     // free text chosen by the user, e.g. "run-12"
+  std::string scenario;  // free text, e.g. "urban-30kmh"
+  std::string node;      // the board that recorded, e.g. "vehicle"; must not be empty
+  core::Role role = core::Role::observer;
+  std::string config_json = "{}";  // the configuration in force; must be valid JSON
+  core::TimePoint start;
+  std::optional<core::TimePoint> end;  // empty while the session is open; same clock as start
+  std::string software_version;        // the m2mlat version that recorded; empty = this build's
+
+  friend bool operator==(const Session&, const Session&) = default;
+};
+
+// An event as stored: its store-wide sequence number (increasing, never reused) and its session.
+// event.node is the session's node.
+struct StoredEvent {
+  std::int64_t seq = 0;
+  std::int64_t session_id = 0;
+  core::Event event;
+
+  friend bool operator==(const StoredEvent&, const StoredEvent&) = default;
+};
+
+// One reading of a board's clock state, e.g. from adjtimex(2) or chronyc tracking.
+struct ClockSample {
+  std::int64_t session_id = 0;
+  core::TimePoint time;           // when the sample was taken
+  std::string source;             // "adjtimex", "chrony", "ptp", "sim", ...: lower-case letters, digits, '_'
+  std::int64_t offset_ns = 0;     // estimated offset from the reference, ns (positive = ahead)
+  std::int64_t max_error_ns = 0;  // maximum error bound, ns
+  std::int64_t est_error_ns = 0;  // estimated error, ns
+  bool synchronised = false;
+  std::string detail_json = "{}";  // source-specific fields; must be valid JSON
+
+  friend bool operator==(const ClockSample&, const ClockSample&) = default;
+};
+
+// Events known to be missing: a gap in the kernel's sequence numbers, a lost buffer, a restart.
+struct Loss {
+  std::int64_t session_id = 0;
+  std::string channel;  // the channel the gap was seen on; may be empty for a node-wide loss
+  core::TimePoint detected_at;
+  std::uint64_t first_missing = 0;  // first missing sequence number (of the kind's counter)
+  std::uint64_t count = 0;          // how many are missing; at least 1
+  std::string kind;                 // one of kLossKinds
+
+  friend bool operator==(const Loss&, const Loss&) = default;
+};
+
+// The kinds of loss the store accepts (stored by name: keep the names stable).
+inline constexpr std::string_view kLossKinds[] = {"seqno_gap", "line_seqno_gap", "kmsg_gap", "overflow",
+                                                  "restart"};
+
+// Everything one commit writes, all or nothing.
+struct Batch {
+  std::int64_t session_id = 0;      // the session the events belong to
+  std::vector<core::Event> events;  // every event's node must be the session's node
+  std::vector<Loss> losses;
+  std::vector<ClockSample> clock_samples;
+};
+
+// The store-wide sequence numbers a commit gave its events; both 0 when it had none.
+struct AppendResult {
+  std::int64_t first_seq = 0;
+  std::int64_t last_seq = 0;
+  friend bool operator==(const AppendResult&, const AppendResult&) = default;
+};
+
+// Restricts an event read; an empty field matches everything.
+struct EventFilter {
+  std::optional<std::int64_t> session_id;
+  std::optional<std::string> node;
+  std::optional<std::string> channel;
+  std::optional<core::Edge> edge;
+};
+
+// Columns of one event set in time order, for pairing many events without building an Event each.
+struct Timestamps {
+  core::Clock clock = core::Clock::realtime;
+  std::vector<std::int64_t> seq;   // store sequence number of each event
+  std::vector<std::int64_t> t_ns;  // its timestamp, ns on `clock`
+};
+
+}  // namespace m2mlat::store

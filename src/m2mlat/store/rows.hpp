@@ -1,0 +1,67 @@
+// The explicit mapping between SQLite rows and the store's values (records.hpp, core::Event).
+//
+// The schema is kept apart from the in-memory types: every column is bound and read here, by
+// name and position, so a change of either side shows up in one file. Decoding checks stored enum
+// values, so a file edited by another tool gives a clear error instead of an invalid enum.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "m2mlat/core/event.hpp"
+#include "m2mlat/core/time.hpp"
+#include "m2mlat/store/records.hpp"
+#include "m2mlat/store/sqlite.hpp"
+
+namespace m2mlat::store::rows {
+
+// uint64 counters are stored as the int64 with the same bits (SQLite integers are signed 64-bit),
+// so every value, 2^64-1 included, reads back unchanged.
+std::int64_t to_column(std::uint64_t value);
+std::uint64_t from_column(std::int64_t column);
+
+// Whether a value is one the schema defines (a cast from an integer may not be).
+bool is_known(core::Clock clock);
+bool is_known(core::Edge edge);
+bool is_known(core::Role role);
+
+// SELECT lists, in the order the read_* functions expect them.
+inline constexpr std::string_view kSessionColumns =
+    "id, label, scenario, node, role, config_json, start_clock, start_ns, end_clock, end_ns, "
+    "software_version";
+inline constexpr std::string_view kEventColumns =  // events e JOIN sessions s
+    "e.seq, e.session_id, s.node, e.channel, e.edge, e.clock, e.t_ns, e.seqno, e.line_seqno, e.flags";
+inline constexpr std::string_view kClockSampleColumns =
+    "session_id, clock, t_ns, source, offset_ns, max_error_ns, est_error_ns, synchronised, detail_json";
+inline constexpr std::string_view kLossColumns =
+    "session_id, channel, clock, t_ns, first_missing, count, kind";
+
+// INSERT statements whose parameters the bind_* functions fill.
+inline constexpr std::string_view kInsertSession =
+    "INSERT INTO sessions (label, scenario, node, role, config_json, start_clock, start_ns, end_clock, "
+    "end_ns, "
+    "software_version) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)";
+inline constexpr std::string_view kInsertEvent =
+    "INSERT INTO events (session_id, channel, edge, clock, t_ns, seqno, line_seqno, flags) "
+    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)";
+inline constexpr std::string_view kInsertClockSample =
+    "INSERT INTO clock_samples (session_id, clock, t_ns, source, offset_ns, max_error_ns, est_error_ns, "
+    "synchronised, detail_json) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)";
+inline constexpr std::string_view kInsertLoss =
+    "INSERT INTO losses (session_id, channel, clock, t_ns, first_missing, count, kind) "
+    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)";
+
+// `software_version` is bound as given; the caller fills an empty one.
+void bind_session(sqlite::Statement& insert, const Session& session);
+void bind_event(sqlite::Statement& insert, std::int64_t session_id, const core::Event& event);
+void bind_clock_sample(sqlite::Statement& insert, const ClockSample& sample);
+void bind_loss(sqlite::Statement& insert, const Loss& loss);
+
+// `path` names the store in errors about values no m2mlat writes.
+Session read_session(const sqlite::Statement& row, const std::string& path);
+StoredEvent read_event(const sqlite::Statement& row, const std::string& path);
+ClockSample read_clock_sample(const sqlite::Statement& row, const std::string& path);
+Loss read_loss(const sqlite::Statement& row, const std::string& path);
+
+}  // namespace m2mlat::store::rows

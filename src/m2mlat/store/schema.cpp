@@ -1,0 +1,168 @@
+// Schema version 1 and the migration runner. Columns, types and units are documented in
+// docs/store.md; how rows map to the in-memory values is in rows.cpp.
+#include "m2mlat/store/schema.hpp"
+
+#include <fmt/format.h>
+
+#include <array>
+
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/core/version.hpp"
+
+namespace m2mlat::store::schema {
+
+namespace {
+
+// Version 1. Times are (clock, t_ns) pairs: clock is core::Clock's stored value, t_ns int64 ns.
+// uint64 counters (seqno, line_seqno, first_missing, count) are stored as the int64 with the same
+// bits. events.seq is the rowid: a new row gets max(seq) + 1, and since events are never deleted
+// (the store has no way to), a committed seq is never given again; a rolled-back batch's seqs
+// were never acknowledged, so reusing them is safe. (AUTOINCREMENT would cost ~20% of the insert
+// time for a guarantee only deletion needs.) Session ids use AUTOINCREMENT: sessions are few.
+constexpr std::string_view kVersion1 = R"sql(
+CREATE TABLE meta (
+  key   TEXT PRIMARY KEY,
+  value TEXT NOT NULL
+) WITHOUT ROWID;
+
+CREATE TABLE sessions (
+  id               INTEGER PRIMARY KEY AUTOINCREMENT,
+  label            TEXT NOT NULL,
+  scenario         TEXT NOT NULL,
+  node             TEXT NOT NULL CHECK (node <> ''),
+  role             INTEGER NOT NULL CHECK (role BETWEEN 0 AND 2),
+  config_json      TEXT NOT NULL,
+  start_clock      INTEGER NOT NULL CHECK (start_clock BETWEEN 0 AND 3),
+  start_ns         INTEGER NOT NULL,
+  end_clock        INTEGER CHECK (end_clock BETWEEN 0 AND 3),
+  end_ns           INTEGER,
+  software_version TEXT NOT NULL,
+  CHECK ((end_clock IS NULL) = (end_ns IS NULL))
+);
+
+CREATE TABLE events (
+  seq        INTEGER PRIMARY KEY,
+  session_id INTEGER NOT NULL REFERENCES sessions (id),
+  channel    TEXT NOT NULL CHECK (channel <> ''),
+  edge       INTEGER NOT NULL CHECK (edge IN (0, 1)),
+  clock      INTEGER NOT NULL CHECK (clock BETWEEN 0 AND 3),
+  t_ns       INTEGER NOT NULL,
+  seqno      INTEGER NOT NULL,
+  line_seqno INTEGER NOT NULL,
+  flags      INTEGER NOT NULL CHECK (flags BETWEEN 0 AND 4294967295)
+);
+CREATE INDEX events_by_time ON events (clock, t_ns);
+CREATE INDEX events_by_session ON events (session_id, channel, clock, t_ns);
+
+CREATE TABLE clock_samples (
+  id           INTEGER PRIMARY KEY,
+  session_id   INTEGER NOT NULL REFERENCES sessions (id),
+  clock        INTEGER NOT NULL CHECK (clock BETWEEN 0 AND 3),
+  t_ns         INTEGER NOT NULL,
+  source       TEXT NOT NULL CHECK (source <> ''),
+  offset_ns    INTEGER NOT NULL,
+  max_error_ns INTEGER NOT NULL,
+  est_error_ns INTEGER NOT NULL,
+  synchronised INTEGER NOT NULL CHECK (synchronised IN (0, 1)),
+  detail_json  TEXT NOT NULL
+);
+CREATE INDEX clock_samples_by_session ON clock_samples (session_id, clock, t_ns);
+
+CREATE TABLE losses (
+  id            INTEGER PRIMARY KEY,
+  session_id    INTEGER NOT NULL REFERENCES sessions (id),
+  channel       TEXT NOT NULL,
+  clock         INTEGER NOT NULL CHECK (clock BETWEEN 0 AND 3),
+  t_ns          INTEGER NOT NULL,
+  first_missing INTEGER NOT NULL,
+  count         INTEGER NOT NULL CHECK (count <> 0),
+  kind          TEXT NOT NULL
+    CHECK (kind IN ('seqno_gap', 'line_seqno_gap', 'kmsg_gap', 'overflow', 'restart'))
+);
+CREATE INDEX losses_by_session ON losses (session_id, clock, t_ns);
+)sql";
+
+constexpr std::array kMigrations{
+    Migration{"sessions, events, clock samples, losses, meta", kVersion1},
+};
+
+}  // namespace
+
+std::span<const Migration> migrations() { return kMigrations; }
+
+int latest_version() { return static_cast<int>(kMigrations.size()); }
+
+int identify(sqlite::Database& db, std::span<const Migration> steps) {
+  const auto application_id = db.query_int("PRAGMA application_id");
+  const auto version = db.query_int("PRAGMA user_version");
+  const auto objects = db.query_int("SELECT count(*) FROM sqlite_schema");
+  if (application_id == 0 && version == 0 && objects == 0) return 0;  // empty: a new store
+  if (application_id != kApplicationId) {
+    throw core::Error(core::ErrorKind::data,
+                      fmt::format("{}: not an m2mlat store (an SQLite database with application_id {:#x} "
+                                  "and {} schema objects)",
+                                  db.path(), application_id, objects));
+  }
+  const auto known = static_cast<std::int64_t>(steps.size());
+  if (version > known) {
+    throw core::Error(
+        core::ErrorKind::data,
+        fmt::format("{}: store schema version {} is newer than this m2mlat {} knows (up to {}); "
+                    "open it with a newer m2mlat",
+                    db.path(), version, core::kVersion, known));
+  }
+  if (version < 1) {
+    throw core::Error(
+        core::ErrorKind::data,
+        fmt::format("{}: damaged m2mlat store (application_id set, schema version {})", db.path(), version));
+  }
+  const auto format = db.query_text("SELECT value FROM meta WHERE key = 'format'");
+  if (format != kFormatName) {
+    throw core::Error(core::ErrorKind::data,
+                      fmt::format("{}: not an m2mlat store (meta format '{}', expected '{}')", db.path(),
+                                  format, kFormatName));
+  }
+  return static_cast<int>(version);
+}
+
+int migrate(sqlite::Database& db, std::span<const Migration> steps) {
+  const auto known = static_cast<std::int64_t>(steps.size());
+  for (;;) {
+    sqlite::Transaction transaction(db);
+    // Read again under the write lock: another process may have migrated since identify().
+    const auto version = db.query_int("PRAGMA user_version");
+    if (version > known) {
+      throw core::Error(
+          core::ErrorKind::data,
+          fmt::format("{}: store schema version {} is newer than this m2mlat {} knows (up to {})", db.path(),
+                      version, core::kVersion, known));
+    }
+    if (version == known) {
+      transaction.commit();
+      return static_cast<int>(version);
+    }
+    const Migration& step = steps[static_cast<std::size_t>(version)];
+    try {
+      db.exec(step.sql);
+    } catch (const core::Error& e) {
+      throw core::Error(core::ErrorKind::internal,
+                        fmt::format("{}: migration to schema version {} ({}) failed: {}", db.path(),
+                                    version + 1, step.description, e.what()));
+    }
+    if (version == 0) {
+      db.exec(fmt::format("PRAGMA application_id = {}", kApplicationId));
+      sqlite::Statement meta(db, "INSERT INTO meta (key, value) VALUES (?1, ?2)");
+      meta.bind(1, std::string_view("format"));
+      meta.bind(2, kFormatName);
+      meta.step();
+      meta.reset();
+      meta.bind(1, std::string_view("created_by"));
+      meta.bind(2, fmt::format("m2mlat {}", core::kVersion));
+      meta.step();
+    }
+    db.exec(fmt::format("PRAGMA user_version = {}", version + 1));
+    transaction.commit();
+  }
+}
+
+}  // namespace m2mlat::store::schema

@@ -1,0 +1,42 @@
+// The store's SQLite schema and its forward migrations.
+//
+// The schema version is PRAGMA user_version = the number of migration steps applied. A store file
+// is recognised by PRAGMA application_id and by the meta table's format name; a newer version than
+// this code knows, a foreign SQLite file or a non-SQLite file is refused with a message naming the
+// file. Each step runs in its own transaction, so a crash during a migration leaves the previous
+// version intact.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string_view>
+
+#include "m2mlat/store/sqlite.hpp"
+
+namespace m2mlat::store::schema {
+
+// "M2ML" in the SQLite file header (offset 68), so that file(1)-like tools can tell the format.
+inline constexpr std::int32_t kApplicationId = 0x4D324D4C;
+// The meta table's row 'format'.
+inline constexpr std::string_view kFormatName = "m2mlat-store";
+
+struct Migration {
+  std::string_view description;  // what the step changes, for messages
+  std::string_view sql;          // DDL/DML run inside the step's transaction
+};
+
+// The ordered steps of this code; after step i (1-based), user_version = i. Append only: a released
+// step is never edited, since stores in the field were created by it.
+std::span<const Migration> migrations();
+int latest_version();
+
+// Checks that `db` is an empty database or an m2mlat store that `steps` can read. Returns its
+// version (0 = empty). Throws core::Error(data) naming the file otherwise.
+int identify(sqlite::Database& db, std::span<const Migration> steps);
+
+// Applies the steps from the store's version up to steps.size(), one transaction each; creating a
+// store (version 0 -> 1) also writes the application id and the meta rows. Safe against a second
+// process migrating at the same time. Returns the version reached.
+int migrate(sqlite::Database& db, std::span<const Migration> steps);
+
+}  // namespace m2mlat::store::schema

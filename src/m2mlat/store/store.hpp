@@ -1,0 +1,92 @@
+// The durable store: one SQLite file (WAL mode) holding sessions, events, clock samples and
+// recorded losses of one node or of a whole campaign.
+//
+// Guarantees: a batch is appended in one transaction, all or nothing; once append() returns, the
+// batch survives a process crash (and a power loss with Durability::full); a crash during a batch
+// leaves the file intact (integrity_check stays ok) without any part of that batch; a reopened
+// store continues with larger sequence numbers. Bad input is refused with a message naming the
+// store and the field, and changes nothing stored.
+//
+// One Store object per thread. Several processes may open the same file (a recorder writing, a
+// server reading): WAL lets readers proceed during a write, and the busy timeout makes a second
+// writer wait instead of failing.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "m2mlat/core/event.hpp"
+#include "m2mlat/core/time.hpp"
+#include "m2mlat/store/records.hpp"
+
+namespace m2mlat::store {
+
+class Store {
+ public:
+  // Opens (creating if allowed) and migrates the store. Throws core::Error: no_input if it does not
+  // exist and may not be created; data if the file is not an m2mlat store or has a newer schema.
+  static Store open(const std::string& path, const Options& options = {});
+
+  Store(Store&&) noexcept;
+  Store& operator=(Store&&) noexcept;
+  ~Store();
+
+  const std::string& path() const;
+  int schema_version() const;
+  std::string created_by() const;    // "m2mlat <version>" that created the file
+  std::string journal_mode() const;  // "wal" for a store opened by m2mlat
+  int synchronous() const;           // SQLite's PRAGMA synchronous: 0 off, 1 normal, 2 full
+
+  // Sessions. begin_session ignores session.id and fills an empty software_version with this
+  // build's; it returns the new id. end_session refuses an unknown or already ended session.
+  std::int64_t begin_session(const Session& session);
+  void end_session(std::int64_t id, core::TimePoint end);
+  std::vector<Session> sessions() const;  // in id order
+  std::optional<Session> session(std::int64_t id) const;
+
+  // Appends everything in one transaction. The events' session must exist, be open and have the
+  // events' node; losses and clock samples name their own (open) session.
+  AppendResult append(const Batch& batch);
+  // Shorthands for append(); append_events returns the first event's seq (0 for no events).
+  std::int64_t append_events(std::int64_t session_id, std::span<const core::Event> events);
+  void append_clock_samples(std::span<const ClockSample> samples);
+  void append_losses(std::span<const Loss> losses);
+
+  // Up to `limit` events with seq > after_seq, in seq order (the resume-by-seq read).
+  std::vector<StoredEvent> events_after(std::int64_t after_seq, std::size_t limit) const;
+  // Events with from <= time <= to (both ends included, so INT64 extremes are reachable), on
+  // from's clock, matching the filter, in time order (ties in seq order). from and to must be on
+  // the same clock.
+  std::vector<StoredEvent> events_in_time(core::TimePoint from, core::TimePoint to,
+                                          const EventFilter& filter = {}) const;
+  // The same selection as events_in_time, as two columns: for pairing large sets.
+  Timestamps timestamps(core::TimePoint from, core::TimePoint to, const EventFilter& filter = {}) const;
+
+  // Clock samples of one session (or all), optionally only those with from <= time <= to, in
+  // time order.
+  std::vector<ClockSample> clock_samples(std::optional<std::int64_t> session_id = {}) const;
+  std::vector<ClockSample> clock_samples(std::optional<std::int64_t> session_id, core::TimePoint from,
+                                         core::TimePoint to) const;
+  // Losses of one session (or all), in the order recorded.
+  std::vector<Loss> losses(std::optional<std::int64_t> session_id = {}) const;
+
+  // The distinct channel names of a session's events, sorted.
+  std::vector<std::string> channels(std::int64_t session_id) const;
+
+  std::int64_t last_seq() const;  // the largest committed seq; 0 for no events
+  std::int64_t event_count(std::optional<std::int64_t> session_id = {}) const;
+  // PRAGMA integrity_check is "ok" and no foreign key is dangling.
+  bool integrity_ok() const;
+
+ private:
+  struct Impl;
+  explicit Store(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace m2mlat::store
