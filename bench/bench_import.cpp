@@ -3,12 +3,12 @@
 //
 // kernel_log/timestamps is the lean path (read_timestamps: one int64 column per pin, no events);
 // the others build the full result (core::Event per line, or pairs with their events and checks).
+#include <fmt/format.h>
+
 #include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <variant>
-
-#include <fmt/format.h>
 
 #include "m2mlat/formats/import_file.hpp"
 #include "registry.hpp"
@@ -31,7 +31,8 @@ std::size_t count(const formats::ImportedFile& file) {
 }
 
 void expect(std::size_t got, std::size_t lines, const std::string& path) {
-  if (got != lines) throw std::runtime_error(fmt::format("{}: imported {} records of {} lines", path, got, lines));
+  if (got != lines)
+    throw std::runtime_error(fmt::format("{}: imported {} records of {} lines", path, got, lines));
 }
 
 // One case: `import(path)` on the file `file`, which holds `lines` data lines.

@@ -1,8 +1,9 @@
 // The whole analysis in one process, on the lean path the library offers for large files: both
-// kernel logs read as timestamp columns (read_timestamps), paired, and summarised, without and with
-// the bootstrap. Events per second count both sides. The same work as `m2mlat stats --cause-file
-// --effect-file`, minus building core::Event objects and printing JSON; the difference between the
-// two is the cost of the command line's way through the library.
+// kernel logs read as timestamp columns (read_timestamps), paired, and the pairs not flagged
+// ambiguous summarised, without and with the bootstrap. Events per second count both sides. The
+// same work as `m2mlat stats --cause-file --effect-file`, minus building core::Event objects and
+// printing JSON; the difference between the two is the cost of the command line's way through the
+// library.
 #include <fmt/format.h>
 
 #include <cstdint>
@@ -41,6 +42,7 @@ void add_pipeline(std::size_t resamples) {
           latencies.reserve(match.pairs.size());
           ids.reserve(match.pairs.size());
           for (const auto& p : match.pairs) {
+            if (p.ambiguous()) continue;  // as `m2mlat stats` does by default
             latencies.push_back(p.latency().count());
             ids.push_back(p.cause_index);
           }

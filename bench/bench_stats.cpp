@@ -33,18 +33,19 @@ Sample sample(std::size_t n) {
 }
 
 void add_summary(std::size_t n, std::size_t resamples) {
-  add(fmt::format("stats/summarize/bootstrap:{}/events_per_side:{}", resamples, n), [=](benchmark::State& state) {
-    const auto s = sample(n);
-    stats::SummaryOptions options;
-    if (resamples > 0) options.bootstrap = stats::BootstrapOptions{resamples, 1, 0.95};
-    for (auto _ : state) {
-      const auto summary = stats::summarize(s.latency_ns, s.ids, options);
-      if (summary.n != s.latency_ns.size()) throw std::runtime_error("summary of the wrong sample size");
-      benchmark::DoNotOptimize(&summary);
-    }
-    state.counters["latencies"] = static_cast<double>(s.latency_ns.size());
-    set_rate(state, s.latency_ns.size(), "latencies");
-  });
+  add(fmt::format("stats/summarize/bootstrap:{}/events_per_side:{}", resamples, n),
+      [=](benchmark::State& state) {
+        const auto s = sample(n);
+        stats::SummaryOptions options;
+        if (resamples > 0) options.bootstrap = stats::BootstrapOptions{resamples, 1, 0.95};
+        for (auto _ : state) {
+          const auto summary = stats::summarize(s.latency_ns, s.ids, options);
+          if (summary.n != s.latency_ns.size()) throw std::runtime_error("summary of the wrong sample size");
+          benchmark::DoNotOptimize(&summary);
+        }
+        state.counters["latencies"] = static_cast<double>(s.latency_ns.size());
+        set_rate(state, s.latency_ns.size(), "latencies");
+      });
 }
 
 }  // namespace

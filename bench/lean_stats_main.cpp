@@ -4,8 +4,9 @@
 //   m2mlat_lean_stats CAUSE.log EFFECT.log BOOTSTRAP_RESAMPLES
 //
 // Reads each file as one timestamp column (formats::read_timestamps: no core::Event objects), pairs
-// with pairing::match (default options, as `m2mlat stats`), summarises with stats::summarize (the
-// default thresholds; bootstrap CIs of median and IQR when resamples > 0, seed 1, level 0.95), and
+// with pairing::match (default options, as `m2mlat stats`), summarises the pairs not flagged
+// ambiguous (as `m2mlat stats` does by default) with stats::summarize (the default thresholds;
+// bootstrap CIs of median and IQR when resamples > 0, seed 1, level 0.95), and
 // prints one JSON object: the summary's main figures, the event counts and the seconds per step
 // ("timing_s": import, pair, statistics - the last including the bootstrap). bench/measure.py gives
 // its wall time and peak memory.
@@ -37,8 +38,9 @@ double seconds_since(Clock::time_point start) {
 std::vector<std::int64_t> read_side(const std::string& path) {
   auto series = m2mlat::formats::read_timestamps(path, m2mlat::formats::Format::kernel_log);
   if (series.size() != 1)
-    throw m2mlat::core::Error(m2mlat::core::ErrorKind::data,
-                              fmt::format("{}: expected the timestamps of one GPIO pin, found {}", path, series.size()));
+    throw m2mlat::core::Error(
+        m2mlat::core::ErrorKind::data,
+        fmt::format("{}: expected the timestamps of one GPIO pin, found {}", path, series.size()));
   return std::move(series.front().ns);
 }
 
@@ -55,6 +57,7 @@ int run(const std::string& cause_path, const std::string& effect_path, std::size
   latencies.reserve(match.pairs.size());
   ids.reserve(match.pairs.size());
   for (const auto& p : match.pairs) {
+    if (p.ambiguous()) continue;  // as `m2mlat stats` does by default
     latencies.push_back(p.latency().count());
     ids.push_back(p.cause_index);
   }
@@ -66,7 +69,8 @@ int run(const std::string& cause_path, const std::string& effect_path, std::size
   const auto s = m2mlat::stats::summarize(latencies, ids, options);
   timing["statistics"] = seconds_since(start);
 
-  nlohmann::json out = {{"n", s.n},
+  nlohmann::json out = {{"pairs", match.pairs.size()},
+                        {"n", s.n},
                         {"mean_ms", s.mean_ms},
                         {"sd_ms", s.sd_ms},
                         {"q1", s.q1_ms},
@@ -88,7 +92,8 @@ int run(const std::string& cause_path, const std::string& effect_path, std::size
 
 int main(int argc, char** argv) {
   std::size_t resamples = 0;
-  if (argc != 4 || std::from_chars(argv[3], argv[3] + std::string_view(argv[3]).size(), resamples).ec != std::errc()) {
+  if (argc != 4 ||
+      std::from_chars(argv[3], argv[3] + std::string_view(argv[3]).size(), resamples).ec != std::errc()) {
     std::fprintf(stderr, "usage: m2mlat_lean_stats CAUSE.log EFFECT.log BOOTSTRAP_RESAMPLES\n");
     return 2;
   }

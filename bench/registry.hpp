@@ -40,7 +40,8 @@ benchmark::internal::Benchmark* add(const std::string& name, Body body) {
 
 // Sets the rate of a case: `per_iteration` items of kind `label` per iteration.
 inline void set_rate(benchmark::State& state, std::size_t per_iteration, const char* label) {
-  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(per_iteration));
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) *
+                          static_cast<std::int64_t>(per_iteration));
   state.SetLabel(label);
 }
 

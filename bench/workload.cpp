@@ -110,7 +110,8 @@ InputFiles write_files(const Recording& r, const std::filesystem::path& dir) {
   f.events_csv = (dir / "events.csv").string();
 
   f.kernel_log_effect = (dir / "vehicle.log").string();
-  for (const auto& [path, column] : {std::pair{f.kernel_log, &r.cause_ns}, std::pair{f.kernel_log_effect, &r.effect_ns}}) {
+  for (const auto& [path, column] :
+       {std::pair{f.kernel_log, &r.cause_ns}, std::pair{f.kernel_log_effect, &r.effect_ns}}) {
     FileWriter log(path);
     for (auto t : *column) log.print("GPIO_16_IRQ:{}\n", t);
     log.close();
@@ -132,7 +133,8 @@ InputFiles write_files(const Recording& r, const std::filesystem::path& dir) {
   for (const auto& p : r.truth) {
     const auto c = split(r.cause_ns[p.cause]), e = split(r.effect_ns[p.effect]);
     const auto latency_ns = r.effect_ns[p.effect] - r.cause_ns[p.cause];
-    paired.print("{},{},{},{},,{}.{:06}\n", c.s, c.ns, e.s, e.ns, latency_ns / 1'000'000, latency_ns % 1'000'000);
+    paired.print("{},{},{},{},,{}.{:06}\n", c.s, c.ns, e.s, e.ns, latency_ns / 1'000'000,
+                 latency_ns % 1'000'000);
   }
   paired.close();
   f.rig_paired_lines = r.truth.size();
@@ -150,7 +152,8 @@ InputFiles write_files(const Recording& r, const std::filesystem::path& dir) {
 
 TempDir::TempDir() {
   const char* base = std::getenv("TMPDIR");
-  std::string pattern = std::string(base != nullptr && *base != '\0' ? base : "/tmp") + "/m2mlat-bench-XXXXXX";
+  std::string pattern =
+      std::string(base != nullptr && *base != '\0' ? base : "/tmp") + "/m2mlat-bench-XXXXXX";
   if (::mkdtemp(pattern.data()) == nullptr)
     throw std::system_error(errno, std::generic_category(), "cannot create a directory like " + pattern);
   path_ = pattern;

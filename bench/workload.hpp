@@ -53,11 +53,11 @@ struct Recording {
 
 // Files holding the recording in each importable format, and their data line counts.
 struct InputFiles {
-  std::string kernel_log;      // GPIO_16_IRQ:<ns>, the cause side
+  std::string kernel_log;         // GPIO_16_IRQ:<ns>, the cause side
   std::string kernel_log_effect;  // the same for the effect side (for the whole pipeline)
-  std::string rig_export_csv;  // Line,Seconds,Nanoseconds, the cause side
-  std::string rig_paired_csv;  // remote_station_s,...,m2m_latency_ms, one row per true pair
-  std::string events_csv;      // m2mlat-events/1, the cause side
+  std::string rig_export_csv;     // Line,Seconds,Nanoseconds, the cause side
+  std::string rig_paired_csv;     // remote_station_s,...,m2m_latency_ms, one row per true pair
+  std::string events_csv;         // m2mlat-events/1, the cause side
   std::size_t kernel_log_lines = 0;
   std::size_t rig_export_lines = 0;
   std::size_t rig_paired_lines = 0;

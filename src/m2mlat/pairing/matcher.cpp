@@ -178,6 +178,7 @@ std::vector<std::uint32_t> bursts(const std::vector<std::int64_t>& times, std::i
 // Marks the pairs whose assignment the data cannot make certain (PairFlag kPairAmbiguous):
 //  - a burst on either side holds an edge without partner (a pass missed on one side, or an extra
 //    edge): the order-preserving rule then had a choice of which edges to leave out;
+//  - a burst on one side is paired with edges of two bursts on the other side;
 //  - within a burst, the effect edges' spacing does not follow the cause edges' spacing: for two
 //    consecutive pairs in one burst, (effect interval / cause interval) differs from the median of
 //    that ratio over all bursts by more than a factor kPatternFactor. The vehicle's wheel replays the
@@ -197,10 +198,25 @@ std::vector<bool> ambiguous_pairs(const std::vector<std::int64_t>& causes, const
   }
   for (std::size_t j = 0; j < effects.size(); ++j)
     if (!effect_used[j]) effect_bad[effect_burst[j]] = true;
+  // One burst of passes on one side must map to one burst on the other: pairs joining a cause burst
+  // to two effect bursts (or the reverse) mean an edge was taken from a neighbouring manoeuvre.
+  {
+    std::vector<std::uint32_t> effect_of(n_cause_bursts, kNone), cause_of(n_effect_bursts, kNone);
+    for (std::size_t i = 0; i < matched.size(); ++i) {
+      if (matched[i] == kNone) continue;
+      const auto cb = cause_burst[i], eb = effect_burst[matched[i]];
+      if (effect_of[cb] == kNone) effect_of[cb] = eb;
+      if (cause_of[eb] == kNone) cause_of[eb] = cb;
+      if (effect_of[cb] != eb || cause_of[eb] != cb) {
+        cause_bad[cb] = cause_bad[cause_of[eb]] = true;
+        effect_bad[eb] = effect_bad[effect_of[cb]] = true;
+      }
+    }
+  }
 
   // Interval ratios of consecutive pairs sharing a burst on both sides.
   struct Step {
-    std::uint32_t burst;
+    std::uint32_t cause_burst, effect_burst;
     double ratio;
   };
   std::vector<Step> steps;
@@ -208,7 +224,7 @@ std::vector<bool> ambiguous_pairs(const std::vector<std::int64_t>& causes, const
   for (std::size_t i = 0; i < matched.size(); ++i) {
     if (matched[i] == kNone) continue;
     if (prev != kNone && cause_burst[prev] == cause_burst[i] && effect_burst[matched[prev]] == effect_burst[matched[i]])
-      steps.push_back({cause_burst[i], static_cast<double>(effects[matched[i]] - effects[matched[prev]]) /
+      steps.push_back({cause_burst[i], effect_burst[matched[i]], static_cast<double>(effects[matched[i]] - effects[matched[prev]]) /
                                            static_cast<double>(causes[i] - causes[prev])});
     prev = i;
   }
@@ -219,7 +235,8 @@ std::vector<bool> ambiguous_pairs(const std::vector<std::int64_t>& causes, const
     std::nth_element(ratios.begin(), mid, ratios.end());
     const double median = *mid;
     for (const auto& s : steps)
-      if (s.ratio > median * kPatternFactor || s.ratio < median / kPatternFactor) cause_bad[s.burst] = true;
+      if (s.ratio > median * kPatternFactor || s.ratio < median / kPatternFactor)
+        cause_bad[s.cause_burst] = effect_bad[s.effect_burst] = true;
   }
 
   std::vector<bool> ambiguous(matched.size(), false);

@@ -1,0 +1,145 @@
+#!/usr/bin/python3
+"""Prints bench/run.sh's table from the results it left in one directory.
+
+Usage: report.py WORK_DIR EVENTS_PER_SIDE BOOTSTRAP [--markdown]
+
+WORK_DIR holds, for each program P in cli (m2mlat stats), lean (m2mlat_lean_stats) and baseline
+(bench/baseline.py) and each bootstrap setting B in 0 and BOOTSTRAP: P-B.out (the program's JSON
+output) and P-B.measure (bench/measure.py's wall seconds and peak memory); and micro.json (Google
+Benchmark's JSON output of m2mlat_bench). One table: step, m2mlat figure, baseline figure, ratio,
+and whether the issue's target (at least 5x faster than the baseline, at no more memory) is met.
+"""
+import json
+import os
+import sys
+
+SPEED_TARGET = 5.0  # m2mlat at least this many times faster than the baseline
+MEMORY_TARGET = 1.0  # ... at no more than this multiple of the baseline's peak memory
+
+
+def load(path):
+    with open(path) as f:
+        return json.load(f)
+
+
+def rate(x):
+    for unit, scale in (("G", 1e9), ("M", 1e6), ("k", 1e3)):
+        if x >= scale:
+            return f"{x / scale:.3g} {unit}"
+    return f"{x:.3g} "
+
+
+def cli_summary(out):
+    """n and median of `m2mlat stats --json` (m2mlat-stats/1)."""
+    latency = out["scenarios"][0]["latency"]
+    return latency["n"], latency["median_ms"]
+
+
+class Table:
+    def __init__(self):
+        self.rows = []
+
+    def section(self, title):
+        self.rows.append((title,))
+
+    def row(self, step, m2mlat, baseline="-", ratio="-", target="-"):
+        self.rows.append((step, m2mlat, baseline, ratio, target))
+
+    def text(self):
+        header = ("step", "m2mlat", "baseline", "ratio", "target")
+        cells = [header] + [r for r in self.rows if len(r) == 5]
+        widths = [max(len(c[i]) for c in cells) for i in range(5)]
+
+        def line(r):
+            return "  ".join(c.ljust(w) if i in (0, 4) else c.rjust(w) for i, (c, w) in enumerate(zip(r, widths)))
+
+        out = [line(header)]
+        for r in self.rows:
+            if len(r) == 1:
+                out += ["", f"== {r[0]} =="]
+            else:
+                out.append(line(r))
+        return "\n".join(out)
+
+    def markdown(self):
+        out = ["| step | m2mlat | baseline | ratio | target |", "|---|---:|---:|---:|---|"]
+        for r in self.rows:
+            out.append(f"| **{r[0]}** | | | | |" if len(r) == 1 else "| " + " | ".join(r) + " |")
+        return "\n".join(out)
+
+
+def verdict(ok):
+    return "met" if ok else "NOT MET"
+
+
+def end_to_end(table, work, events, bootstrap):
+    runs = {}
+    for program in ("cli", "lean", "baseline"):
+        for b in (0, bootstrap):
+            runs[program, b] = (load(os.path.join(work, f"{program}-{b}.measure")),
+                                load(os.path.join(work, f"{program}-{b}.out")))
+    base_events = sum(runs["baseline", 0][1]["events"].values())
+    table.section(f"end to end: import -> pair -> statistics of two kernel logs, ~{events:,} events per side "
+                  f"({base_events:,} in all)")
+    n_cli, median_cli = cli_summary(runs["cli", 0][1])
+    base0 = runs["baseline", 0][1]
+    table.row("latencies summarised (n)", f"{n_cli:,}", f"{base0['n']:,}")
+    table.row("median latency, ms", f"{median_cli:.3f}", f"{base0['median']:.3f}")
+    for program, name in (("cli", "m2mlat stats"), ("lean", "library, lean path")):
+        for b in sorted({0, bootstrap}):
+            m, _ = runs[program, b]
+            base, _ = runs["baseline", b]
+            what = f"{name}, bootstrap {b}" if b else f"{name}, no bootstrap"
+            speedup = base["wall_s"] / m["wall_s"]
+            mark = program == "cli"
+            table.row(f"{what}: wall time", f"{m['wall_s']:.2f} s ({rate(base_events / m['wall_s'])}ev/s)",
+                      f"{base['wall_s']:.2f} s ({rate(base_events / base['wall_s'])}ev/s)",
+                      f"{speedup:.2f}x faster",
+                      (verdict(speedup >= SPEED_TARGET) if mark else "(library)") + f" (>= {SPEED_TARGET:g}x)")
+            memory = m["peak_mib"] / base["peak_mib"]
+            table.row(f"{what}: peak memory", f"{m['peak_mib']:.0f} MiB", f"{base['peak_mib']:.0f} MiB",
+                      f"{memory:.2f}x baseline's",
+                      (verdict(memory <= MEMORY_TARGET) if mark else "(library)") + " (<= 1x)")
+    # Per step: both programs time their own steps (the lean path and the baseline, same input).
+    lean, base = runs["lean", bootstrap][1], runs["baseline", bootstrap][1]
+    lines = sum(base["events"].values())
+    table.section(f"per step (library lean path vs baseline, bootstrap {bootstrap}, their own timers)")
+    lt, bt = lean["timing_s"], base["timing_s"]
+    steps = (("import kernel logs (lines/s)", lt["import"], bt["import"], lines),
+             ("pair (events/s, both sides)", lt["pair"], bt["pair"], lines),
+             (f"statistics incl. bootstrap {bootstrap} (latencies/s)", lt["statistics"],
+              bt["statistics"] + bt["bootstrap"], base["n"]))
+    for step, mine, theirs, items in steps:
+        table.row(step, f"{mine:.2f} s ({rate(items / mine)}/s)", f"{theirs:.2f} s ({rate(items / theirs)}/s)",
+                  f"{theirs / mine:.2f}x faster")
+
+
+def micro(table, path):
+    report = load(path)
+    table.section("micro-benchmarks (m2mlat_bench, wall-clock time; events count both sides)")
+    for b in report["benchmarks"]:
+        name = b["name"].removesuffix("/real_time")
+        if b.get("error_occurred"):
+            table.row(name, "error: " + b.get("error_message", ""))
+            continue
+        unit = b.get("label", "items")
+        table.row(name, f"{rate(b['items_per_second'])}{unit}/s ({b['real_time']:.3g} {b['time_unit']})")
+
+
+def main():
+    args = [a for a in sys.argv[1:] if a != "--markdown"]
+    if len(args) != 3:
+        sys.exit(__doc__)
+    work, events, bootstrap = args[0], int(args[1]), int(args[2])
+    table = Table()
+    end_to_end(table, work, events, bootstrap)
+    micro(table, os.path.join(work, "micro.json"))
+    print(table.markdown() if "--markdown" in sys.argv else table.text())
+    context = load(os.path.join(work, "micro.json"))["context"]
+    load_avg = ", ".join(f"{x:.2f}" for x in context.get("load_avg", []))
+    print(f"\nmachine: {context['num_cpus']} CPUs at {context['mhz_per_cpu']} MHz, load average {load_avg} "
+          f"(when the micro-benchmarks started), {context['date']}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,28 @@
+# The demo: finishes in under 30 s, and its statistics use no pair that disagrees with the truth.
+source "$(dirname "$0")/lib.bash"
+start=$(date +%s)
+"$M2MLAT" demo --json > demo.json
+elapsed=$(( $(date +%s) - start ))
+[ "$elapsed" -lt 30 ] || fail "demo took $elapsed s"
+"$M2MLAT" demo --magnets 0,20,40 --json > demo3.json
+$PY - demo.json demo3.json <<'PY'
+import json, sys
+for path in sys.argv[1:]:
+    doc = json.load(open(path))
+    assert doc["format"] == "m2mlat-stats/1"
+    names = [s["scenario"] for s in doc["scenarios"]]
+    assert names == ["static_wifi", "static_5g", "dynamic_co_referenced", "dynamic_autonomous"], names
+    for s in doc["scenarios"]:
+        t = s["truth"]
+        assert t["wrong_not_ambiguous"] == 0, (path, s["scenario"], t)
+        assert t["correct"] >= 0.97 * t["true_pairs"], (path, s["scenario"], t)
+        median = s["latency"]["median_ms"]
+        assert 700 <= median <= 1000, (s["scenario"], median)  # the reference study's range, roughly
+        assert abs(median - t["true_median_ms"]) < 15, (s["scenario"], median, t)  # ambiguous pairs are left out
+        assert t["max_abs_error_ns"] < 5_000_000, t  # clocks + interrupt latency: a few ms at most
+    by = {s["scenario"]: s["latency"] for s in doc["scenarios"]}
+    assert by["static_5g"]["iqr_ms"] < by["static_wifi"]["iqr_ms"], "5G spread should be narrower"
+    assert by["dynamic_co_referenced"]["median_ms"] < by["static_wifi"]["median_ms"], "moving: smaller actuator lag"
+print("demo ok")
+PY
+echo "1 passed, 0 failed"
