@@ -137,6 +137,7 @@ ScenarioInput from_events(std::string scenario, std::span<const core::Event> cau
                           std::span<const core::Event> effects, const Selection& selection) {
   ScenarioInput input;
   input.scenario = std::move(scenario);
+  input.id_kind = "index";
   auto take = [&](std::span<const core::Event> events, const std::optional<core::ChannelRef>& want,
                   core::ChannelRef& ref, store::Timestamps& out, const char* side) {
     std::optional<core::Clock> seen;

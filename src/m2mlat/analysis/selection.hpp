@@ -30,6 +30,9 @@ struct ScenarioInput {
   core::ChannelRef cause_ref, effect_ref;
   core::Clock clock = core::Clock::realtime;
   store::Timestamps cause, effect;
+  // What the seq numbers are: "seq" (store sequence numbers), "line" (line in a paired-results file)
+  // or "index" (0-based position in an imported file's events).
+  std::string id_kind = "seq";
 };
 
 // Scenario names in the order of their first session.

@@ -26,8 +26,15 @@ int run(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);  // prints help or the usage error; 0 for --help, non-zero otherwise
+    app.exit(e);  // prints the usage error
+    return core::exit_code(core::ErrorKind::usage);
   }
 
   try {

@@ -25,7 +25,7 @@ namespace {
 
 struct SimulateCommand {
   std::string preset = "static_wifi";
-  std::uint64_t seed = 1;
+  std::uint64_t seed = 0;  // 0: the preset's own seed
   std::int64_t manoeuvres = 0;
   std::vector<std::string> overrides;
   std::string store_path;
@@ -95,7 +95,7 @@ int run_simulate(const SimulateCommand& c) {
   if (c.store_path.empty() && c.out_dir.empty())
     throw core::Error(core::ErrorKind::usage, "say where the run goes: --store FILE and/or --out-dir DIR");
   auto config = sim::preset(c.preset);
-  config.seed = c.seed;
+  if (c.seed != 0) config.seed = c.seed;
   if (c.manoeuvres > 0) config.manoeuvres = c.manoeuvres;
   sim::apply_overrides(config, c.overrides);
   const auto format = formats::parse_format(c.format);
@@ -125,7 +125,7 @@ int run_simulate(const SimulateCommand& c) {
 Runner attach_simulate(CLI::App& sub) {
   auto c = std::make_shared<SimulateCommand>();
   sub.add_option("--scenario", c->preset, "Preset to start from (--list shows them)")->capture_default_str();
-  sub.add_option("--seed", c->seed, "Seed: the same seed gives the same run")->capture_default_str();
+  sub.add_option("--seed", c->seed, "Seed: the same seed gives the same run (default: the preset's)");
   sub.add_option("--manoeuvres", c->manoeuvres, "Number of manoeuvres (default: the preset's)");
   sub.add_option("--set", c->overrides, "Override a field, key=value (repeatable; --list shows the keys)");
   sub.add_option("--store", c->store_path, "Record into this store (created if missing)");

@@ -35,6 +35,7 @@ analysis::ScenarioResult as_given(std::string scenario, const formats::PairedImp
                                   const stats::SummaryOptions& options) {
   analysis::ScenarioResult r;
   r.input.scenario = std::move(scenario);
+  r.input.id_kind = "line";
   if (!paired.causes.empty()) r.input.cause_ref = {paired.causes.front().node, paired.causes.front().channel};
   if (!paired.effects.empty()) r.input.effect_ref = {paired.effects.front().node, paired.effects.front().channel};
   std::vector<std::int64_t> latencies, ids;

@@ -72,6 +72,7 @@ nlohmann::json scenario_json(const analysis::ScenarioResult& r) {
           {"cause", core::to_string(r.input.cause_ref)},
           {"effect", core::to_string(r.input.effect_ref)},
           {"clock", core::to_string(r.input.clock)},
+          {"sample_id", r.input.id_kind},
           {"pairing", pairing_json(r)},
           {"latency", summary_json(r.summary)}};
 }

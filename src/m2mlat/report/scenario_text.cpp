@@ -62,7 +62,7 @@ std::string scenario_detail(const analysis::ScenarioResult& r) {
                                 r.include_ambiguous ? " (ambiguous included)" : fmt::format(" ({} ambiguous left out)", r.ambiguous_pairs()));
   Table table({"statistic", "value (ms)", "note"});
   auto extreme = [&](const char* name, const std::optional<stats::Extreme>& e) {
-    if (e) table.add_row({name, ms_text(e->ms(), 3), fmt::format("cause event {}", e->id)});
+    if (e) table.add_row({name, ms_text(e->ms(), 3), fmt::format("cause event {} {}", r.input.id_kind, e->id)});
   };
   extreme("min", s.min);
   table.add_row({"P5", ms_text(s.p5_ms, 3), ""});

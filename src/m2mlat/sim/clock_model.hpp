@@ -83,15 +83,16 @@ struct ClockState {
 };
 
 // Both nodes' clocks, stepped together on the poll grid (the vehicle's reference in co_referenced
-// mode is the operator's clock). Queries must come in non-decreasing true time.
+// mode is the operator's clock). The model only moves forward: a query may not go back before the
+// poll interval that holds the latest query.
 class ClockPair {
  public:
   // `start_ns`: true time (ns since the epoch) where the model starts; `seed`: the run's seed.
   ClockPair(const ClockConfig& cause, const ClockConfig& effect, const SyncConfig& sync,
             std::int64_t start_ns, std::uint64_t seed);
 
-  // The state of `role`'s clock at true time `true_ns`, which must not be earlier than the
-  // previous query's (the model only moves forward). `role` is cause or effect.
+  // The state of `role`'s clock (cause or effect) at true time `true_ns`. Throws
+  // core::Error(internal) if `true_ns` lies before the current poll interval.
   ClockState at(core::Role role, std::int64_t true_ns);
   // Reading - true time at `true_ns`, rounded to whole nanoseconds (same rules as at()).
   core::Duration error(core::Role role, std::int64_t true_ns);

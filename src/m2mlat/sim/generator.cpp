@@ -38,13 +38,8 @@ Generator::Generator(const RigConfig& config)
     : config_(validated(config)),
       planner_(config_),
       clocks_(config_.cause_clock, config_.effect_clock, config_.sync, config_.start.ns(), config_.seed),
-      cause_{
-          core::Role::cause, SensorModel(config_.cause_sensor, config_.seed, core::Role::cause), {}, {}, 0},
-      effect_{core::Role::effect,
-              SensorModel(config_.effect_sensor, config_.seed, core::Role::effect),
-              {},
-              {},
-              0},
+      cause_(core::Role::cause, config_.cause_sensor, config_.seed),
+      effect_(core::Role::effect, config_.effect_sensor, config_.seed),
       end_ns_(kNever),
       next_sample_ns_(config_.start.ns()) {
   schedule_spurious(cause_, config_.start.ns());

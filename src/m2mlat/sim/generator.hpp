@@ -96,6 +96,7 @@ class Generator {
     Queue queue;
     Pending spurious;  // the next spurious edge (key INT64_MAX: none)
     std::int64_t emitted = 0;
+    Side(core::Role r, const SensorConfig& config, std::uint64_t seed) : role(r), sensor(config, seed, r) {}
   };
 
   void plan_manoeuvre(Chunk& chunk);

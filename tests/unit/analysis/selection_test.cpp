@@ -1,0 +1,119 @@
+#include "m2mlat/analysis/selection.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "m2mlat/analysis/scenario_result.hpp"
+#include "m2mlat/core/error.hpp"
+
+using namespace m2mlat;
+
+namespace {
+constexpr std::int64_t kMs = 1'000'000;
+constexpr std::int64_t kT0 = 1'700'000'000'000'000'000;
+
+core::Event edge(const std::string& node, const std::string& channel, std::int64_t t_ns,
+                 core::Edge e = core::Edge::falling, core::Clock clock = core::Clock::realtime) {
+  core::Event ev;
+  ev.node = node;
+  ev.channel = channel;
+  ev.edge = e;
+  ev.time = core::TimePoint::from_ns(clock, t_ns);
+  return ev;
+}
+
+class SelectionTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    path_ = (std::filesystem::temp_directory_path() /
+             ("m2mlat-selection-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
+              ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".db"))
+                .string();
+    std::filesystem::remove(path_);
+  }
+  void TearDown() override {
+    for (const char* s : {"", "-wal", "-shm"}) std::filesystem::remove(path_ + s);
+  }
+  std::int64_t session(store::Store& s, const std::string& scenario, const std::string& node, core::Role role,
+                       const std::vector<core::Event>& events) {
+    store::Session info;
+    info.scenario = scenario;
+    info.node = node;
+    info.role = role;
+    info.start = core::TimePoint::from_ns(core::Clock::realtime, kT0);
+    const auto id = s.begin_session(info);
+    s.append_events(id, events);
+    return id;
+  }
+  std::string path_;
+};
+}  // namespace
+
+TEST_F(SelectionTest, LoadsBothSidesByRoleAndPairs) {
+  auto s = store::Store::open(path_);
+  // Stored out of time order on purpose: the loader sorts.
+  session(s, "run", "operator", core::Role::cause,
+          {edge("operator", "wheel", kT0 + 3000 * kMs), edge("operator", "wheel", kT0)});
+  session(s, "run", "vehicle", core::Role::effect,
+          {edge("vehicle", "wheel", kT0 + 800 * kMs), edge("vehicle", "wheel", kT0 + 3850 * kMs),
+           edge("vehicle", "wheel", kT0 + 3900 * kMs, core::Edge::rising)});
+  const auto input = analysis::load_scenario(s, "run", {});
+  EXPECT_EQ(input.cause_ref, (core::ChannelRef{"operator", "wheel"}));
+  EXPECT_EQ(input.effect_ref, (core::ChannelRef{"vehicle", "wheel"}));
+  EXPECT_EQ(input.cause.t_ns, (std::vector<std::int64_t>{kT0, kT0 + 3000 * kMs}));
+  EXPECT_EQ(input.effect.t_ns.size(), 2u);  // the rising edge is not selected by default
+  const auto result = analysis::analyse(input, {}, {});
+  ASSERT_EQ(result.summary.n, 2u);
+  EXPECT_DOUBLE_EQ(result.summary.median_ms, 825.0);
+  // min/max name the cause event's store seq
+  EXPECT_EQ(result.summary.min->id, input.cause.seq[0]);
+  EXPECT_EQ(analysis::scenarios(s), (std::vector<std::string>{"run"}));
+}
+
+TEST_F(SelectionTest, ClearErrors) {
+  auto s = store::Store::open(path_);
+  session(s, "one-sided", "operator", core::Role::cause, {edge("operator", "wheel", kT0)});
+  try {
+    analysis::load_scenario(s, "one-sided", {});
+    FAIL();
+  } catch (const core::Error& e) {
+    EXPECT_EQ(e.kind(), core::ErrorKind::data);
+    EXPECT_NE(std::string(e.what()).find("no effect session"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(analysis::load_scenario(s, "missing", {}), core::Error);
+
+  session(s, "two-channels", "operator", core::Role::cause,
+          {edge("operator", "wheel", kT0), edge("operator", "pedal", kT0 + 1)});
+  session(s, "two-channels", "vehicle", core::Role::effect, {edge("vehicle", "wheel", kT0 + 800 * kMs)});
+  try {
+    analysis::load_scenario(s, "two-channels", {});
+    FAIL();
+  } catch (const core::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("several channels"), std::string::npos) << e.what();
+  }
+  analysis::Selection chosen;
+  chosen.cause = core::ChannelRef{"operator", "wheel"};
+  EXPECT_EQ(analysis::load_scenario(s, "two-channels", chosen).cause.t_ns.size(), 1u);
+
+  session(s, "clocks", "operator", core::Role::cause, {edge("operator", "wheel", 5, core::Edge::falling, core::Clock::monotonic)});
+  session(s, "clocks", "vehicle", core::Role::effect, {edge("vehicle", "wheel", kT0)});
+  try {
+    analysis::load_scenario(s, "clocks", {});
+    FAIL();
+  } catch (const core::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("monotonic"), std::string::npos) << e.what();
+  }
+}
+
+TEST(FromEvents, SplitsByNodeAndRefusesMixedChannels) {
+  std::vector<core::Event> events{edge("operator", "wheel", kT0), edge("vehicle", "wheel", kT0 + 900 * kMs)};
+  analysis::Selection sel;
+  sel.cause = core::ChannelRef{"operator", ""};
+  sel.effect = core::ChannelRef{"vehicle", ""};
+  const auto input = analysis::from_events("x", events, events, sel);
+  EXPECT_EQ(input.cause.t_ns.size(), 1u);
+  EXPECT_EQ(input.effect.t_ns.size(), 1u);
+  events.push_back(edge("vehicle", "pedal", kT0 + 950 * kMs));
+  EXPECT_THROW(analysis::from_events("x", events, events, sel), core::Error);
+}
