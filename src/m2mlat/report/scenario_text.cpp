@@ -15,9 +15,13 @@ std::size_t count_unmatched(const pairing::MatchResult& m, pairing::Side side, s
   return n;
 }
 
+// ">1s", ">170ms", ">2.5ms"
 std::string threshold_name(core::Duration d) {
-  return d.count() % 1'000'000'000 == 0 ? fmt::format(">{}s", d.count() / 1'000'000'000)
-                                       : fmt::format(">{}ms", core::format_ms(d).substr(0, core::format_ms(d).find('.')));
+  if (d.count() % 1'000'000'000 == 0) return fmt::format(">{}s", d.count() / 1'000'000'000);
+  std::string ms = core::format_ms(d);
+  ms.erase(ms.find_last_not_of('0') + 1);
+  if (ms.back() == '.') ms.pop_back();
+  return ">" + ms + "ms";
 }
 }  // namespace
 
@@ -67,19 +71,18 @@ std::string scenario_detail(const analysis::ScenarioResult& r) {
   extreme("min", s.min);
   table.add_row({"P5", ms_text(s.p5_ms, 3), ""});
   table.add_row({"Q1", ms_text(s.q1_ms, 3), ""});
-  table.add_row({"median", ms_text(s.median_ms, 3),
-                 s.bootstrap ? fmt::format("{:.0f}% CI {:.3f} .. {:.3f}", 100 * s.bootstrap->level,
-                                           s.bootstrap->median_ms.lower, s.bootstrap->median_ms.upper)
-                             : ""});
+  auto ci = [&](stats::Interval stats::MedianIqrCi::*which) {
+    if (!s.bootstrap) return std::string();
+    const auto& i = (*s.bootstrap).*which;
+    return fmt::format("{:.0f}% CI {:.3f} .. {:.3f}", 100 * s.bootstrap->level, i.lower, i.upper);
+  };
+  table.add_row({"median", ms_text(s.median_ms, 3), ci(&stats::MedianIqrCi::median_ms)});
   table.add_row({"Q3", ms_text(s.q3_ms, 3), ""});
   table.add_row({"P90", ms_text(s.p90_ms, 3), ""});
   table.add_row({"P95", ms_text(s.p95_ms, 3), ""});
   table.add_row({"P99", ms_text(s.p99_ms, 3), ""});
   extreme("max", s.max);
-  table.add_row({"IQR", ms_text(s.iqr_ms, 3),
-                 s.bootstrap ? fmt::format("{:.0f}% CI {:.3f} .. {:.3f}", 100 * s.bootstrap->level,
-                                           s.bootstrap->iqr_ms.lower, s.bootstrap->iqr_ms.upper)
-                             : ""});
+  table.add_row({"IQR", ms_text(s.iqr_ms, 3), ci(&stats::MedianIqrCi::iqr_ms)});
   table.add_row({"mean", ms_text(s.mean_ms, 3), ""});
   table.add_row({"sd", ms_text(s.sd_ms, 3), "n - 1"});
   for (const auto& p : s.extra_percentiles) table.add_row({fmt::format("P{}", p.percent), ms_text(p.value_ms, 3), ""});

@@ -1,5 +1,4 @@
-// xoshiro256** (Blackman and Vigna, 2018) and splitmix64, written from their published definitions,
-// plus the variate transforms. See random.hpp.
+// Seeding of the simulator's streams and the variate transforms. See random.hpp.
 #include "m2mlat/sim/random.hpp"
 
 #include <array>
@@ -10,20 +9,14 @@
 
 namespace m2mlat::sim {
 
-std::uint64_t splitmix64(std::uint64_t& state) {
-  state += 0x9e3779b97f4a7c15ULL;
-  std::uint64_t z = state;
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 Rng::Rng(std::uint64_t seed, std::uint64_t stream) {
   // Mix the stream number in through its own splitmix64 step so neighbouring streams are unrelated.
   std::uint64_t mix = stream;
-  std::uint64_t state = seed ^ splitmix64(mix);
-  for (auto& word : s_) word = splitmix64(state);
-  if ((s_[0] | s_[1] | s_[2] | s_[3]) == 0) s_[0] = 1;  // the all-zero state is a fixed point
+  std::uint64_t state = seed ^ core::splitmix64(mix);
+  core::Xoshiro256::State words;
+  for (auto& word : words) word = core::splitmix64(state);
+  if ((words[0] | words[1] | words[2] | words[3]) == 0) words[0] = 1;  // the all-zero state is a fixed point
+  engine_ = core::Xoshiro256(words);
 }
 
 double Rng::uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }

@@ -1,4 +1,4 @@
-// The simulator's own pseudo-random numbers: xoshiro256** seeded through splitmix64, and the
+// The simulator's pseudo-random numbers: core's xoshiro256** seeded through splitmix64, and the
 // transforms to uniform, normal and exponential variates (ziggurat method, with tables computed by
 // portable_math.hpp's functions). The std:: distributions are not used:
 // their algorithms differ between standard libraries, so the same seed would give different rigs.
@@ -7,10 +7,9 @@
 
 #include <cstdint>
 
-namespace m2mlat::sim {
+#include "m2mlat/core/random.hpp"
 
-// One step of splitmix64: advances `state` and returns the next output. Used to expand a seed.
-std::uint64_t splitmix64(std::uint64_t& state);
+namespace m2mlat::sim {
 
 // A generator for one concern of the simulation (the operator's manoeuvres, one sensor's bounces,
 // one clock, ...). Separate streams keep concerns apart: changing the bounce probability does not
@@ -21,17 +20,7 @@ class Rng {
   Rng(std::uint64_t seed, std::uint64_t stream);
 
   // 64 uniformly distributed bits (xoshiro256**). Inline: every variate starts here.
-  std::uint64_t next() {
-    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
-    const std::uint64_t t = s_[1] << 17;
-    s_[2] ^= s_[0];
-    s_[3] ^= s_[1];
-    s_[1] ^= s_[2];
-    s_[0] ^= s_[3];
-    s_[2] ^= t;
-    s_[3] = rotl(s_[3], 45);
-    return result;
-  }
+  std::uint64_t next() { return engine_.next(); }
   double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1), 53 random bits
   double uniform(double lo, double hi);                                       // [lo, hi)
   // Uniform integer in [lo, hi] (inclusive), without modulo bias. Requires lo <= hi.
@@ -41,8 +30,7 @@ class Rng {
   double exponential();      // exponential with mean 1 (ziggurat method, exact)
 
  private:
-  static constexpr std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-  std::uint64_t s_[4];
+  core::Xoshiro256 engine_;
 };
 
 }  // namespace m2mlat::sim

@@ -5,13 +5,6 @@
 
 namespace m2mlat::stats {
 
-std::uint64_t SplitMix64::next() {
-  std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 WideProduct multiply_wide_portable(std::uint64_t a, std::uint64_t b) {
   // Schoolbook multiplication on 32-bit digits; every partial sum fits in 64 bits.
   const std::uint64_t a_lo = a & 0xffffffffULL, a_hi = a >> 32;
@@ -29,11 +22,11 @@ Rng::Rng(std::uint64_t seed) : Rng(stream(seed, 0)) {}
 Rng Rng::stream(std::uint64_t seed, std::uint64_t stream) {
   // Skipping 4*stream outputs of splitmix64 is adding 4*stream increments to its counter.
   SplitMix64 expand(seed + 4 * stream * 0x9e3779b97f4a7c15ULL);
-  Rng rng;
-  for (std::uint64_t& word : rng.s_) word = expand.next();
+  core::Xoshiro256::State words;
+  for (std::uint64_t& word : words) word = expand.next();
   // splitmix64 is a bijection of its counter, so the all-zero state (the one xoshiro must avoid)
   // needs four consecutive counters that all map to 0: impossible, as only one counter does.
-  return rng;
+  return Rng(core::Xoshiro256(words));
 }
 
 std::uint64_t Rng::below(std::uint64_t bound) {

@@ -10,13 +10,15 @@
 
 #include <cstdint>
 
+#include "m2mlat/core/random.hpp"
+
 namespace m2mlat::stats {
 
 // splitmix64: a 64-bit counter passed through a mixing function. Used only to expand seeds.
 class SplitMix64 {
  public:
   explicit SplitMix64(std::uint64_t state) : state_(state) {}
-  std::uint64_t next();
+  std::uint64_t next() { return core::splitmix64(state_); }
 
  private:
   std::uint64_t state_;
@@ -52,17 +54,7 @@ class Rng {
   // the same numbers). Rng(seed) is stream 0.
   static Rng stream(std::uint64_t seed, std::uint64_t stream);
 
-  std::uint64_t next() {
-    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
-    const std::uint64_t t = s_[1] << 17;
-    s_[2] ^= s_[0];
-    s_[3] ^= s_[1];
-    s_[1] ^= s_[2];
-    s_[0] ^= s_[3];
-    s_[2] ^= t;
-    s_[3] = rotl(s_[3], 45);
-    return result;
-  }
+  std::uint64_t next() { return engine_.next(); }
 
   // Uniform integer in [0, bound), bound > 0, without modulo bias (Lemire 2019: the high half of
   // next() * bound, redrawn when the low half falls in the short, biased zone).
@@ -72,9 +64,8 @@ class Rng {
   double uniform01();
 
  private:
-  Rng() = default;
-  static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-  std::uint64_t s_[4] = {0, 0, 0, 0};
+  explicit Rng(core::Xoshiro256 engine) : engine_(engine) {}
+  core::Xoshiro256 engine_;
 };
 
 // A stream of uniform integers in [0, bound) for one fixed bound below 2^32: the bootstrap draws
