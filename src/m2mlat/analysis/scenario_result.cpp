@@ -14,7 +14,8 @@ std::vector<std::int64_t> ScenarioResult::latencies_ns() const {
 }
 
 std::size_t ScenarioResult::ambiguous_pairs() const {
-  return static_cast<std::size_t>(std::count_if(match.pairs.begin(), match.pairs.end(), [](const auto& p) { return p.ambiguous(); }));
+  return static_cast<std::size_t>(
+      std::count_if(match.pairs.begin(), match.pairs.end(), [](const auto& p) { return p.ambiguous(); }));
 }
 
 ScenarioResult analyse(ScenarioInput input, const pairing::MatchOptions& match_options,

@@ -21,8 +21,12 @@ struct ScenarioResult {
   std::size_t ambiguous_pairs() const;
 
   std::vector<std::int64_t> latencies_ns() const;  // of the pairs the summary is over
-  std::int64_t cause_seq(const pairing::Pair& p) const { return input.cause.seq[static_cast<std::size_t>(p.cause_index)]; }
-  std::int64_t effect_seq(const pairing::Pair& p) const { return input.effect.seq[static_cast<std::size_t>(p.effect_index)]; }
+  std::int64_t cause_seq(const pairing::Pair& p) const {
+    return input.cause.seq[static_cast<std::size_t>(p.cause_index)];
+  }
+  std::int64_t effect_seq(const pairing::Pair& p) const {
+    return input.effect.seq[static_cast<std::size_t>(p.effect_index)];
+  }
 };
 
 // Pairs the input and summarises the latencies of the pairs that are not ambiguous (or of all pairs).

@@ -28,13 +28,15 @@ std::string side_node(const std::vector<store::Session>& sessions, const std::st
     if (given ? s.node == given->node : s.role == role) nodes.insert(s.node);
   if (nodes.empty())
     throw core::Error(core::ErrorKind::data,
-                      given ? fmt::format("scenario '{}' has no session of node '{}'", scenario, given->node)
-                            : fmt::format("scenario '{}' has no {} session (record or import one with role {})",
-                                          scenario, side, side));
+                      given
+                          ? fmt::format("scenario '{}' has no session of node '{}'", scenario, given->node)
+                          : fmt::format("scenario '{}' has no {} session (record or import one with role {})",
+                                        scenario, side, side));
   if (nodes.size() > 1)
-    throw core::Error(core::ErrorKind::data,
-                      fmt::format("scenario '{}' has several {} nodes ({}): choose one with --{} node/channel",
-                                  scenario, side, fmt::join(nodes, ", "), side));
+    throw core::Error(
+        core::ErrorKind::data,
+        fmt::format("scenario '{}' has several {} nodes ({}): choose one with --{} node/channel", scenario,
+                    side, fmt::join(nodes, ", "), side));
   return *nodes.begin();
 }
 
@@ -57,16 +59,18 @@ void sort_by_time(store::Timestamps& t) {
 // Loads one side: every session of the scenario on `node`, the chosen channel (or the node's only
 // channel) and edge, on whichever single clock they use.
 store::Timestamps load_side(const store::Store& store, const std::vector<store::Session>& sessions,
-                            const std::string& scenario, core::ChannelRef& ref, std::optional<core::Edge> edge) {
+                            const std::string& scenario, core::ChannelRef& ref,
+                            std::optional<core::Edge> edge) {
   if (ref.channel.empty()) {
     std::set<std::string> channels;
     for (const auto& s : sessions)
       if (s.node == ref.node)
         for (auto& c : store.channels(s.id)) channels.insert(std::move(c));
     if (channels.size() > 1)
-      throw core::Error(core::ErrorKind::data,
-                        fmt::format("node '{}' has several channels in scenario '{}' ({}): choose one as {}/<channel>",
-                                    ref.node, scenario, fmt::join(channels, ", "), ref.node));
+      throw core::Error(
+          core::ErrorKind::data,
+          fmt::format("node '{}' has several channels in scenario '{}' ({}): choose one as {}/<channel>",
+                      ref.node, scenario, fmt::join(channels, ", "), ref.node));
     if (!channels.empty()) ref.channel = *channels.begin();
   }
   store::Timestamps side;
@@ -78,13 +82,15 @@ store::Timestamps load_side(const store::Store& store, const std::vector<store::
     filter.channel = ref.channel;
     filter.edge = edge;
     for (auto clock : kClocks) {
-      auto part = store.timestamps(core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::min()),
-                                   core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::max()), filter);
+      auto part =
+          store.timestamps(core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::min()),
+                           core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::max()), filter);
       if (part.t_ns.empty()) continue;
       if (seen && *seen != clock)
-        throw core::Error(core::ErrorKind::data,
-                          fmt::format("{} has events on two clocks ({} and {}) in scenario '{}'", core::to_string(ref),
-                                      core::to_string(*seen), core::to_string(clock), scenario));
+        throw core::Error(
+            core::ErrorKind::data,
+            fmt::format("{} has events on two clocks ({} and {}) in scenario '{}'", core::to_string(ref),
+                        core::to_string(*seen), core::to_string(clock), scenario));
       seen = clock;
       side.seq.insert(side.seq.end(), part.seq.begin(), part.seq.end());
       side.t_ns.insert(side.t_ns.end(), part.t_ns.begin(), part.t_ns.end());
@@ -97,11 +103,12 @@ store::Timestamps load_side(const store::Store& store, const std::vector<store::
 
 void check_clocks(const ScenarioInput& input) {
   if (!input.cause.t_ns.empty() && !input.effect.t_ns.empty() && input.cause.clock != input.effect.clock)
-    throw core::Error(core::ErrorKind::data,
-                      fmt::format("scenario '{}': cause {} is on {} but effect {} is on {}; only timestamps of one "
-                                  "clock can be subtracted",
-                                  input.scenario, core::to_string(input.cause_ref), core::to_string(input.cause.clock),
-                                  core::to_string(input.effect_ref), core::to_string(input.effect.clock)));
+    throw core::Error(
+        core::ErrorKind::data,
+        fmt::format("scenario '{}': cause {} is on {} but effect {} is on {}; only timestamps of one "
+                    "clock can be subtracted",
+                    input.scenario, core::to_string(input.cause_ref), core::to_string(input.cause.clock),
+                    core::to_string(input.effect_ref), core::to_string(input.effect.clock)));
 }
 
 }  // namespace
@@ -113,7 +120,8 @@ std::vector<std::string> scenarios(const store::Store& store) {
   return names;
 }
 
-ScenarioInput load_scenario(const store::Store& store, const std::string& scenario, const Selection& selection) {
+ScenarioInput load_scenario(const store::Store& store, const std::string& scenario,
+                            const Selection& selection) {
   std::vector<store::Session> sessions;
   for (auto& s : store.sessions())
     if (s.scenario == scenario) sessions.push_back(std::move(s));
@@ -147,12 +155,14 @@ ScenarioInput from_events(std::string scenario, std::span<const core::Event> cau
       if (selection.edge && e.edge != *selection.edge) continue;
       if (ref.node.empty()) ref = {e.node, e.channel};
       if ((!want || want->channel.empty()) && (e.node != ref.node || e.channel != ref.channel))
-        throw core::Error(core::ErrorKind::data,
-                          fmt::format("the {} input has events of {} and {}/{}: choose one with --{} node/channel",
-                                      side, core::to_string(ref), e.node, e.channel, side));
+        throw core::Error(
+            core::ErrorKind::data,
+            fmt::format("the {} input has events of {} and {}/{}: choose one with --{} node/channel", side,
+                        core::to_string(ref), e.node, e.channel, side));
       if (seen && *seen != e.time.clock())
-        throw core::Error(core::ErrorKind::data, fmt::format("the {} input mixes {} and {} timestamps", side,
-                                                             core::to_string(*seen), core::to_string(e.time.clock())));
+        throw core::Error(core::ErrorKind::data,
+                          fmt::format("the {} input mixes {} and {} timestamps", side, core::to_string(*seen),
+                                      core::to_string(e.time.clock())));
       seen = e.time.clock();
       out.seq.push_back(static_cast<std::int64_t>(k));
       out.t_ns.push_back(e.time.ns());

@@ -18,8 +18,8 @@
 namespace m2mlat::analysis {
 
 struct Selection {
-  std::optional<core::ChannelRef> cause;   // unset: the node of the scenario's cause sessions
-  std::optional<core::ChannelRef> effect;  // unset: the node of the scenario's effect sessions
+  std::optional<core::ChannelRef> cause;                 // unset: the node of the scenario's cause sessions
+  std::optional<core::ChannelRef> effect;                // unset: the node of the scenario's effect sessions
   std::optional<core::Edge> edge = core::Edge::falling;  // unset: both edges
 };
 
@@ -40,7 +40,8 @@ std::vector<std::string> scenarios(const store::Store& store);
 
 // Loads one scenario. Throws core::Error(data) naming the scenario when a side has no session, when
 // a node has several channels and none was chosen, or when the two sides use different clocks.
-ScenarioInput load_scenario(const store::Store& store, const std::string& scenario, const Selection& selection);
+ScenarioInput load_scenario(const store::Store& store, const std::string& scenario,
+                            const Selection& selection);
 
 // The same from events in memory (e.g. imported files): filters by selection and sorts by time.
 ScenarioInput from_events(std::string scenario, std::span<const core::Event> causes,

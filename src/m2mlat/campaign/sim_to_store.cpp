@@ -1,9 +1,8 @@
 // Simulated run -> store, chunk by chunk; one transaction per node per chunk.
 #include "m2mlat/campaign/sim_to_store.hpp"
 
-#include <nlohmann/json.hpp>
-
 #include <limits>
+#include <nlohmann/json.hpp>
 
 namespace m2mlat::campaign {
 
@@ -70,7 +69,8 @@ RecordedRun record_simulation(store::Store& store, const sim::RigConfig& config,
         if (s.node == role) batch.clock_samples.push_back(to_store(s, session));
       if (!batch.events.empty()) last = std::max(last, batch.events.back().time);
       store.append(batch);
-      (role == core::Role::cause ? run.cause_events : run.effect_events) += static_cast<std::int64_t>(batch.events.size());
+      (role == core::Role::cause ? run.cause_events : run.effect_events) +=
+          static_cast<std::int64_t>(batch.events.size());
     }
     total += static_cast<std::int64_t>(chunk.event_count());
     if (observer) observer(chunk, total);

@@ -8,7 +8,8 @@
 
 namespace m2mlat::campaign {
 
-TruthCheck check_against_truth(const analysis::ScenarioResult& result, const std::vector<sim::TruePair>& pairs) {
+TruthCheck check_against_truth(const analysis::ScenarioResult& result,
+                               const std::vector<sim::TruePair>& pairs) {
   TruthCheck check;
   check.true_pairs = static_cast<std::int64_t>(pairs.size());
   check.found = static_cast<std::int64_t>(result.match.pairs.size());

@@ -12,14 +12,14 @@
 namespace m2mlat::campaign {
 
 struct TruthCheck {
-  std::int64_t true_pairs = 0;   // passes detected on both sides
-  std::int64_t found = 0;        // pairs the matcher produced
-  std::int64_t correct = 0;      // found and true
-  std::int64_t wrong = 0;        // found but not true
-  std::int64_t wrong_clear = 0;  // ... among the pairs not flagged ambiguous (those the statistics use)
-  std::int64_t ambiguous = 0;    // pairs flagged ambiguous
-  std::int64_t missed = 0;       // true but not found
-  double true_median_ms = 0;     // median of the true latencies of the true pairs
+  std::int64_t true_pairs = 0;        // passes detected on both sides
+  std::int64_t found = 0;             // pairs the matcher produced
+  std::int64_t correct = 0;           // found and true
+  std::int64_t wrong = 0;             // found but not true
+  std::int64_t wrong_clear = 0;       // ... among the pairs not flagged ambiguous (those the statistics use)
+  std::int64_t ambiguous = 0;         // pairs flagged ambiguous
+  std::int64_t missed = 0;            // true but not found
+  double true_median_ms = 0;          // median of the true latencies of the true pairs
   std::int64_t max_abs_error_ns = 0;  // max |measured - true latency| over the correct pairs
   double mean_error_ns = 0;           // mean (measured - true latency) over the correct pairs
 
@@ -28,6 +28,7 @@ struct TruthCheck {
 
 // `result` must come from the run whose truth is `pairs`, with the events in the simulator's order
 // (pair indices = the simulator's event indices, as when read back from a store in time order).
-TruthCheck check_against_truth(const analysis::ScenarioResult& result, const std::vector<sim::TruePair>& pairs);
+TruthCheck check_against_truth(const analysis::ScenarioResult& result,
+                               const std::vector<sim::TruePair>& pairs);
 
 }  // namespace m2mlat::campaign

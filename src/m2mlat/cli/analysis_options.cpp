@@ -19,9 +19,12 @@ core::Duration duration_flag(const std::string& flag, const std::string& text) {
 
 void MatchFlags::add_to(CLI::App& sub) {
   auto* group = sub.add_option_group("pairing");
-  group->add_option("--min-latency", min_latency, "Smallest plausible latency (e.g. 0ms)")->capture_default_str();
-  group->add_option("--max-latency", max_latency, "Largest plausible latency: the pairing window")->capture_default_str();
-  group->add_option("--refractory", refractory, "Edges closer than this after a kept edge are bounces")->capture_default_str();
+  group->add_option("--min-latency", min_latency, "Smallest plausible latency (e.g. 0ms)")
+      ->capture_default_str();
+  group->add_option("--max-latency", max_latency, "Largest plausible latency: the pairing window")
+      ->capture_default_str();
+  group->add_option("--refractory", refractory, "Edges closer than this after a kept edge are bounces")
+      ->capture_default_str();
   group->add_option("--tolerance", tolerance, "Largest deviation of a pair from the local typical latency")
       ->capture_default_str();
   group->add_option("--burst-gap", burst_gap, "Edges closer than this form one burst (multi-magnet wheels)")
@@ -48,7 +51,8 @@ void StatsFlags::add_to(CLI::App& sub) {
   group->add_option("--percentile", percentiles, "Extra percentiles to report, e.g. 99.9")->delimiter(',');
   group->add_option("--bootstrap", bootstrap, "Bootstrap resamples for the CIs of median and IQR (0: none)")
       ->capture_default_str();
-  group->add_option("--seed", seed, "Seed of the bootstrap (same seed, same intervals)")->capture_default_str();
+  group->add_option("--seed", seed, "Seed of the bootstrap (same seed, same intervals)")
+      ->capture_default_str();
   group->add_option("--level", level, "Confidence level of the intervals")->capture_default_str();
 }
 
@@ -64,7 +68,8 @@ stats::SummaryOptions StatsFlags::options() const {
 void SelectionFlags::add_to(CLI::App& sub) {
   auto* group = sub.add_option_group("channels");
   group->add_option("--cause", cause, "Cause channel as node[/channel] (default: the cause sessions' node)");
-  group->add_option("--effect", effect, "Effect channel as node[/channel] (default: the effect sessions' node)");
+  group->add_option("--effect", effect,
+                    "Effect channel as node[/channel] (default: the effect sessions' node)");
   group->add_option("--edge", edge, "Edges to pair: falling, rising or both")->capture_default_str();
 }
 

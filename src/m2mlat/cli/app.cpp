@@ -13,7 +13,8 @@
 namespace m2mlat::cli {
 
 int run(int argc, char** argv) {
-  CLI::App app{"m2mlat: measure Motion-to-Motion latency between two boards (cause -> effect edges)", "m2mlat"};
+  CLI::App app{"m2mlat: measure Motion-to-Motion latency between two boards (cause -> effect edges)",
+               "m2mlat"};
   app.set_version_flag("--version", std::string("m2mlat ") + core::kVersion);
   app.require_subcommand(1);
   app.fallthrough(false);

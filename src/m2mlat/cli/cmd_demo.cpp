@@ -25,7 +25,8 @@ namespace {
 
 struct DemoCommand {
   std::string store_path;  // empty: a temporary store, removed afterwards
-  std::vector<std::string> scenarios{"static_wifi", "static_5g", "dynamic_co_referenced", "dynamic_autonomous"};
+  std::vector<std::string> scenarios{"static_wifi", "static_5g", "dynamic_co_referenced",
+                                     "dynamic_autonomous"};
   std::uint64_t seed = 1;
   std::int64_t manoeuvres = 0;  // 0: the presets' own count
   std::vector<double> magnets;  // empty: the presets' own
@@ -35,10 +36,16 @@ struct DemoCommand {
 };
 
 nlohmann::json truth_json(const campaign::TruthCheck& t) {
-  return {{"true_pairs", t.true_pairs}, {"found", t.found},         {"correct", t.correct},
-          {"wrong", t.wrong},           {"wrong_not_ambiguous", t.wrong_clear}, {"ambiguous", t.ambiguous},
-          {"missed", t.missed},       {"true_median_ms", t.true_median_ms},
-          {"max_abs_error_ns", t.max_abs_error_ns}, {"mean_error_ns", t.mean_error_ns}};
+  return {{"true_pairs", t.true_pairs},
+          {"found", t.found},
+          {"correct", t.correct},
+          {"wrong", t.wrong},
+          {"wrong_not_ambiguous", t.wrong_clear},
+          {"ambiguous", t.ambiguous},
+          {"missed", t.missed},
+          {"true_median_ms", t.true_median_ms},
+          {"max_abs_error_ns", t.max_abs_error_ns},
+          {"mean_error_ns", t.mean_error_ns}};
 }
 
 int run_demo(const DemoCommand& c) {
@@ -92,13 +99,15 @@ int run_demo(const DemoCommand& c) {
     for (std::size_t k = 0; k < checks.size(); ++k) {
       const auto& t = checks[k];
       table.add_row({results[k].input.scenario, std::to_string(t.true_pairs), std::to_string(t.found),
-                     std::to_string(t.correct), std::to_string(t.wrong), std::to_string(t.wrong - t.wrong_clear),
-                     std::to_string(t.missed),
+                     std::to_string(t.correct), std::to_string(t.wrong),
+                     std::to_string(t.wrong - t.wrong_clear), std::to_string(t.missed),
                      report::ms_text(t.true_median_ms), report::ms_text(results[k].summary.median_ms),
                      fmt::format("{:.3f} ms", static_cast<double>(t.max_abs_error_ns) / 1e6)});
     }
-    fmt::print("against the simulator's truth (latency in ms; error = measured - true latency of a correct pair)\n{}",
-               table.render());
+    fmt::print(
+        "against the simulator's truth (latency in ms; error = measured - true latency of a correct "
+        "pair)\n{}",
+        table.render());
   }
   // The demo is also a self-check: a wrong pair that the statistics use means the matcher disagrees
   // with the truth (ambiguous pairs are flagged as such and left out).
@@ -112,10 +121,13 @@ int run_demo(const DemoCommand& c) {
 Runner attach_demo(CLI::App& sub) {
   auto c = std::make_shared<DemoCommand>();
   sub.add_option("--store", c->store_path, "Keep the campaign in this new store file (default: temporary)");
-  sub.add_option("--scenario", c->scenarios, "Scenarios to simulate (presets; repeatable)")->capture_default_str();
-  sub.add_option("--seed", c->seed, "Seed of the first scenario (the next ones use seed+1, ...)")->capture_default_str();
+  sub.add_option("--scenario", c->scenarios, "Scenarios to simulate (presets; repeatable)")
+      ->capture_default_str();
+  sub.add_option("--seed", c->seed, "Seed of the first scenario (the next ones use seed+1, ...)")
+      ->capture_default_str();
   sub.add_option("--manoeuvres", c->manoeuvres, "Manoeuvres per scenario (default: the preset's)");
-  sub.add_option("--magnets", c->magnets, "Magnet angles on the wheels in degrees, e.g. 0,20,40")->delimiter(',');
+  sub.add_option("--magnets", c->magnets, "Magnet angles on the wheels in degrees, e.g. 0,20,40")
+      ->delimiter(',');
   c->match.add_to(sub);
   c->stats.add_to(sub);
   sub.add_flag("--json", c->json, "Print m2mlat-stats/1 JSON with a truth section per scenario");

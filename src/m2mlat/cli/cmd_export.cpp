@@ -36,11 +36,13 @@ int run_export(const ExportCommand& c) {
     const auto results = analyse_inputs(inputs, c.selection, c.match, no_bootstrap);
     if (results.size() != 1)
       throw core::Error(core::ErrorKind::usage,
-                        fmt::format("{} has {} scenarios: export the pairs of one with --scenario", c.store_path, results.size()));
+                        fmt::format("{} has {} scenarios: export the pairs of one with --scenario",
+                                    c.store_path, results.size()));
     formats::PairExportOptions options;
     options.cause = results[0].input.cause_ref;
     options.effect = results[0].input.effect_ref;
-    formats::export_pairs(c.out, formats::parse_format(c.format.empty() ? "pairs-csv" : c.format), results[0].match.pairs, options);
+    formats::export_pairs(c.out, formats::parse_format(c.format.empty() ? "pairs-csv" : c.format),
+                          results[0].match.pairs, options);
     return 0;
   }
   if (c.what != "events") throw core::Error(core::ErrorKind::usage, "--what: events or pairs");
@@ -50,15 +52,18 @@ int run_export(const ExportCommand& c) {
   auto store = store::Store::open(c.store_path, options);
   std::vector<core::Event> events;
   for (const auto& session : store.sessions()) {
-    if (!c.scenarios.empty() && std::find(c.scenarios.begin(), c.scenarios.end(), session.scenario) == c.scenarios.end())
+    if (!c.scenarios.empty() &&
+        std::find(c.scenarios.begin(), c.scenarios.end(), session.scenario) == c.scenarios.end())
       continue;
     if (!c.node.empty() && session.node != c.node) continue;
     // Every event of the session, in time order.
     store::EventFilter filter;
     filter.session_id = session.id;
-    for (auto clock : {core::Clock::realtime, core::Clock::monotonic, core::Clock::boottime, core::Clock::simulated})
-      for (auto& e : store.events_in_time(core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::min()),
-                                          core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::max()), filter))
+    for (auto clock :
+         {core::Clock::realtime, core::Clock::monotonic, core::Clock::boottime, core::Clock::simulated})
+      for (auto& e : store.events_in_time(
+               core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::min()),
+               core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::max()), filter))
         events.push_back(std::move(e.event));
   }
   formats::export_events(c.out, formats::parse_format(c.format.empty() ? "events-csv" : c.format), events);
@@ -72,7 +77,8 @@ Runner attach_export(CLI::App& sub) {
   sub.add_option("store", c->store_path, "The store to export from")->required();
   sub.add_option("--what", c->what, "events, or pairs (recomputed by the matcher)")->capture_default_str();
   sub.add_option("-o,--out", c->out, "Output file ('-' = standard output)")->capture_default_str();
-  sub.add_option("--format", c->format, "events-csv (default), events-jsonl; pairs-csv (default), pairs-jsonl, rig-paired-csv");
+  sub.add_option("--format", c->format,
+                 "events-csv (default), events-jsonl; pairs-csv (default), pairs-jsonl, rig-paired-csv");
   sub.add_option("--scenario", c->scenarios, "Only these scenarios (repeatable)");
   sub.add_option("--node", c->node, "Only the events of this node");
   c->selection.add_to(sub);

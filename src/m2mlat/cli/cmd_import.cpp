@@ -47,8 +47,8 @@ core::Role role_for(const ImportCommand& c, const std::string& node) {
 }
 
 // Groups a file's events by node, in file order of first appearance.
-std::vector<PendingSession> sessions_of(const ImportCommand& c, const std::string& path, formats::Format format,
-                                        std::vector<core::Event> events) {
+std::vector<PendingSession> sessions_of(const ImportCommand& c, const std::string& path,
+                                        formats::Format format, std::vector<core::Event> events) {
   std::vector<PendingSession> out;
   std::map<std::string, std::size_t> index;
   for (auto& e : events) {
@@ -59,15 +59,17 @@ std::vector<PendingSession> sessions_of(const ImportCommand& c, const std::strin
       p.session.role = role_for(c, e.node);
       p.session.label = c.label;
       p.session.scenario = c.scenario.empty() ? std::filesystem::path(path).stem().string() : c.scenario;
-      p.session.config_json = nlohmann::json{{"source", "import"}, {"file", path}, {"format", formats::to_string(format)}}.dump();
+      p.session.config_json =
+          nlohmann::json{{"source", "import"}, {"file", path}, {"format", formats::to_string(format)}}.dump();
       p.session.start = e.time;
       out.push_back(std::move(p));
     }
     out[it->second].events.push_back(std::move(e));
   }
   for (auto& p : out) {
-    const auto [first, last] = std::minmax_element(p.events.begin(), p.events.end(),
-                                                   [](const auto& a, const auto& b) { return a.time.ns() < b.time.ns(); });
+    const auto [first, last] =
+        std::minmax_element(p.events.begin(), p.events.end(),
+                            [](const auto& a, const auto& b) { return a.time.ns() < b.time.ns(); });
     p.session.start = first->time;
     p.session.end = last->time;
   }
@@ -101,18 +103,22 @@ int run_import(const ImportCommand& c) {
         warn(fmt::format("{}:{}: m2m_latency_ms differs from vehicle - remote_station by {} ns", path,
                          p->checks[k].line, p->checks[k].difference.count()));
       events = std::move(p->causes);
-      events.insert(events.end(), std::make_move_iterator(p->effects.begin()), std::make_move_iterator(p->effects.end()));
+      events.insert(events.end(), std::make_move_iterator(p->effects.begin()),
+                    std::make_move_iterator(p->effects.end()));
     } else {
       throw core::Error(core::ErrorKind::usage,
                         fmt::format("{}: a synchronisation-test file holds clock offsets, not edge events: "
-                                    "summarise it with `m2mlat stats {}`", path, path));
+                                    "summarise it with `m2mlat stats {}`",
+                                    path, path));
     }
     if (events.empty()) throw core::Error(core::ErrorKind::data, fmt::format("{}: no events", path));
     auto sessions = sessions_of(c, path, file.format, std::move(events));
     entry["sessions"] = nlohmann::json::array();
     for (const auto& s : sessions)
-      entry["sessions"].push_back({{"node", s.session.node}, {"role", core::to_string(s.session.role)},
-                                   {"scenario", s.session.scenario}, {"events", s.events.size()}});
+      entry["sessions"].push_back({{"node", s.session.node},
+                                   {"role", core::to_string(s.session.role)},
+                                   {"scenario", s.session.scenario},
+                                   {"events", s.events.size()}});
     report.push_back(entry);
     std::move(sessions.begin(), sessions.end(), std::back_inserter(pending));
   }
@@ -132,8 +138,9 @@ int run_import(const ImportCommand& c) {
     for (const auto& f : report)
       for (const auto& s : f["sessions"])
         fmt::print("{} ({}): {} events of {} ({}) -> scenario '{}'\n", f["file"].get<std::string>(),
-                   f["format"].get<std::string>(), s["events"].get<std::size_t>(), s["node"].get<std::string>(),
-                   s["role"].get<std::string>(), s["scenario"].get<std::string>());
+                   f["format"].get<std::string>(), s["events"].get<std::size_t>(),
+                   s["node"].get<std::string>(), s["role"].get<std::string>(),
+                   s["scenario"].get<std::string>());
   }
   return 0;
 }
@@ -144,13 +151,16 @@ Runner attach_import(CLI::App& sub) {
   auto c = std::make_shared<ImportCommand>();
   sub.add_option("files", c->files, "Files to import ('-' = standard input)")->required();
   sub.add_option("--store", c->store_path, "Store to import into (created if missing)")->required();
-  sub.add_option("--format", c->format, "Input format (default: detected): kernel-log, rig-export-csv, "
-                                        "rig-paired-csv, events-csv, events-jsonl");
-  sub.add_option("--node", c->node, "Node of formats that name none (kernel log, export CSV)")->capture_default_str();
+  sub.add_option("--format", c->format,
+                 "Input format (default: detected): kernel-log, rig-export-csv, "
+                 "rig-paired-csv, events-csv, events-jsonl");
+  sub.add_option("--node", c->node, "Node of formats that name none (kernel log, export CSV)")
+      ->capture_default_str();
   sub.add_option("--channel", c->channel, "Channel of those events (default gpio<pin>)");
   sub.add_option("--line", c->line, "Only this GPIO pin / Line label of a kernel log or export CSV");
-  sub.add_option("--role", c->role, "Role of the imported node: cause/operator, effect/vehicle, observer "
-                                    "(default: from the node's name)");
+  sub.add_option("--role", c->role,
+                 "Role of the imported node: cause/operator, effect/vehicle, observer "
+                 "(default: from the node's name)");
   sub.add_option("--scenario", c->scenario, "Scenario of the sessions (default: the file's name)");
   sub.add_option("--label", c->label, "Label of the sessions")->capture_default_str();
   sub.add_flag("--json", c->json, "Print what was imported as JSON");

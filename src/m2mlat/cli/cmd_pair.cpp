@@ -27,7 +27,8 @@ struct PairCommand {
   bool json = false;
 };
 
-// Unmatched events as CSV: side, index in the side's input, source id (store seq or file index), time, reason.
+// Unmatched events as CSV: side, index in the side's input, source id (store seq or file index), time,
+// reason.
 void write_unmatched(const std::string& path, const std::vector<analysis::ScenarioResult>& results) {
   formats::write_file_atomically(path, [&](std::ostream& out) {
     out << "scenario,side,node,channel,source_id,time_ns,reason\n";
@@ -36,8 +37,9 @@ void write_unmatched(const std::string& path, const std::vector<analysis::Scenar
         const bool cause = u.side == pairing::Side::cause;
         const auto& ref = cause ? r.input.cause_ref : r.input.effect_ref;
         const auto& seq = cause ? r.input.cause.seq : r.input.effect.seq;
-        out << r.input.scenario << ',' << pairing::to_string(u.side) << ',' << ref.node << ',' << ref.channel << ','
-            << seq[static_cast<std::size_t>(u.index)] << ',' << u.time.ns() << ',' << pairing::to_string(u.reason) << '\n';
+        out << r.input.scenario << ',' << pairing::to_string(u.side) << ',' << ref.node << ',' << ref.channel
+            << ',' << seq[static_cast<std::size_t>(u.index)] << ',' << u.time.ns() << ','
+            << pairing::to_string(u.reason) << '\n';
       }
   });
 }
@@ -49,7 +51,8 @@ Runner attach_pair(CLI::App& sub) {
   c->selection.add_to(sub);
   c->match.add_to(sub);
   sub.add_option("-o,--out", c->out, "Write the pairs to this file ('-' = stdout)");
-  sub.add_option("--out-format", c->out_format, "pairs-csv, pairs-jsonl or rig-paired-csv")->capture_default_str();
+  sub.add_option("--out-format", c->out_format, "pairs-csv, pairs-jsonl or rig-paired-csv")
+      ->capture_default_str();
   sub.add_option("--unmatched", c->unmatched_out, "Write the unmatched events with their reasons (CSV)");
   sub.add_flag("--json", c->json, "Print the pairing counts as JSON");
   return [c] {
@@ -63,14 +66,16 @@ Runner attach_pair(CLI::App& sub) {
       std::vector<pairing::Pair> all;
       for (const auto& r : results) all.insert(all.end(), r.match.pairs.begin(), r.match.pairs.end());
       formats::PairExportOptions options;
-      if (!results.empty()) options.cause = results.front().input.cause_ref, options.effect = results.front().input.effect_ref;
+      if (!results.empty())
+        options.cause = results.front().input.cause_ref, options.effect = results.front().input.effect_ref;
       if (results.size() > 1) warn("several scenarios are written to one pairs file, one after another");
       formats::export_pairs(c->out, format, all, options);
     }
     if (!c->unmatched_out.empty()) write_unmatched(c->unmatched_out, results);
     if (c->json) {
       nlohmann::json doc{{"format", report::kStatsFormat}, {"scenarios", nlohmann::json::array()}};
-      for (const auto& r : results) doc["scenarios"].push_back({{"scenario", r.input.scenario}, {"pairing", report::pairing_json(r)}});
+      for (const auto& r : results)
+        doc["scenarios"].push_back({{"scenario", r.input.scenario}, {"pairing", report::pairing_json(r)}});
       print_json(doc);
     } else if (c->out != "-") {
       fmt::print("{}", report::pairing_table(results));

@@ -58,9 +58,12 @@ void list_presets() {
 }
 
 // Files: kernel-log streams chunk by chunk (any length); the event formats are written whole.
-void write_files(const sim::RigConfig& config, const std::string& dir, formats::Format format, std::uint32_t pin) {
+void write_files(const sim::RigConfig& config, const std::string& dir, formats::Format format,
+                 std::uint32_t pin) {
   std::filesystem::create_directories(dir);
-  const auto name = [&](const std::string& node, const char* ext) { return (std::filesystem::path(dir) / (node + ext)).string(); };
+  const auto name = [&](const std::string& node, const char* ext) {
+    return (std::filesystem::path(dir) / (node + ext)).string();
+  };
   std::vector<sim::TruePair> truth;
   if (format == formats::Format::kernel_log) {
     std::ofstream cause(name(config.cause_node, ".log")), effect(name(config.effect_node, ".log"));
@@ -105,17 +108,19 @@ int run_simulate(const SimulateCommand& c) {
 
   if (!c.store_path.empty()) {
     auto store = store::Store::open(c.store_path);
-    const auto run = campaign::record_simulation(store, config, c.label, [](const sim::Chunk&, std::int64_t events) {
-      progress(fmt::format("recording: {} events", events));
-    });
+    const auto run =
+        campaign::record_simulation(store, config, c.label, [](const sim::Chunk&, std::int64_t events) {
+          progress(fmt::format("recording: {} events", events));
+        });
     progress_done();
-    fmt::print("{}: scenario {} recorded: {} events on {} (session {}), {} on {} (session {})\n", c.store_path,
-               config.scenario, run.cause_events, config.cause_node, run.cause_session, run.effect_events,
-               config.effect_node, run.effect_session);
+    fmt::print("{}: scenario {} recorded: {} events on {} (session {}), {} on {} (session {})\n",
+               c.store_path, config.scenario, run.cause_events, config.cause_node, run.cause_session,
+               run.effect_events, config.effect_node, run.effect_session);
   }
   if (!c.out_dir.empty()) {
     write_files(config, c.out_dir, format, c.pin);
-    fmt::print("{}: {} and {} events ({}), truth.csv\n", c.out_dir, config.cause_node, config.effect_node, c.format);
+    fmt::print("{}: {} and {} events ({}), truth.csv\n", c.out_dir, config.cause_node, config.effect_node,
+               c.format);
   }
   return 0;
 }
@@ -130,7 +135,8 @@ Runner attach_simulate(CLI::App& sub) {
   sub.add_option("--set", c->overrides, "Override a field, key=value (repeatable; --list shows the keys)");
   sub.add_option("--store", c->store_path, "Record into this store (created if missing)");
   sub.add_option("--out-dir", c->out_dir, "Write <node>.<ext> per node and truth.csv into this folder");
-  sub.add_option("--format", c->format, "File format: events-csv, events-jsonl or kernel-log")->capture_default_str();
+  sub.add_option("--format", c->format, "File format: events-csv, events-jsonl or kernel-log")
+      ->capture_default_str();
   sub.add_option("--pin", c->pin, "GPIO pin number written in kernel-log lines")->capture_default_str();
   sub.add_option("--label", c->label, "Session label in the store")->capture_default_str();
   sub.add_flag("--list", c->list, "List the presets and the settable fields");

@@ -7,17 +7,18 @@
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/inputs.hpp"
 #include "m2mlat/cli/output.hpp"
+#include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/report/scenario_json.hpp"
 #include "m2mlat/report/scenario_text.hpp"
 #include "m2mlat/report/table.hpp"
-#include "m2mlat/formats/import_file.hpp"
 
 namespace m2mlat::cli {
 
 namespace {
 
 // Offsets (t_B - t_A of one shared pulse) summarised like latencies: signed, and by magnitude.
-stats::Summary offset_summary(const formats::SyncImport& sync, bool magnitude, stats::SummaryOptions options) {
+stats::Summary offset_summary(const formats::SyncImport& sync, bool magnitude,
+                              stats::SummaryOptions options) {
   std::vector<std::int64_t> offsets, lines;
   for (const auto& s : sync.samples) {
     offsets.push_back(magnitude && s.offset_ns < 0 ? -s.offset_ns : s.offset_ns);
@@ -27,20 +28,22 @@ stats::Summary offset_summary(const formats::SyncImport& sync, bool magnitude, s
   return stats::summarize(offsets, lines, options);
 }
 
-nlohmann::json sync_json(const std::string& path, const formats::SyncImport& sync, const stats::SummaryOptions& options) {
+nlohmann::json sync_json(const std::string& path, const formats::SyncImport& sync,
+                         const stats::SummaryOptions& options) {
   return {{"file", path},
           {"offset", report::summary_json(offset_summary(sync, false, options))},
           {"abs_offset", report::summary_json(offset_summary(sync, true, options))}};
 }
 
-std::string sync_text(const std::string& path, const formats::SyncImport& sync, const stats::SummaryOptions& options) {
+std::string sync_text(const std::string& path, const formats::SyncImport& sync,
+                      const stats::SummaryOptions& options) {
   report::Table table({"offset (ms)", "n", "mean", "sd", "min", "median", "P95", "max"});
   for (bool magnitude : {false, true}) {
     const auto s = offset_summary(sync, magnitude, options);
-    table.add_row({magnitude ? "|t_B - t_A|" : "t_B - t_A", std::to_string(s.n), report::ms_text(s.mean_ms, 3),
-                   report::ms_text(s.sd_ms, 3), s.min ? report::ms_text(s.min->ms(), 3) : "-",
-                   report::ms_text(s.median_ms, 3), report::ms_text(s.p95_ms, 3),
-                   s.max ? report::ms_text(s.max->ms(), 3) : "-"});
+    table.add_row({magnitude ? "|t_B - t_A|" : "t_B - t_A", std::to_string(s.n),
+                   report::ms_text(s.mean_ms, 3), report::ms_text(s.sd_ms, 3),
+                   s.min ? report::ms_text(s.min->ms(), 3) : "-", report::ms_text(s.median_ms, 3),
+                   report::ms_text(s.p95_ms, 3), s.max ? report::ms_text(s.max->ms(), 3) : "-"});
   }
   return fmt::format("synchronisation test {}\n{}", path, table.render());
 }
@@ -81,7 +84,8 @@ Runner attach_stats(CLI::App& sub) {
       results = analyse_inputs(inputs, c->selection, c->match, c->stats);
     if (c->json) {
       auto doc = report::stats_document(results);
-      for (const auto& [path, sync] : sync_files) doc["sync_tests"].push_back(sync_json(path, sync, c->stats.options()));
+      for (const auto& [path, sync] : sync_files)
+        doc["sync_tests"].push_back(sync_json(path, sync, c->stats.options()));
       print_json(doc);
       return 0;
     }

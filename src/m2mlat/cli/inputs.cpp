@@ -37,7 +37,8 @@ analysis::ScenarioResult as_given(std::string scenario, const formats::PairedImp
   r.input.scenario = std::move(scenario);
   r.input.id_kind = "line";
   if (!paired.causes.empty()) r.input.cause_ref = {paired.causes.front().node, paired.causes.front().channel};
-  if (!paired.effects.empty()) r.input.effect_ref = {paired.effects.front().node, paired.effects.front().channel};
+  if (!paired.effects.empty())
+    r.input.effect_ref = {paired.effects.front().node, paired.effects.front().channel};
   std::vector<std::int64_t> latencies, ids;
   for (std::size_t i = 0; i < paired.pairs.size(); ++i) {
     const auto line = static_cast<std::int64_t>(paired.checks.at(i).line);
@@ -63,18 +64,22 @@ void InputFlags::add_to(CLI::App& sub, bool allow_rematch) {
   sub.add_option("--effect-file", effect_file, "A file with the effect edges (with --cause-file)");
   sub.add_option("--format", format, "Format of the data files (default: detected)");
   if (allow_rematch)
-    sub.add_flag("--rematch", rematch, "Re-pair the events of a paired-results CSV instead of using its rows");
+    sub.add_flag("--rematch", rematch,
+                 "Re-pair the events of a paired-results CSV instead of using its rows");
 }
 
 bool is_sqlite_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   char magic[16] = {};
   in.read(magic, sizeof magic);
-  return in.gcount() == sizeof magic && std::string_view(magic, sizeof magic) == std::string_view("SQLite format 3\0", 16);
+  return in.gcount() == sizeof magic &&
+         std::string_view(magic, sizeof magic) == std::string_view("SQLite format 3\0", 16);
 }
 
-std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags, const SelectionFlags& selection_flags,
-                                                     const MatchFlags& match_flags, const StatsFlags& stats_flags) {
+std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags,
+                                                     const SelectionFlags& selection_flags,
+                                                     const MatchFlags& match_flags,
+                                                     const StatsFlags& stats_flags) {
   const auto selection = selection_flags.selection();
   const auto match_options = match_flags.options();
   const auto summary_options = stats_flags.options();
@@ -82,19 +87,23 @@ std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags, co
   formats::ImportOptions import_options;
 
   if (flags.inputs.empty() && flags.cause_file.empty())
-    throw core::Error(core::ErrorKind::usage, "no input: give a store or data files, or --cause-file and --effect-file");
+    throw core::Error(core::ErrorKind::usage,
+                      "no input: give a store or data files, or --cause-file and --effect-file");
   if (flags.cause_file.empty() != flags.effect_file.empty())
     throw core::Error(core::ErrorKind::usage, "--cause-file and --effect-file go together");
 
   std::vector<analysis::ScenarioResult> results;
   if (!flags.cause_file.empty()) {
     import_options.node = "cause";
-    const auto causes = events_of(formats::import_file(flags.cause_file, format, import_options), flags.cause_file);
+    const auto causes =
+        events_of(formats::import_file(flags.cause_file, format, import_options), flags.cause_file);
     import_options.node = "effect";
-    const auto effects = events_of(formats::import_file(flags.effect_file, format, import_options), flags.effect_file);
-    results.push_back(analysis::analyse(analysis::from_events(std::filesystem::path(flags.cause_file).stem().string(),
-                                                              causes, effects, selection),
-                                        match_options, summary_options, match_flags.include_ambiguous));
+    const auto effects =
+        events_of(formats::import_file(flags.effect_file, format, import_options), flags.effect_file);
+    results.push_back(
+        analysis::analyse(analysis::from_events(std::filesystem::path(flags.cause_file).stem().string(),
+                                                causes, effects, selection),
+                          match_options, summary_options, match_flags.include_ambiguous));
   }
   for (const auto& path : flags.inputs) {
     if (!std::filesystem::exists(path) && path != "-")
@@ -105,7 +114,8 @@ std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags, co
       const auto store = store::Store::open(path, options);
       const auto names = flags.scenarios.empty() ? analysis::scenarios(store) : flags.scenarios;
       for (const auto& name : names)
-        results.push_back(analysis::analyse(analysis::load_scenario(store, name, selection), match_options, summary_options, match_flags.include_ambiguous));
+        results.push_back(analysis::analyse(analysis::load_scenario(store, name, selection), match_options,
+                                            summary_options, match_flags.include_ambiguous));
       continue;
     }
     const auto scenario = std::filesystem::path(path).stem().string();
@@ -119,7 +129,8 @@ std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags, co
     if (!sel.cause) sel.cause = core::ChannelRef{"operator", ""};
     if (!sel.effect) sel.effect = core::ChannelRef{"vehicle", ""};
     const auto events = events_of(file, path);
-    results.push_back(analysis::analyse(analysis::from_events(scenario, events, events, sel), match_options, summary_options, match_flags.include_ambiguous));
+    results.push_back(analysis::analyse(analysis::from_events(scenario, events, events, sel), match_options,
+                                        summary_options, match_flags.include_ambiguous));
   }
   return results;
 }

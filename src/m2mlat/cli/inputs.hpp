@@ -3,7 +3,6 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
-
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,10 +13,10 @@
 namespace m2mlat::cli {
 
 struct InputFlags {
-  std::vector<std::string> inputs;  // stores (SQLite files) or data files
+  std::vector<std::string> inputs;     // stores (SQLite files) or data files
   std::vector<std::string> scenarios;  // only these scenarios of the stores
   std::string cause_file, effect_file;
-  std::string format;  // data file format; empty = detect
+  std::string format;    // data file format; empty = detect
   bool rematch = false;  // re-pair a paired-results CSV instead of using its rows as pairs
   void add_to(CLI::App& sub, bool allow_rematch);
 };
@@ -26,7 +25,8 @@ struct InputFlags {
 bool is_sqlite_file(const std::string& path);
 
 // Loads and analyses every selected scenario. Throws core::Error naming file, line or scenario.
-std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& inputs, const SelectionFlags& selection,
-                                                     const MatchFlags& match, const StatsFlags& stats);
+std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& inputs,
+                                                     const SelectionFlags& selection, const MatchFlags& match,
+                                                     const StatsFlags& stats);
 
 }  // namespace m2mlat::cli

@@ -11,7 +11,7 @@ void print_json(const nlohmann::json& document);  // pretty, to stdout
 bool stderr_is_terminal();
 // "\r<text>" on stderr when it is a terminal (long work shows progress); nothing otherwise.
 void progress(std::string_view text);
-void progress_done();  // ends the progress line
+void progress_done();              // ends the progress line
 void warn(std::string_view text);  // "m2mlat: warning: ..." on stderr
 
 }  // namespace m2mlat::cli

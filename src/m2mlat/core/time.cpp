@@ -50,7 +50,8 @@ bool parse_fixed(std::string_view text, int decimals, std::int64_t& out) {
 std::string format_fixed(std::int64_t value, std::int64_t scale, int decimals) {
   // Work in unsigned magnitude so INT64_MIN does not overflow.
   const bool negative = value < 0;
-  const std::uint64_t mag = negative ? std::uint64_t{0} - static_cast<std::uint64_t>(value) : static_cast<std::uint64_t>(value);
+  const std::uint64_t mag =
+      negative ? std::uint64_t{0} - static_cast<std::uint64_t>(value) : static_cast<std::uint64_t>(value);
   const auto uscale = static_cast<std::uint64_t>(scale);
   return fmt::format("{}{}.{:0{}}", negative ? "-" : "", mag / uscale, mag % uscale, decimals);
 }
@@ -108,7 +109,8 @@ Duration parse_duration(std::string_view text, std::int64_t default_unit_ns) {
     std::int64_t scaled = 0;
     if (parse_fixed(text, 0, scaled)) return Duration{scaled * default_unit_ns};
   }
-  throw Error(ErrorKind::usage, fmt::format("'{}' is not a duration (examples: 800ms, 3s, 250us, 10ns)", shown));
+  throw Error(ErrorKind::usage,
+              fmt::format("'{}' is not a duration (examples: 800ms, 3s, 250us, 10ns)", shown));
 }
 
 std::string format_duration(Duration d) {

@@ -52,8 +52,9 @@ Windows latency_windows(const std::vector<std::int64_t>& causes, const std::vect
 
 // Global reference latency: the centre of the densest 20 ms-wide bin of all candidate latencies.
 // True pairs pile up around the typical latency; wrong candidates spread over the whole window.
-std::int64_t global_reference(const std::vector<std::int64_t>& causes, const std::vector<std::int64_t>& effects,
-                              const Windows& w, std::int64_t min_ns, std::int64_t max_ns) {
+std::int64_t global_reference(const std::vector<std::int64_t>& causes,
+                              const std::vector<std::int64_t>& effects, const Windows& w, std::int64_t min_ns,
+                              std::int64_t max_ns) {
   constexpr std::int64_t kBin = 20'000'000;  // ns
   std::vector<std::int64_t> counts(static_cast<std::size_t>((max_ns - min_ns) / kBin + 3), 0);
   for (std::size_t i = 0; i < causes.size(); ++i)
@@ -79,12 +80,12 @@ std::int64_t global_reference(const std::vector<std::int64_t>& causes, const std
 // over the causes so far of G(., j). Because candidate windows only move forward, effects left behind
 // by the window are folded into one `frozen` maximum, so each cause costs O(its window).
 template <typename Reference>
-std::vector<std::uint32_t> align(const std::vector<std::int64_t>& causes, const std::vector<std::int64_t>& effects,
-                                 const Windows& w, std::int64_t tolerance_ns, bool most_pairs_first,
-                                 Reference reference) {
+std::vector<std::uint32_t> align(const std::vector<std::int64_t>& causes,
+                                 const std::vector<std::int64_t>& effects, const Windows& w,
+                                 std::int64_t tolerance_ns, bool most_pairs_first, Reference reference) {
   struct Best {
-    std::int64_t pairs = 0;  // counted only when most_pairs_first
-    std::int64_t fit = 0;    // sum of (tolerance - deviation), ns
+    std::int64_t pairs = 0;           // counted only when most_pairs_first
+    std::int64_t fit = 0;             // sum of (tolerance - deviation), ns
     std::uint32_t candidate = kNone;  // the chain's last candidate, or kNone for the empty chain
     bool operator>(const Best& o) const { return pairs != o.pairs ? pairs > o.pairs : fit > o.fit; }
   };
@@ -93,7 +94,7 @@ std::vector<std::uint32_t> align(const std::vector<std::int64_t>& causes, const 
   std::vector<std::uint32_t> cand_effect, cand_pred;
   std::vector<std::uint32_t> row_start(causes.size() + 1, 0);
   std::vector<Best> best(effects.size());
-  Best frozen;          // best over effects [0, folded)
+  Best frozen;  // best over effects [0, folded)
   std::size_t folded = 0;
   std::vector<std::pair<std::uint32_t, Best>> row;  // this cause's chain ends, applied after the row
 
@@ -140,7 +141,8 @@ std::vector<std::uint32_t> align(const std::vector<std::int64_t>& causes, const 
 // without a pass-1 pair take the value of the nearest pair before them, or the first pair).
 std::vector<std::int64_t> local_reference(const std::vector<std::int64_t>& causes,
                                           const std::vector<std::int64_t>& effects,
-                                          const std::vector<std::uint32_t>& match, int k, std::int64_t fallback) {
+                                          const std::vector<std::uint32_t>& match, int k,
+                                          std::int64_t fallback) {
   std::vector<std::size_t> pair_cause;
   std::vector<std::int64_t> latency;
   for (std::size_t i = 0; i < causes.size(); ++i)
@@ -171,7 +173,8 @@ std::vector<std::int64_t> local_reference(const std::vector<std::int64_t>& cause
 // number of every edge.
 std::vector<std::uint32_t> bursts(const std::vector<std::int64_t>& times, std::int64_t gap_ns) {
   std::vector<std::uint32_t> id(times.size(), 0);
-  for (std::size_t k = 1; k < times.size(); ++k) id[k] = id[k - 1] + (times[k] - times[k - 1] >= gap_ns ? 1 : 0);
+  for (std::size_t k = 1; k < times.size(); ++k)
+    id[k] = id[k - 1] + (times[k] - times[k - 1] >= gap_ns ? 1 : 0);
   return id;
 }
 
@@ -184,7 +187,8 @@ std::vector<std::uint32_t> bursts(const std::vector<std::int64_t>& times, std::i
 //    that ratio over all bursts by more than a factor kPatternFactor. The vehicle's wheel replays the
 //    operator's motion at a similar speed, so both sides show the same pattern of magnet passes;
 //    passes missed on BOTH sides at different magnets leave the counts equal but break the pattern.
-std::vector<bool> ambiguous_pairs(const std::vector<std::int64_t>& causes, const std::vector<std::int64_t>& effects,
+std::vector<bool> ambiguous_pairs(const std::vector<std::int64_t>& causes,
+                                  const std::vector<std::int64_t>& effects,
                                   const std::vector<std::uint32_t>& matched, std::int64_t gap_ns) {
   constexpr double kPatternFactor = 1.5;
   const auto cause_burst = bursts(causes, gap_ns), effect_burst = bursts(effects, gap_ns);
@@ -193,8 +197,10 @@ std::vector<bool> ambiguous_pairs(const std::vector<std::int64_t>& causes, const
   std::vector<bool> cause_bad(n_cause_bursts, false), effect_bad(n_effect_bursts, false);
   std::vector<bool> effect_used(effects.size(), false);
   for (std::size_t i = 0; i < matched.size(); ++i) {
-    if (matched[i] == kNone) cause_bad[cause_burst[i]] = true;
-    else effect_used[matched[i]] = true;
+    if (matched[i] == kNone)
+      cause_bad[cause_burst[i]] = true;
+    else
+      effect_used[matched[i]] = true;
   }
   for (std::size_t j = 0; j < effects.size(); ++j)
     if (!effect_used[j]) effect_bad[effect_burst[j]] = true;
@@ -223,9 +229,11 @@ std::vector<bool> ambiguous_pairs(const std::vector<std::int64_t>& causes, const
   std::size_t prev = kNone;
   for (std::size_t i = 0; i < matched.size(); ++i) {
     if (matched[i] == kNone) continue;
-    if (prev != kNone && cause_burst[prev] == cause_burst[i] && effect_burst[matched[prev]] == effect_burst[matched[i]])
-      steps.push_back({cause_burst[i], effect_burst[matched[i]], static_cast<double>(effects[matched[i]] - effects[matched[prev]]) /
-                                           static_cast<double>(causes[i] - causes[prev])});
+    if (prev != kNone && cause_burst[prev] == cause_burst[i] &&
+        effect_burst[matched[prev]] == effect_burst[matched[i]])
+      steps.push_back({cause_burst[i], effect_burst[matched[i]],
+                       static_cast<double>(effects[matched[i]] - effects[matched[prev]]) /
+                           static_cast<double>(causes[i] - causes[prev])});
     prev = i;
   }
   if (!steps.empty()) {
@@ -248,18 +256,21 @@ std::vector<bool> ambiguous_pairs(const std::vector<std::int64_t>& causes, const
 void check_sorted(std::span<const std::int64_t> times, const char* side) {
   const auto it = std::is_sorted_until(times.begin(), times.end());
   if (it != times.end())
-    throw core::Error(core::ErrorKind::data,
-                      fmt::format("{} timestamps are not in time order (at index {})", side, it - times.begin()));
+    throw core::Error(core::ErrorKind::data, fmt::format("{} timestamps are not in time order (at index {})",
+                                                         side, it - times.begin()));
 }
 
 }  // namespace
 
-MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns, core::Clock clock,
-                  const MatchOptions& options) {
+MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
+                  core::Clock clock, const MatchOptions& options) {
   if (options.max_latency <= options.min_latency)
-    throw core::Error(core::ErrorKind::usage, "the latency window is empty: max latency must exceed min latency");
-  if (options.tolerance.count() <= 0) throw core::Error(core::ErrorKind::usage, "the tolerance must be positive");
-  if (options.reference_neighbours < 1) throw core::Error(core::ErrorKind::usage, "reference neighbours must be >= 1");
+    throw core::Error(core::ErrorKind::usage,
+                      "the latency window is empty: max latency must exceed min latency");
+  if (options.tolerance.count() <= 0)
+    throw core::Error(core::ErrorKind::usage, "the tolerance must be positive");
+  if (options.reference_neighbours < 1)
+    throw core::Error(core::ErrorKind::usage, "reference neighbours must be >= 1");
   if (cause_ns.size() >= kNone || effect_ns.size() >= kNone)
     throw core::Error(core::ErrorKind::usage, "more than 4 billion events on one side: split the input");
   check_sorted(cause_ns, "cause");
@@ -293,15 +304,15 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
     if (matched[i] == kNone) continue;
     const auto j = matched[i];
     effect_used[j] = true;
-    result.pairs.push_back(Pair{causes.input_index[i], effects.input_index[j],
-                                core::TimePoint::from_ns(clock, causes.ns[i]),
-                                core::TimePoint::from_ns(clock, effects.ns[j]), ambiguous[i] ? kPairAmbiguous : 0u});
+    result.pairs.push_back(
+        Pair{causes.input_index[i], effects.input_index[j], core::TimePoint::from_ns(clock, causes.ns[i]),
+             core::TimePoint::from_ns(clock, effects.ns[j]), ambiguous[i] ? kPairAmbiguous : 0u});
   }
 
   // Reasons for everything left over, in input order per side.
   auto add = [&](Side side, std::int64_t index, std::span<const std::int64_t> times, UnmatchedReason reason) {
-    result.unmatched.push_back(
-        Unmatched{side, index, core::TimePoint::from_ns(clock, times[static_cast<std::size_t>(index)]), reason});
+    result.unmatched.push_back(Unmatched{
+        side, index, core::TimePoint::from_ns(clock, times[static_cast<std::size_t>(index)]), reason});
   };
   for (std::size_t i = 0; i < matched.size(); ++i)
     if (matched[i] == kNone)
@@ -328,7 +339,7 @@ MatchResult match(std::span<const core::Event> causes, std::span<const core::Eve
   std::vector<std::int64_t> cause_ns, effect_ns;
   cause_ns.reserve(causes.size());
   effect_ns.reserve(effects.size());
-  const core::Clock clock = !causes.empty() ? causes.front().time.clock()
+  const core::Clock clock = !causes.empty()    ? causes.front().time.clock()
                             : !effects.empty() ? effects.front().time.clock()
                                                : core::Clock::realtime;
   for (const auto& [events, out] : {std::pair{causes, &cause_ns}, std::pair{effects, &effect_ns}})
@@ -340,7 +351,8 @@ MatchResult match(std::span<const core::Event> causes, std::span<const core::Eve
                                       event.channel));
       out->push_back(event.time.ns());
     }
-  return match(std::span<const std::int64_t>(cause_ns), std::span<const std::int64_t>(effect_ns), clock, options);
+  return match(std::span<const std::int64_t>(cause_ns), std::span<const std::int64_t>(effect_ns), clock,
+               options);
 }
 
 }  // namespace m2mlat::pairing

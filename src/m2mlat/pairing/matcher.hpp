@@ -30,19 +30,19 @@
 namespace m2mlat::pairing {
 
 struct MatchOptions {
-  core::Duration min_latency{0};                 // smallest plausible latency (ns); may be negative
-  core::Duration max_latency{3'000'000'000};     // largest plausible latency (ns): the window's end
-  core::Duration refractory{10'000'000};         // bounce suppression per side (ns); 0 disables
-  core::Duration tolerance{1'000'000'000};       // largest |latency - local typical latency| (ns)
-  int reference_neighbours = 10;                 // running median over this many pairs each side
-  core::Duration burst_gap{250'000'000};         // edges closer than this (ns) form one burst
+  core::Duration min_latency{0};              // smallest plausible latency (ns); may be negative
+  core::Duration max_latency{3'000'000'000};  // largest plausible latency (ns): the window's end
+  core::Duration refractory{10'000'000};      // bounce suppression per side (ns); 0 disables
+  core::Duration tolerance{1'000'000'000};    // largest |latency - local typical latency| (ns)
+  int reference_neighbours = 10;              // running median over this many pairs each side
+  core::Duration burst_gap{250'000'000};      // edges closer than this (ns) form one burst
 };
 
 struct MatchResult {
-  std::vector<Pair> pairs;            // in cause order (and so in effect order)
-  std::vector<Unmatched> unmatched;   // sorted by side, then index
+  std::vector<Pair> pairs;           // in cause order (and so in effect order)
+  std::vector<Unmatched> unmatched;  // sorted by side, then index
   core::Clock clock = core::Clock::realtime;
-  std::int64_t cause_count = 0;       // input sizes, for the reader of a report
+  std::int64_t cause_count = 0;  // input sizes, for the reader of a report
   std::int64_t effect_count = 0;
 };
 

@@ -23,7 +23,7 @@ struct Pair {
   std::int64_t effect_index = 0;  // index of the effect event in the matcher's input (or its store id)
   core::TimePoint cause_time;
   core::TimePoint effect_time;
-  std::uint32_t flags = 0;        // PairFlag bits
+  std::uint32_t flags = 0;  // PairFlag bits
 
   core::Duration latency() const { return effect_time - cause_time; }
   bool ambiguous() const { return (flags & kPairAmbiguous) != 0; }
@@ -35,9 +35,9 @@ std::string_view to_string(Side side);
 
 // Why an event has no partner. Stored and exported by name: keep the names stable.
 enum class UnmatchedReason : std::uint8_t {
-  bounce = 0,         // within the refractory period after a kept edge on the same side
-  no_candidate = 1,   // no event on the other side within the latency window
-  outmatched = 2,     // candidates existed, but a consistent one-to-one ordering used them elsewhere
+  bounce = 0,        // within the refractory period after a kept edge on the same side
+  no_candidate = 1,  // no event on the other side within the latency window
+  outmatched = 2,    // candidates existed, but a consistent one-to-one ordering used them elsewhere
 };
 std::string_view to_string(UnmatchedReason reason);
 

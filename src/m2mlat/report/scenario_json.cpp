@@ -33,10 +33,13 @@ nlohmann::json summary_json(const stats::Summary& s) {
                    {"p99_ms", number(s.p99_ms)},
                    {"iqr_ms", number(s.iqr_ms)}};
   auto& extra = j["percentiles"] = nlohmann::json::array();
-  for (const auto& p : s.extra_percentiles) extra.push_back({{"percent", p.percent}, {"ms", number(p.value_ms)}});
+  for (const auto& p : s.extra_percentiles)
+    extra.push_back({{"percent", p.percent}, {"ms", number(p.value_ms)}});
   auto& above = j["above"] = nlohmann::json::array();
   for (const auto& t : s.thresholds)
-    above.push_back({{"threshold_ns", t.threshold.count()}, {"count", t.count_above}, {"fraction", number(t.fraction_above)}});
+    above.push_back({{"threshold_ns", t.threshold.count()},
+                     {"count", t.count_above},
+                     {"fraction", number(t.fraction_above)}});
   if (s.bootstrap)
     j["bootstrap"] = {{"level", s.bootstrap->level},
                       {"resamples", s.bootstrap->resamples},

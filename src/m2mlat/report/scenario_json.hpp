@@ -13,7 +13,7 @@ namespace m2mlat::report {
 inline constexpr const char* kStatsFormat = "m2mlat-stats/1";
 
 nlohmann::json summary_json(const stats::Summary& summary);
-nlohmann::json pairing_json(const analysis::ScenarioResult& result);  // counts and unmatched by reason
+nlohmann::json pairing_json(const analysis::ScenarioResult& result);   // counts and unmatched by reason
 nlohmann::json scenario_json(const analysis::ScenarioResult& result);  // both of the above + names
 // {"format": "m2mlat-stats/1", "scenarios": [...]}
 nlohmann::json stats_document(std::span<const analysis::ScenarioResult> results);

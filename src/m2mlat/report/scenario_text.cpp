@@ -9,7 +9,8 @@
 namespace m2mlat::report {
 
 namespace {
-std::size_t count_unmatched(const pairing::MatchResult& m, pairing::Side side, std::optional<pairing::UnmatchedReason> reason) {
+std::size_t count_unmatched(const pairing::MatchResult& m, pairing::Side side,
+                            std::optional<pairing::UnmatchedReason> reason) {
   std::size_t n = 0;
   for (const auto& u : m.unmatched) n += u.side == side && (!reason || u.reason == *reason);
   return n;
@@ -32,9 +33,15 @@ std::string scenario_table(std::span<const analysis::ScenarioResult> results) {
   Table table(header);
   for (const auto& r : results) {
     const auto& s = r.summary;
-    std::vector<std::string> row{r.input.scenario, std::to_string(s.n), ms_text(s.median_ms), ms_text(s.iqr_ms),
-                                 ms_text(s.mean_ms), ms_text(s.sd_ms), s.min ? ms_text(s.min->ms()) : "-",
-                                 s.max ? ms_text(s.max->ms()) : "-", ms_text(s.p95_ms)};
+    std::vector<std::string> row{r.input.scenario,
+                                 std::to_string(s.n),
+                                 ms_text(s.median_ms),
+                                 ms_text(s.iqr_ms),
+                                 ms_text(s.mean_ms),
+                                 ms_text(s.sd_ms),
+                                 s.min ? ms_text(s.min->ms()) : "-",
+                                 s.max ? ms_text(s.max->ms()) : "-",
+                                 ms_text(s.p95_ms)};
     for (const auto& t : s.thresholds) row.push_back(percent_text(t.fraction_above));
     row.resize(header.size(), "-");
     table.add_row(std::move(row));
@@ -43,16 +50,20 @@ std::string scenario_table(std::span<const analysis::ScenarioResult> results) {
 }
 
 std::string pairing_table(std::span<const analysis::ScenarioResult> results) {
-  Table table({"scenario", "cause", "effect", "pairs", "ambiguous", "cause unmatched", "effect unmatched", "bounces"});
+  Table table({"scenario", "cause", "effect", "pairs", "ambiguous", "cause unmatched", "effect unmatched",
+               "bounces"});
   using pairing::Side;
   using pairing::UnmatchedReason;
   for (const auto& r : results) {
     const auto& m = r.match;
-    table.add_row({r.input.scenario, fmt::format("{} ({})", core::to_string(r.input.cause_ref), m.cause_count),
+    table.add_row({r.input.scenario,
+                   fmt::format("{} ({})", core::to_string(r.input.cause_ref), m.cause_count),
                    fmt::format("{} ({})", core::to_string(r.input.effect_ref), m.effect_count),
                    std::to_string(m.pairs.size()), std::to_string(r.ambiguous_pairs()),
-                   std::to_string(count_unmatched(m, Side::cause, {}) - count_unmatched(m, Side::cause, UnmatchedReason::bounce)),
-                   std::to_string(count_unmatched(m, Side::effect, {}) - count_unmatched(m, Side::effect, UnmatchedReason::bounce)),
+                   std::to_string(count_unmatched(m, Side::cause, {}) -
+                                  count_unmatched(m, Side::cause, UnmatchedReason::bounce)),
+                   std::to_string(count_unmatched(m, Side::effect, {}) -
+                                  count_unmatched(m, Side::effect, UnmatchedReason::bounce)),
                    std::to_string(count_unmatched(m, Side::cause, UnmatchedReason::bounce) +
                                   count_unmatched(m, Side::effect, UnmatchedReason::bounce))});
   }
@@ -61,12 +72,15 @@ std::string pairing_table(std::span<const analysis::ScenarioResult> results) {
 
 std::string scenario_detail(const analysis::ScenarioResult& r) {
   const auto& s = r.summary;
-  std::string out = fmt::format("scenario {}: {} -> {}, {} pairs{}\n", r.input.scenario, core::to_string(r.input.cause_ref),
-                                core::to_string(r.input.effect_ref), s.n,
-                                r.include_ambiguous ? " (ambiguous included)" : fmt::format(" ({} ambiguous left out)", r.ambiguous_pairs()));
+  std::string out =
+      fmt::format("scenario {}: {} -> {}, {} pairs{}\n", r.input.scenario, core::to_string(r.input.cause_ref),
+                  core::to_string(r.input.effect_ref), s.n,
+                  r.include_ambiguous ? " (ambiguous included)"
+                                      : fmt::format(" ({} ambiguous left out)", r.ambiguous_pairs()));
   Table table({"statistic", "value (ms)", "note"});
   auto extreme = [&](const char* name, const std::optional<stats::Extreme>& e) {
-    if (e) table.add_row({name, ms_text(e->ms(), 3), fmt::format("cause event {} {}", r.input.id_kind, e->id)});
+    if (e)
+      table.add_row({name, ms_text(e->ms(), 3), fmt::format("cause event {} {}", r.input.id_kind, e->id)});
   };
   extreme("min", s.min);
   table.add_row({"P5", ms_text(s.p5_ms, 3), ""});
@@ -85,9 +99,11 @@ std::string scenario_detail(const analysis::ScenarioResult& r) {
   table.add_row({"IQR", ms_text(s.iqr_ms, 3), ci(&stats::MedianIqrCi::iqr_ms)});
   table.add_row({"mean", ms_text(s.mean_ms, 3), ""});
   table.add_row({"sd", ms_text(s.sd_ms, 3), "n - 1"});
-  for (const auto& p : s.extra_percentiles) table.add_row({fmt::format("P{}", p.percent), ms_text(p.value_ms, 3), ""});
+  for (const auto& p : s.extra_percentiles)
+    table.add_row({fmt::format("P{}", p.percent), ms_text(p.value_ms, 3), ""});
   for (const auto& t : s.thresholds)
-    table.add_row({threshold_name(t.threshold), percent_text(t.fraction_above, 2), fmt::format("{} samples", t.count_above)});
+    table.add_row({threshold_name(t.threshold), percent_text(t.fraction_above, 2),
+                   fmt::format("{} samples", t.count_above)});
   return out + table.render();
 }
 

@@ -12,16 +12,19 @@ namespace m2mlat::report {
 
 namespace {
 bool numeric(const std::string& cell) {
-  return !cell.empty() && (std::isdigit(static_cast<unsigned char>(cell[0])) || cell[0] == '-' || cell[0] == '+');
+  return !cell.empty() &&
+         (std::isdigit(static_cast<unsigned char>(cell[0])) || cell[0] == '-' || cell[0] == '+');
 }
 // Display width: counts UTF-8 code points, not bytes, so "±" and "µ" align.
 std::size_t width(const std::string& s) {
-  return static_cast<std::size_t>(std::count_if(s.begin(), s.end(), [](char c) { return (c & 0xC0) != 0x80; }));
+  return static_cast<std::size_t>(
+      std::count_if(s.begin(), s.end(), [](char c) { return (c & 0xC0) != 0x80; }));
 }
 }  // namespace
 
 void Table::add_row(std::vector<std::string> cells) {
-  if (cells.size() != header_.size()) throw core::Error(core::ErrorKind::internal, "table row of the wrong width");
+  if (cells.size() != header_.size())
+    throw core::Error(core::ErrorKind::internal, "table row of the wrong width");
   rows_.push_back(std::move(cells));
 }
 
@@ -52,7 +55,9 @@ std::string Table::render() const {
   return out;
 }
 
-std::string ms_text(double ms, int decimals) { return std::isnan(ms) ? "-" : fmt::format("{:.{}f}", ms, decimals); }
+std::string ms_text(double ms, int decimals) {
+  return std::isnan(ms) ? "-" : fmt::format("{:.{}f}", ms, decimals);
+}
 
 std::string percent_text(double fraction, int decimals) {
   return std::isnan(fraction) ? "-" : fmt::format("{:.{}f} %", 100.0 * fraction, decimals);

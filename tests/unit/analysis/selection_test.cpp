@@ -96,7 +96,8 @@ TEST_F(SelectionTest, ClearErrors) {
   chosen.cause = core::ChannelRef{"operator", "wheel"};
   EXPECT_EQ(analysis::load_scenario(s, "two-channels", chosen).cause.t_ns.size(), 1u);
 
-  session(s, "clocks", "operator", core::Role::cause, {edge("operator", "wheel", 5, core::Edge::falling, core::Clock::monotonic)});
+  session(s, "clocks", "operator", core::Role::cause,
+          {edge("operator", "wheel", 5, core::Edge::falling, core::Clock::monotonic)});
   session(s, "clocks", "vehicle", core::Role::effect, {edge("vehicle", "wheel", kT0)});
   try {
     analysis::load_scenario(s, "clocks", {});

@@ -34,7 +34,8 @@ Score score(const sim::Simulation& run, const pairing::MatchResult& result) {
   return s;
 }
 
-sim::RigConfig config_for(const std::string& preset, std::uint64_t seed, const std::vector<std::string>& overrides) {
+sim::RigConfig config_for(const std::string& preset, std::uint64_t seed,
+                          const std::vector<std::string>& overrides) {
   auto config = sim::preset(preset);
   config.seed = seed;
   config.manoeuvres = 150;
@@ -42,8 +43,10 @@ sim::RigConfig config_for(const std::string& preset, std::uint64_t seed, const s
   return config;
 }
 
-const std::vector<std::string> kPresets{"static_wifi", "static_5g", "dynamic_co_referenced", "dynamic_autonomous"};
-const std::vector<std::vector<std::string>> kWheels{{"magnets_deg=0"}, {"magnets_deg=0,20,40"}, {"magnets_deg=0,15,30,45,60"}};
+const std::vector<std::string> kPresets{"static_wifi", "static_5g", "dynamic_co_referenced",
+                                        "dynamic_autonomous"};
+const std::vector<std::vector<std::string>> kWheels{
+    {"magnets_deg=0"}, {"magnets_deg=0,20,40"}, {"magnets_deg=0,15,30,45,60"}};
 
 }  // namespace
 
@@ -74,8 +77,16 @@ TEST(MatcherProperty, ImperfectDetectionsFindSurvivingPairsAndRarelyPairWrongly)
     double max_clear_wrong, min_found, min_clear_share;
   };
   const std::vector<Level> levels{
-      {"field", {"sensor.miss_probability=0.01", "sensor.bounce_probability=0.03", "sensor.spurious_per_minute=0.2"}, 0.001, 0.97, 0.90},
-      {"harsh", {"sensor.miss_probability=0.05", "sensor.bounce_probability=0.2", "sensor.spurious_per_minute=1"}, 0.02, 0.85, 0.70}};
+      {"field",
+       {"sensor.miss_probability=0.01", "sensor.bounce_probability=0.03", "sensor.spurious_per_minute=0.2"},
+       0.001,
+       0.97,
+       0.90},
+      {"harsh",
+       {"sensor.miss_probability=0.05", "sensor.bounce_probability=0.2", "sensor.spurious_per_minute=1"},
+       0.02,
+       0.85,
+       0.70}};
   for (const auto& level : levels) {
     Score total;
     for (const auto& preset : kPresets)
@@ -93,14 +104,17 @@ TEST(MatcherProperty, ImperfectDetectionsFindSurvivingPairsAndRarelyPairWrongly)
         }
     const double wrong = static_cast<double>(total.wrong()) / static_cast<double>(total.found);
     const double found = static_cast<double>(total.correct) / static_cast<double>(total.true_pairs);
-    const double clear_wrong = static_cast<double>(total.clear - total.clear_correct) / static_cast<double>(total.clear);
+    const double clear_wrong =
+        static_cast<double>(total.clear - total.clear_correct) / static_cast<double>(total.clear);
     const double clear_share = static_cast<double>(total.clear) / static_cast<double>(total.found);
     RecordProperty(std::string(level.name) + "_wrong_rate", std::to_string(wrong));
     RecordProperty(std::string(level.name) + "_found_rate", std::to_string(found));
-    std::printf("%s: %lld true pairs, %lld found, %lld wrong (%.3f %%), %.3f %% of true pairs found; "
-                "%.2f %% not ambiguous, of which %.3f %% wrong\n",
-                level.name, static_cast<long long>(total.true_pairs), static_cast<long long>(total.found),
-                static_cast<long long>(total.wrong()), 100 * wrong, 100 * found, 100 * clear_share, 100 * clear_wrong);
+    std::printf(
+        "%s: %lld true pairs, %lld found, %lld wrong (%.3f %%), %.3f %% of true pairs found; "
+        "%.2f %% not ambiguous, of which %.3f %% wrong\n",
+        level.name, static_cast<long long>(total.true_pairs), static_cast<long long>(total.found),
+        static_cast<long long>(total.wrong()), 100 * wrong, 100 * found, 100 * clear_share,
+        100 * clear_wrong);
     EXPECT_LT(clear_wrong, level.max_clear_wrong) << level.name;
     EXPECT_GT(found, level.min_found) << level.name;
     EXPECT_GT(clear_share, level.min_clear_share) << level.name;

@@ -93,7 +93,8 @@ TEST(Matcher, NoCandidateReason) {
 }
 
 TEST(Matcher, EmptyAndInvalidInput) {
-  EXPECT_TRUE(match(std::span<const std::int64_t>{}, std::span<const std::int64_t>{}, core::Clock::realtime).pairs.empty());
+  EXPECT_TRUE(match(std::span<const std::int64_t>{}, std::span<const std::int64_t>{}, core::Clock::realtime)
+                  .pairs.empty());
   const std::vector<std::int64_t> unsorted{5, 3};
   const std::vector<std::int64_t> sorted{1, 2};
   EXPECT_THROW(match(unsorted, sorted, core::Clock::realtime), core::Error);

@@ -15,7 +15,8 @@ using namespace std::chrono_literals;
 
 TEST(Random, SplitmixMatchesPublishedValue) {
   std::uint64_t state = 0;
-  EXPECT_EQ(m2mlat::core::splitmix64(state), 0xe220a8397b1dcdafULL);  // Steele, Lea and Flood's generator from state 0
+  EXPECT_EQ(m2mlat::core::splitmix64(state),
+            0xe220a8397b1dcdafULL);  // Steele, Lea and Flood's generator from state 0
   EXPECT_EQ(m2mlat::core::splitmix64(state), 0x6e789e6aa1b965f4ULL);
 }
 

@@ -1,0 +1,148 @@
+// poll(2) on the source and the stop descriptor; gates, writer, losses, limits, final drain.
+#include "m2mlat/capture/recorder.hpp"
+
+#include <fmt/format.h>
+#include <poll.h>
+#include <time.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/store/event_writer.hpp"
+
+namespace m2mlat::capture {
+
+core::TimePoint realtime_now() {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return core::TimePoint::from_ns(core::Clock::realtime, std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec);
+}
+
+core::Duration monotonic_now() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return core::Duration{std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec};
+}
+
+Recorder::Recorder(store::Store& store, Source& source, RecorderOptions options)
+    : store_(store), source_(source), options_(std::move(options)) {
+  for (const auto& name : source_.channels()) channel(name);
+}
+
+Recorder::Channel& Recorder::channel(const std::string& name) {
+  const auto it = index_.find(name);
+  if (it != index_.end()) return channels_[it->second];
+  const auto period = options_.refractory.find(name);
+  channels_.push_back({{name, 0, 0, 0, std::nullopt},
+                       RefractoryGate(period == options_.refractory.end() ? core::Duration{0} : period->second)});
+  index_.emplace(name, channels_.size() - 1);
+  return channels_.back();
+}
+
+RecordCounters Recorder::run(int stop_fd, const std::function<std::string()>& stop_name) {
+  auto session = options_.session;
+  session.start = realtime_now();
+  session.end.reset();
+  RecordCounters counters;
+  counters.session_id = store_.begin_session(session);
+  store::WriterOptions writer_options;
+  writer_options.max_batch = std::max<std::size_t>(options_.batch, 1);
+  writer_options.max_age = options_.commit_interval;
+  store::EventWriter writer(store_, counters.session_id, writer_options);
+
+  const auto started = monotonic_now();
+  auto last_progress = started;
+  const auto snapshot = [&] {
+    counters.channels.clear();
+    for (const auto& c : channels_) {
+      auto copy = c.counters;
+      copy.suppressed = c.gate.suppressed();
+      counters.channels.push_back(copy);
+    }
+    counters.last_committed_seq = writer.last_committed_seq();
+  };
+
+  ReadResult batch;
+  bool limit_reached = false;
+  const auto take = [&] {
+    const auto detected = realtime_now();
+    for (const auto& gap : batch.gaps) {
+      store::Loss loss{counters.session_id, gap.channel, detected, gap.first_missing, gap.count, gap.kind};
+      writer.add(loss);
+      if (gap.channel.empty())
+        counters.node_lost += gap.count;
+      else
+        channel(gap.channel).counters.lost += gap.count;
+    }
+    for (const auto& event : batch.events) {
+      if (limit_reached) break;
+      auto& c = channel(event.channel);
+      if (!c.gate.admit(event.time)) continue;
+      writer.add(event);
+      ++c.counters.events;
+      c.counters.last = event.time;
+      ++counters.events;
+      if (options_.max_events > 0 && counters.events >= options_.max_events) limit_reached = true;
+    }
+  };
+
+  for (;;) {
+    auto timeout = std::min(options_.commit_interval, options_.progress_interval);
+    if (source_.fd() < 0) timeout = std::min(timeout, source_.poll_interval());
+    if (options_.max_duration.count() > 0) {
+      const auto left = options_.max_duration - (monotonic_now() - started);
+      if (left.count() <= 0) {
+        counters.stop_reason = "duration";
+        break;
+      }
+      timeout = std::min(timeout, left);
+    }
+    pollfd fds[2] = {{stop_fd, POLLIN, 0}, {source_.fd(), POLLIN, 0}};
+    const int timeout_ms = static_cast<int>(std::max<std::int64_t>(0, (timeout.count() + 999'999) / 1'000'000));
+    if (::poll(fds, 2, timeout_ms) < 0 && errno != EINTR)
+      throw core::Error(core::ErrorKind::io, fmt::format("poll: {}", std::strerror(errno)));
+    if (stop_fd >= 0 && (fds[0].revents & POLLIN) != 0) {
+      counters.stop_reason = stop_name ? stop_name() : "stop";
+      if (counters.stop_reason.empty()) counters.stop_reason = "stop";
+      break;
+    }
+    batch.clear();
+    source_.read(batch, options_.read_batch);
+    take();
+    writer.poll();
+    if (limit_reached) {
+      counters.stop_reason = "count";
+      break;
+    }
+    if (batch.finished) {
+      counters.stop_reason = "source finished";
+      break;
+    }
+    const auto now = monotonic_now();
+    if (options_.on_progress && now - last_progress >= options_.progress_interval) {
+      last_progress = now;
+      snapshot();
+      options_.on_progress(counters);
+    }
+  }
+
+  // What the kernel buffered before the stop was acknowledged by nobody yet: keep it too.
+  if (!limit_reached) {
+    for (;;) {
+      batch.clear();
+      source_.read(batch, options_.read_batch);
+      if (batch.events.empty() && batch.gaps.empty()) break;
+      take();
+      if (limit_reached) break;
+    }
+  }
+  writer.flush();
+  store_.end_session(counters.session_id, realtime_now());
+  snapshot();
+  if (options_.on_progress) options_.on_progress(counters);
+  return counters;
+}
+
+}  // namespace m2mlat::capture

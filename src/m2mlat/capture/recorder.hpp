@@ -1,0 +1,79 @@
+// The recorder loop of one node: source -> refractory gate per channel -> store::EventWriter, with
+// every gap the source reports stored as a store::Loss. It waits on the source's descriptor and on a
+// stop descriptor (StopSignal's signalfd in the CLI, anything readable in tests), commits by batch
+// size and age, and on stop drains what the kernel still buffers, commits it, and ends the session.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "m2mlat/capture/refractory_gate.hpp"
+#include "m2mlat/capture/source.hpp"
+#include "m2mlat/core/time.hpp"
+#include "m2mlat/store/records.hpp"
+#include "m2mlat/store/store.hpp"
+
+namespace m2mlat::capture {
+
+struct ChannelCounters {
+  std::string channel;
+  std::uint64_t events = 0;      // stored
+  std::uint64_t suppressed = 0;  // refused by the refractory gate (bounces)
+  std::uint64_t lost = 0;        // missing according to the kernel's sequence numbers
+  std::optional<core::TimePoint> last;  // the last stored event's timestamp
+};
+
+struct RecordCounters {
+  std::int64_t session_id = 0;
+  std::vector<ChannelCounters> channels;  // in the source's channel order
+  std::uint64_t node_lost = 0;            // losses not tied to a channel (kmsg records)
+  std::uint64_t events = 0;               // stored, all channels
+  std::int64_t last_committed_seq = 0;    // the store's acknowledged point
+  std::string stop_reason;                // "SIGINT", "count", "duration", "source finished", "stop"
+};
+
+struct RecorderOptions {
+  store::Session session;  // node, role, label, scenario, config_json; start and end are the recorder's
+  std::map<std::string, core::Duration> refractory;  // per channel; missing = none
+  std::size_t batch = 512;                                          // events per commit
+  core::Duration commit_interval = std::chrono::milliseconds(100);  // longest an event waits for its commit
+  std::size_t read_batch = 256;                                     // events taken from the source per read
+  std::uint64_t max_events = 0;      // stop after this many stored events (0: no limit)
+  core::Duration max_duration{0};    // stop after this long (0: no limit)
+  // Called at most every progress_interval and once at the end (live counters).
+  std::function<void(const RecordCounters&)> on_progress;
+  core::Duration progress_interval = std::chrono::milliseconds(250);
+};
+
+class Recorder {
+ public:
+  Recorder(store::Store& store, Source& source, RecorderOptions options);
+  // Runs until stop_fd polls readable (-1: never), a limit is reached or the source finishes. A
+  // readable StopSignal's signal is taken by the caller; here only readability matters.
+  RecordCounters run(int stop_fd, const std::function<std::string()>& stop_name = {});
+
+ private:
+  struct Channel {
+    ChannelCounters counters;
+    RefractoryGate gate;
+  };
+  Channel& channel(const std::string& name);
+
+  store::Store& store_;
+  Source& source_;
+  RecorderOptions options_;
+  std::map<std::string, std::size_t> index_;
+  std::vector<Channel> channels_;
+};
+
+// CLOCK_REALTIME now (for session bounds and loss detection times).
+core::TimePoint realtime_now();
+// CLOCK_MONOTONIC now, ns (for limits and intervals).
+core::Duration monotonic_now();
+
+}  // namespace m2mlat::capture

@@ -1,0 +1,496 @@
+// m2mlat-vm-driver: the real-kernel tests' stimulus and judge, run inside the QEMU guest.
+//
+// gpio-sim turns a write of "pull-up" / "pull-down" to /sys/devices/platform/<dev>/<chip>/sim_gpioK/pull
+// into an edge on line K, and the kernel (gpiolib-cdev) timestamps that edge in its interrupt handler
+// during the write. So a CLOCK_REALTIME reading just before the write and one just after it bound the
+// event's timestamp: before <= time_ns <= after. The driver makes the edges and logs those readings;
+// the verify subcommand holds the events a capture program stored (m2mlat-events/1 CSV) against them.
+//
+//   info DEV                          chip name, label and line count (GPIO_GET_CHIPINFO_IOCTL)
+//   wait-used DEV LINE TIMEOUT_MS     waits until some process has requested the line (so that a
+//                                     capture program started in the background is ready for edges);
+//                                     prints its consumer; exit 1 on timeout
+//   toggle --sim DIR --count N [--period-us P] [--burst B --burst-gap-us G] [--log FILE] [--append]
+//          [--watch DEV:LINE --events FILE]
+//       N writes, each flipping the pull, P us apart (0: as fast as possible), optionally in bursts of
+//       B writes separated by G us. --watch requests the line itself with edge detection and waits for
+//       each write's event before the next one (true lockstep), writing the events as m2mlat-events/1.
+//   verify --driver LOG --events CSV [--channel NAME] [--edges both|rising|falling] [--refractory-us R]
+//          [--allow-missing]
+//       Every event must lie inside the window of a driver write of its edge type, in order; seqno
+//       must advance by exactly the number of kernel events between two stored ones (so a gap is an
+//       edge the kernel reported missing); without --allow-missing the events must be exactly the
+//       edges the filter (edge type, refractory period from the last kept edge) lets through.
+//       Prints one line of key=value figures; exit 0 pass, 1 fail, 2 usage or unreadable input.
+//
+// Times are int64 nanoseconds of CLOCK_REALTIME throughout; statistics are printed in microseconds.
+// Built fully static (the guest has no C library): g++ -std=c++20 -O2 -static.
+#include <fcntl.h>
+#include <linux/gpio.h>
+#include <poll.h>
+#include <sys/ioctl.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace {
+
+constexpr std::int64_t kNsPerUs = 1000;
+constexpr std::int64_t kNsPerS = 1000000000;
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+std::int64_t clock_ns(clockid_t clock) {
+  timespec ts{};
+  clock_gettime(clock, &ts);
+  return std::int64_t{ts.tv_sec} * kNsPerS + ts.tv_nsec;
+}
+
+std::int64_t parse_int(std::string_view text, std::string_view what) {
+  std::int64_t value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc{} || end != text.data() + text.size()) {
+    throw UsageError("bad " + std::string(what) + " '" + std::string(text) + "' (expected an integer)");
+  }
+  return value;
+}
+
+// Options as --name value pairs (every option of this program takes a value except --append and
+// --allow-missing, which are given "1").
+std::map<std::string, std::string> parse_options(int argc, char** argv, int first) {
+  std::map<std::string, std::string> options;
+  for (int i = first; i < argc; ++i) {
+    const std::string name = argv[i];
+    if (name.rfind("--", 0) != 0) throw UsageError("unexpected argument '" + name + "'");
+    if (name == "--append" || name == "--allow-missing") {
+      options[name.substr(2)] = "1";
+    } else {
+      if (i + 1 >= argc) throw UsageError(name + " needs a value");
+      options[name.substr(2)] = argv[++i];
+    }
+  }
+  return options;
+}
+
+std::string option_or(const std::map<std::string, std::string>& options, const std::string& name,
+                      const std::string& fallback) {
+  const auto it = options.find(name);
+  return it == options.end() ? fallback : it->second;
+}
+
+std::string required(const std::map<std::string, std::string>& options, const std::string& name) {
+  const auto it = options.find(name);
+  if (it == options.end()) throw UsageError("--" + name + " is required");
+  return it->second;
+}
+
+// ---- info -----------------------------------------------------------------------------------------
+
+int cmd_info(const std::string& dev) {
+  const int fd = open(dev.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    std::fprintf(stderr, "cannot open %s: %s\n", dev.c_str(), std::strerror(errno));
+    return 1;
+  }
+  gpiochip_info info{};
+  const int rc = ioctl(fd, GPIO_GET_CHIPINFO_IOCTL, &info);
+  close(fd);
+  if (rc < 0) {
+    std::fprintf(stderr, "GPIO_GET_CHIPINFO_IOCTL on %s: %s\n", dev.c_str(), std::strerror(errno));
+    return 1;
+  }
+  std::printf("name=%s label=%s lines=%u\n", info.name, info.label, info.lines);
+  return 0;
+}
+
+// ---- wait-used ------------------------------------------------------------------------------------
+
+int cmd_wait_used(const std::string& dev, std::int64_t line, std::int64_t timeout_ms) {
+  const int fd = open(dev.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    std::fprintf(stderr, "cannot open %s: %s\n", dev.c_str(), std::strerror(errno));
+    return 1;
+  }
+  const std::int64_t deadline = clock_ns(CLOCK_MONOTONIC) + timeout_ms * 1000000;
+  gpio_v2_line_info info{};
+  for (;;) {
+    info = gpio_v2_line_info{};
+    info.offset = static_cast<std::uint32_t>(line);
+    if (ioctl(fd, GPIO_V2_GET_LINEINFO_IOCTL, &info) < 0) {
+      std::fprintf(stderr, "GPIO_V2_GET_LINEINFO_IOCTL on %s line %lld: %s\n", dev.c_str(),
+                   static_cast<long long>(line), std::strerror(errno));
+      close(fd);
+      return 1;
+    }
+    if ((info.flags & GPIO_V2_LINE_FLAG_USED) != 0 || clock_ns(CLOCK_MONOTONIC) > deadline) break;
+    usleep(20000);
+  }
+  close(fd);
+  if ((info.flags & GPIO_V2_LINE_FLAG_USED) == 0) {
+    std::fprintf(stderr, "line %lld of %s still unused after %lld ms\n", static_cast<long long>(line), dev.c_str(),
+                 static_cast<long long>(timeout_ms));
+    return 1;
+  }
+  std::printf("consumer=%s\n", info.consumer);
+  return 0;
+}
+
+// ---- toggle ---------------------------------------------------------------------------------------
+
+// A line requested by the driver itself for --watch: input, both edges, CLOCK_REALTIME timestamps,
+// no debounce (debounce would move the timestamp out of the hard interrupt handler).
+class WatchedLine {
+ public:
+  WatchedLine(const std::string& dev, unsigned offset) {
+    const int chip = open(dev.c_str(), O_RDONLY | O_CLOEXEC);
+    if (chip < 0) throw std::runtime_error("cannot open " + dev + ": " + std::strerror(errno));
+    gpio_v2_line_request request{};
+    request.offsets[0] = offset;
+    request.num_lines = 1;
+    std::snprintf(request.consumer, sizeof request.consumer, "m2mlat-vm-driver");
+    request.config.flags = GPIO_V2_LINE_FLAG_INPUT | GPIO_V2_LINE_FLAG_EDGE_RISING |
+                           GPIO_V2_LINE_FLAG_EDGE_FALLING | GPIO_V2_LINE_FLAG_EVENT_CLOCK_REALTIME;
+    const int rc = ioctl(chip, GPIO_V2_GET_LINE_IOCTL, &request);
+    const int saved = errno;
+    close(chip);
+    if (rc < 0) throw std::runtime_error("cannot request line of " + dev + ": " + std::strerror(saved));
+    fd_ = request.fd;
+  }
+  WatchedLine(const WatchedLine&) = delete;
+  WatchedLine& operator=(const WatchedLine&) = delete;
+  ~WatchedLine() { close(fd_); }
+
+  // Waits up to timeout_ms for the next event; false on timeout.
+  bool next(gpio_v2_line_event& event, int timeout_ms) {
+    pollfd pfd{fd_, POLLIN, 0};
+    if (poll(&pfd, 1, timeout_ms) <= 0) return false;
+    return read(fd_, &event, sizeof event) == static_cast<ssize_t>(sizeof event);
+  }
+
+ private:
+  int fd_ = -1;
+};
+
+void sleep_until_monotonic(std::int64_t when_ns) {
+  timespec ts{};
+  ts.tv_sec = when_ns / kNsPerS;
+  ts.tv_nsec = when_ns % kNsPerS;
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  }
+}
+
+int cmd_toggle(const std::map<std::string, std::string>& options) {
+  const std::string sim = required(options, "sim");
+  const std::int64_t count = parse_int(required(options, "count"), "--count");
+  const std::int64_t period_ns = parse_int(option_or(options, "period-us", "0"), "--period-us") * kNsPerUs;
+  const std::int64_t burst = parse_int(option_or(options, "burst", "0"), "--burst");
+  const std::int64_t burst_gap_ns =
+      parse_int(option_or(options, "burst-gap-us", "0"), "--burst-gap-us") * kNsPerUs;
+  const bool append = options.count("append") != 0;
+
+  // The current pull decides the first edge: pull-down (gpio-sim's default) -> rising first.
+  std::string pull;
+  {
+    std::ifstream in(sim + "/pull");
+    if (!(in >> pull)) throw std::runtime_error("cannot read " + sim + "/pull");
+  }
+  bool high = pull == "pull-up";
+  const int fd = open((sim + "/pull").c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd < 0) throw std::runtime_error("cannot open " + sim + "/pull: " + std::strerror(errno));
+
+  std::unique_ptr<WatchedLine> watched;
+  std::FILE* events_out = nullptr;
+  if (options.count("watch") != 0) {
+    const std::string watch = options.at("watch");
+    const auto colon = watch.rfind(':');
+    if (colon == std::string::npos) throw UsageError("--watch wants DEV:LINE");
+    watched = std::make_unique<WatchedLine>(
+        watch.substr(0, colon), static_cast<unsigned>(parse_int(watch.substr(colon + 1), "--watch line")));
+    events_out = std::fopen(required(options, "events").c_str(), "w");
+    if (events_out == nullptr) throw std::runtime_error("cannot write --events file");
+    std::fprintf(events_out, "# format: m2mlat-events/1\nnode,channel,edge,clock,time_ns,seqno,line_seqno,flags\n");
+  }
+
+  std::FILE* log = nullptr;
+  const std::string log_path = option_or(options, "log", "");
+  if (!log_path.empty()) {
+    const bool fresh = !append || access(log_path.c_str(), F_OK) != 0;
+    log = std::fopen(log_path.c_str(), append ? "a" : "w");
+    if (log == nullptr) throw std::runtime_error("cannot write " + log_path);
+    if (fresh) std::fprintf(log, "index,edge,before_ns,after_ns\n");
+  }
+
+  // Writes are scheduled on CLOCK_MONOTONIC from the start, so a late write does not shift the rest.
+  std::vector<std::int64_t> before(static_cast<std::size_t>(count));
+  std::vector<std::int64_t> after(static_cast<std::size_t>(count));
+  std::vector<char> rising(static_cast<std::size_t>(count));
+  std::int64_t timeouts = 0;
+  const std::int64_t start = clock_ns(CLOCK_MONOTONIC);
+  std::int64_t when = start;
+  for (std::int64_t i = 0; i < count; ++i) {
+    if (i > 0) {
+      when += (burst > 0 && i % burst == 0) ? burst_gap_ns : period_ns;
+      if (when > start) sleep_until_monotonic(when);
+    }
+    high = !high;
+    const char* value = high ? "pull-up" : "pull-down";
+    const auto k = static_cast<std::size_t>(i);
+    rising[k] = high ? 1 : 0;
+    before[k] = clock_ns(CLOCK_REALTIME);
+    const ssize_t written = pwrite(fd, value, std::strlen(value), 0);
+    after[k] = clock_ns(CLOCK_REALTIME);
+    if (written < 0) throw std::runtime_error("write to " + sim + "/pull: " + std::strerror(errno));
+    if (watched) {
+      gpio_v2_line_event event{};
+      if (!watched->next(event, 1000)) {
+        ++timeouts;
+        continue;
+      }
+      std::fprintf(events_out, "driver,watch,%s,realtime,%llu,%u,%u,0\n",
+                   event.id == GPIO_V2_LINE_EVENT_RISING_EDGE ? "rising" : "falling",
+                   static_cast<unsigned long long>(event.timestamp_ns), event.seqno, event.line_seqno);
+    }
+  }
+  const std::int64_t elapsed_ns = clock_ns(CLOCK_MONOTONIC) - start;
+  close(fd);
+  if (events_out != nullptr) std::fclose(events_out);
+
+  // The log is written after the run so that file I/O does not disturb the pacing. Indices continue
+  // an appended log's numbering only in spirit: verify reads the rows in order and ignores the index.
+  if (log != nullptr) {
+    for (std::size_t k = 0; k < before.size(); ++k) {
+      std::fprintf(log, "%zu,%s,%lld,%lld\n", k, rising[k] ? "rising" : "falling",
+                   static_cast<long long>(before[k]), static_cast<long long>(after[k]));
+    }
+    std::fclose(log);
+  }
+  std::int64_t max_write_ns = 0;
+  for (std::size_t k = 0; k < before.size(); ++k) max_write_ns = std::max(max_write_ns, after[k] - before[k]);
+  std::printf("toggle: writes=%lld elapsed_us=%lld max_write_us=%lld watch_timeouts=%lld\n",
+              static_cast<long long>(count), static_cast<long long>(elapsed_ns / kNsPerUs),
+              static_cast<long long>(max_write_ns / kNsPerUs), static_cast<long long>(timeouts));
+  return timeouts == 0 ? 0 : 1;
+}
+
+// ---- verify ---------------------------------------------------------------------------------------
+
+struct Write {
+  bool rising;
+  std::int64_t before_ns;
+  std::int64_t after_ns;
+};
+
+struct Stored {
+  bool rising;
+  std::string clock;
+  std::int64_t time_ns;
+  std::int64_t seqno;
+  std::int64_t line_seqno;
+  std::size_t line;  // in the CSV, for messages
+};
+
+std::vector<std::string> split_csv(const std::string& line) {
+  // The files read here never quote (node and channel names are plain words).
+  std::vector<std::string> fields;
+  std::stringstream in(line);
+  std::string field;
+  while (std::getline(in, field, ',')) fields.push_back(field);
+  if (!line.empty() && line.back() == ',') fields.emplace_back();
+  return fields;
+}
+
+std::vector<Write> read_driver_log(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw UsageError("cannot read " + path);
+  std::vector<Write> writes;
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    if (line.empty() || line.rfind("index,", 0) == 0) continue;  // an appended run's header
+    const auto f = split_csv(line);
+    if (f.size() != 4) throw UsageError(path + ": malformed line '" + line + "'");
+    writes.push_back({f[1] == "rising", parse_int(f[2], "before_ns"), parse_int(f[3], "after_ns")});
+  }
+  return writes;
+}
+
+std::vector<Stored> read_events(const std::string& path, const std::string& channel) {
+  std::ifstream in(path);
+  if (!in) throw UsageError("cannot read " + path);
+  std::string line;
+  std::map<std::string, std::size_t> column;
+  std::vector<Stored> events;
+  std::size_t number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty() || line[0] == '#') continue;
+    const auto f = split_csv(line);
+    if (column.empty()) {
+      for (std::size_t i = 0; i < f.size(); ++i) column[f[i]] = i;
+      for (const char* name : {"channel", "edge", "clock", "time_ns", "seqno", "line_seqno"}) {
+        if (column.count(name) == 0) throw UsageError(path + ": no column " + name);
+      }
+      continue;
+    }
+    if (!channel.empty() && f.at(column["channel"]) != channel) continue;
+    events.push_back({f.at(column["edge"]) == "rising", f.at(column["clock"]), parse_int(f.at(column["time_ns"]), "time_ns"),
+                      parse_int(f.at(column["seqno"]), "seqno"), parse_int(f.at(column["line_seqno"]), "line_seqno"),
+                      number});
+  }
+  return events;
+}
+
+int cmd_verify(const std::map<std::string, std::string>& options) {
+  const auto writes = read_driver_log(required(options, "driver"));
+  const auto events = read_events(required(options, "events"), option_or(options, "channel", ""));
+  const std::string edges = option_or(options, "edges", "both");
+  if (edges != "both" && edges != "rising" && edges != "falling") throw UsageError("bad --edges " + edges);
+  const std::int64_t refractory_ns = parse_int(option_or(options, "refractory-us", "0"), "--refractory-us") * kNsPerUs;
+  const bool allow_missing = options.count("allow-missing") != 0;
+
+  // The writes the kernel turns into events (edge filter), and among them the ones the refractory
+  // filter keeps. The true timestamps are unknown but lie in the windows, so "kept" is decided from
+  // the bounds; a pattern whose outcome the bounds cannot decide is a bad test, reported as such.
+  std::vector<std::size_t> reported;  // indices into writes
+  for (std::size_t i = 0; i < writes.size(); ++i) {
+    if (edges == "both" || (edges == "rising") == writes[i].rising) reported.push_back(i);
+  }
+  std::vector<std::size_t> expected;
+  std::vector<std::string> failures;
+  for (const std::size_t i : reported) {
+    if (refractory_ns > 0 && !expected.empty()) {
+      const Write& last = writes[expected.back()];
+      const std::int64_t shortest = writes[i].before_ns - last.after_ns;
+      const std::int64_t longest = writes[i].after_ns - last.before_ns;
+      if (longest < refractory_ns) continue;  // surely a bounce
+      if (shortest < refractory_ns) {
+        failures.push_back("write " + std::to_string(i) + " is too close to the refractory boundary to decide");
+        continue;
+      }
+    }
+    expected.push_back(i);
+  }
+
+  // Match each event to the write whose window holds its timestamp (windows are disjoint and in order).
+  std::vector<std::size_t> position_in_reported(writes.size(), SIZE_MAX);
+  for (std::size_t p = 0; p < reported.size(); ++p) position_in_reported[reported[p]] = p;
+  std::vector<std::size_t> matched;
+  std::int64_t max_delay_ns = 0;
+  std::vector<std::int64_t> delays_ns;
+  std::size_t w = 0;
+  const Stored* previous = nullptr;
+  std::size_t previous_write = 0;
+  std::int64_t missing = 0;
+  for (const Stored& e : events) {
+    auto fail = [&](const std::string& what) {
+      failures.push_back("event on line " + std::to_string(e.line) + " (time_ns " + std::to_string(e.time_ns) +
+                         "): " + what);
+    };
+    if (e.clock != "realtime") fail("clock is " + e.clock + ", not realtime");
+    while (w < writes.size() && writes[w].after_ns < e.time_ns) ++w;
+    if (w == writes.size() || writes[w].before_ns > e.time_ns) {
+      fail("outside every write's [before, after] window" +
+           (w < writes.size() ? " (next write starts " + std::to_string(writes[w].before_ns - e.time_ns) + " ns later)"
+                              : std::string(" (after the last write)")));
+      continue;
+    }
+    if (writes[w].rising != e.rising) fail(std::string("edge is ") + (e.rising ? "rising" : "falling") + ", the write made the other");
+    if (position_in_reported[w] == SIZE_MAX) {
+      fail("its write's edge type was not requested");
+      continue;
+    }
+    if (!matched.empty() && matched.back() == w) {
+      fail("a second event for the same write");
+      continue;
+    }
+    // seqno counts the events the kernel emitted for this request: between two stored events it
+    // must advance by the number of requested edges between their writes (each one more is an
+    // edge dropped by the kernel or suppressed by the refractory filter, never an unaccounted one).
+    const auto expected_step = static_cast<std::int64_t>(
+        previous == nullptr ? position_in_reported[w] + 1 : position_in_reported[w] - position_in_reported[previous_write]);
+    const std::int64_t step = previous == nullptr ? e.seqno : e.seqno - previous->seqno;
+    const std::int64_t line_step = previous == nullptr ? e.line_seqno : e.line_seqno - previous->line_seqno;
+    if (step != expected_step) {
+      fail("seqno advanced by " + std::to_string(step) + " where " + std::to_string(expected_step) + " edges were made");
+    }
+    if (line_step != expected_step) {
+      fail("line_seqno advanced by " + std::to_string(line_step) + " where " + std::to_string(expected_step) +
+           " edges were made");
+    }
+    missing += expected_step - 1;
+    delays_ns.push_back(e.time_ns - writes[w].before_ns);
+    max_delay_ns = std::max(max_delay_ns, e.time_ns - writes[w].before_ns);
+    matched.push_back(w);
+    previous = &e;
+    previous_write = w;
+  }
+
+  // Which of the expected edges are missing, which stored events were not expected.
+  std::vector<std::size_t> absent;
+  std::set_difference(expected.begin(), expected.end(), matched.begin(), matched.end(), std::back_inserter(absent));
+  std::vector<std::size_t> unexpected;
+  std::set_difference(matched.begin(), matched.end(), expected.begin(), expected.end(), std::back_inserter(unexpected));
+  if (!unexpected.empty()) {
+    failures.push_back(std::to_string(unexpected.size()) + " stored events the filter should have suppressed (first: write " +
+                       std::to_string(unexpected.front()) + ")");
+  }
+  if (!absent.empty() && !allow_missing) {
+    failures.push_back(std::to_string(absent.size()) + " expected events missing (first: write " +
+                       std::to_string(absent.front()) + ")");
+  }
+
+  std::sort(delays_ns.begin(), delays_ns.end());
+  const std::int64_t median_delay_ns = delays_ns.empty() ? 0 : delays_ns[delays_ns.size() / 2];
+  std::printf("verify: writes=%zu requested=%zu expected=%zu events=%zu seqno_gap=%lld absent=%zu "
+              "median_delay_us=%lld max_delay_us=%lld result=%s\n",
+              writes.size(), reported.size(), expected.size(), events.size(), static_cast<long long>(missing),
+              absent.size(), static_cast<long long>(median_delay_ns / kNsPerUs),
+              static_cast<long long>(max_delay_ns / kNsPerUs), failures.empty() ? "pass" : "fail");
+  for (std::size_t i = 0; i < failures.size() && i < 10; ++i) std::printf("  %s\n", failures[i].c_str());
+  if (failures.size() > 10) std::printf("  ... and %zu more\n", failures.size() - 10);
+  return failures.empty() ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    if (argc < 2) throw UsageError("usage: m2mlat-vm-driver info|wait-used|toggle|verify ...");
+    const std::string command = argv[1];
+    if (command == "info") {
+      if (argc != 3) throw UsageError("usage: m2mlat-vm-driver info /dev/gpiochipN");
+      return cmd_info(argv[2]);
+    }
+    if (command == "wait-used") {
+      if (argc != 5) throw UsageError("usage: m2mlat-vm-driver wait-used /dev/gpiochipN LINE TIMEOUT_MS");
+      return cmd_wait_used(argv[2], parse_int(argv[3], "LINE"), parse_int(argv[4], "TIMEOUT_MS"));
+    }
+    if (command == "toggle") return cmd_toggle(parse_options(argc, argv, 2));
+    if (command == "verify") return cmd_verify(parse_options(argc, argv, 2));
+    throw UsageError("unknown command '" + command + "'");
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "m2mlat-vm-driver: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "m2mlat-vm-driver: %s\n", e.what());
+    return 1;
+  }
+}

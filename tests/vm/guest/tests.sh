@@ -1,0 +1,268 @@
+# The real-kernel tests, run by the guest's /init (busybox sh, in /tmp, as root).
+#
+# Every test is a function that returns 0 (pass), 1 (fail) or 77 (skipped: what it needs is missing);
+# run_test prints one result line "M2MLAT-VM PASS|FAIL|SKIP <name> <seconds>" and the test's details
+# as "M2MLAT-VM INFO <name>: ..." lines, which the host turns into the suite's report.
+#
+# The stimulus is gpio-sim: writing pull-up / pull-down to sim_gpioK/pull makes an edge on line K.
+# m2mlat-vm-driver makes the edges, logs CLOCK_REALTIME just before and after each write, and
+# verifies a capture's exported events against that log (see tests/vm/driver.cpp).
+
+DRIVER=/bin/m2mlat-vm-driver
+M2MLAT=/bin/m2mlat
+LABEL=m2mlat-sim0
+NLINES=8
+# Pacing of "lockstep-ish" edges (us between writes): an edge made while the previous one's interrupt
+# thread is still pending is silently not turned into an event, so exact counts are only asserted
+# with a gap far above the 15-25 us the guest needs per edge.
+PACE_US=${PACE_US:-1000}
+
+T=""
+info() { echo "M2MLAT-VM INFO $T: $*"; }
+# uptime in centiseconds, for the per-test time
+now_cs() { sed 's/^\([0-9]*\)\.\([0-9]*\) .*/\1\2/' /proc/uptime; }
+
+run_test() {
+  T=$1
+  local start end rc result
+  start=$(now_cs)
+  "$2"
+  rc=$?
+  end=$(now_cs)
+  case $rc in
+    0) result=PASS ;;
+    77) result=SKIP ;;
+    *) result=FAIL ;;
+  esac
+  echo "M2MLAT-VM $result $T $(((end - start) / 100)).$(((end - start) % 100 / 10))"
+}
+
+# make_chip NAME LABEL NLINES: a live gpio-sim chip with one bank; line 0 is named "hall". Sets
+# CHIP (gpiochipN) and SIM (the folder of its sim_gpioK attributes).
+make_chip() {
+  local dir=/sys/kernel/config/gpio-sim/$1
+  mkdir "$dir" "$dir/bank0" "$dir/bank0/line0" || return 1
+  echo "$2" >"$dir/bank0/label"
+  echo "$3" >"$dir/bank0/num_lines"
+  echo hall >"$dir/bank0/line0/name"
+  echo 1 >"$dir/live" || return 1
+  CHIP=$(cat "$dir/bank0/chip_name")
+  SIM=/sys/devices/platform/$(cat "$dir/dev_name")/$CHIP
+}
+
+# running PID: the process exists and has not exited (an exited child stays a zombie, state Z, until
+# the shell waits for it, and kill -0 would still find it).
+running() { [ -r "/proc/$1/stat" ] && [ "$(cut -d' ' -f3 "/proc/$1/stat" 2>/dev/null)" != Z ]; }
+
+# wait_exit PID SECONDS: waits for a background process, killing it (TERM, then KILL) if it outlives
+# SECONDS; returns its exit status. Exit status 143/137 mean it had to be killed.
+wait_exit() {
+  local pid=$1 left=$(($2 * 10))
+  while running "$pid" && [ $left -gt 0 ]; do
+    sleep 0.1
+    left=$((left - 1))
+  done
+  if running "$pid"; then
+    info "pid $pid still running after $2 s: terminating it"
+    kill -TERM "$pid"
+    sleep 2
+    kill -KILL "$pid" 2>/dev/null
+  fi
+  wait "$pid"
+}
+
+# show FILE: a file's lines as INFO lines (for failures).
+show() { [ -f "$1" ] && while IFS= read -r line; do info "  $1: $line"; done <"$1"; }
+
+have_record() { "$M2MLAT" help 2>/dev/null | awk '$1 == "record" { found = 1 } END { exit !found }'; }
+need_record() {
+  have_record && return 0
+  info "skipped: this m2mlat has no 'record' subcommand yet ('m2mlat help' does not list it)"
+  return 77
+}
+
+# start_record STORE OUT ARGS...: m2mlat record in the background on line 0 of the chip as channel
+# "hall"; waits until it holds the line. Sets REC.
+start_record() {
+  local store=$1 out=$2
+  shift 2
+  "$M2MLAT" record --store "$store" --node guest --channel "hall=$CHIP:0" --json "$@" >"$out" 2>"$out.err" &
+  REC=$!
+  if ! "$DRIVER" wait-used "/dev/$CHIP" 0 20000 >/dev/null; then
+    info "record did not request the line within 20 s"
+    show "$out.err"
+    return 1
+  fi
+}
+
+# export_verify STORE DRIVER_LOG VERIFY_ARGS...: exports the store and verifies it against the log.
+export_verify() {
+  local store=$1 log=$2
+  shift 2
+  "$M2MLAT" export "$store" -o "$store.csv" 2>"$store.export.err" || {
+    info "m2mlat export failed"
+    show "$store.export.err"
+    return 1
+  }
+  "$DRIVER" verify --driver "$log" --events "$store.csv" --channel hall "$@" >"$store.verify"
+  local rc=$?
+  show "$store.verify"
+  return $rc
+}
+
+# ---- smoke: the guest, the chip, the driver, the binary (no capture code needed) -----------------
+
+t_boot() {
+  info "kernel $(uname -r); $(grep -c ^processor /proc/cpuinfo) CPUs"
+  case $(uname -r) in 6.1.*) ;; *) return 1 ;; esac
+  grep -q '^gpio_sim ' /proc/modules || { info "gpio-sim is not loaded"; return 1; }
+  make_chip chip0 "$LABEL" "$NLINES" || { info "gpio-sim chip creation failed"; return 1; }
+  info "chip0 is /dev/$CHIP, its lines at $SIM"
+}
+
+t_chip() {
+  [ -c "/dev/$CHIP" ] || { info "/dev/$CHIP is not a character device"; return 1; }
+  local got
+  got=$("$DRIVER" info "/dev/$CHIP") || return 1
+  info "$got"
+  [ "$got" = "name=$CHIP label=$LABEL lines=$NLINES" ]
+}
+
+# The driver requests the line itself and waits for each edge's event before making the next one:
+# the kernel's own timestamps must fall inside the write windows, with seqno never skipping.
+t_driver_lockstep() {
+  "$DRIVER" toggle --sim "$SIM/sim_gpio1" --count 1000 --log drv.csv --watch "/dev/$CHIP:1" \
+    --events watch.csv >toggle.out || { show toggle.out; return 1; }
+  show toggle.out
+  "$DRIVER" verify --driver drv.csv --events watch.csv >verify.out
+  local rc=$?
+  show verify.out
+  return $rc
+}
+
+t_version() {
+  local v
+  v=$("$M2MLAT" --version 2>&1) || { info "m2mlat --version failed: $v"; return 1; }
+  info "$v"
+  case $v in *m2mlat*) ;; *) return 1 ;; esac
+  info "subcommands: $("$M2MLAT" help 2>/dev/null | awk '/^  [a-z]/ { printf "%s ", $1 }')"
+}
+
+# ---- m2mlat record against the real kernel -------------------------------------------------------
+
+# Thousands of edges, paced: every one stored, timestamps inside the windows, edges alternating as
+# made, seqno and line_seqno without a gap.
+t_record_lockstep() {
+  need_record || return 77
+  local n=2000
+  start_record lock.db lock.json --count $n --duration 300s || return 1
+  "$DRIVER" toggle --sim "$SIM/sim_gpio0" --count $n --period-us "$PACE_US" --log lock.drv >lock.toggle
+  show lock.toggle
+  wait_exit $REC 60 || { info "record exited $?"; show lock.json.err; return 1; }
+  show lock.json
+  export_verify lock.db lock.drv
+}
+
+# Only the requested edge type reaches the store.
+t_record_edges() {
+  need_record || return 77
+  local kind rc=0
+  for kind in rising falling; do
+    start_record "$kind.db" "$kind.json" --edges "$kind" --count 100 --duration 120s || return 1
+    "$DRIVER" toggle --sim "$SIM/sim_gpio0" --count 200 --period-us "$PACE_US" --log "$kind.drv" >/dev/null
+    wait_exit $REC 60 || { info "record --edges $kind exited $?"; show "$kind.json.err"; return 1; }
+    export_verify "$kind.db" "$kind.drv" --edges "$kind" || rc=1
+  done
+  return $rc
+}
+
+# SIGTERM right after the last edge: every edge made before it is stored.
+t_record_shutdown() {
+  need_record || return 77
+  start_record term.db term.json || return 1
+  "$DRIVER" toggle --sim "$SIM/sim_gpio0" --count 500 --period-us "$PACE_US" --log term.drv >/dev/null
+  kill -TERM $REC
+  wait_exit $REC 30 || { info "record exited $? on SIGTERM"; show term.json.err; return 1; }
+  show term.json
+  export_verify term.db term.drv
+}
+
+# The reader is stopped (SIGSTOP) while more edges arrive than the kernel's buffer holds: the kernel
+# drops the oldest and its seqno jumps; the store must show exactly that gap, and record must report
+# it as lost. Edges before and after the stall are all stored.
+t_record_stall() {
+  need_record || return 77
+  start_record stall.db stall.json || return 1
+  "$DRIVER" toggle --sim "$SIM/sim_gpio0" --count 20 --period-us "$PACE_US" --log stall.drv >/dev/null
+  sleep 0.5
+  kill -STOP $REC
+  # 1024 is the largest buffer the kernel gives a line request; 3000 edges overflow any of them.
+  "$DRIVER" toggle --sim "$SIM/sim_gpio0" --count 3000 --period-us 300 --log stall.drv --append >stall.toggle
+  show stall.toggle
+  kill -CONT $REC
+  sleep 1
+  "$DRIVER" toggle --sim "$SIM/sim_gpio0" --count 20 --period-us "$PACE_US" --log stall.drv --append >/dev/null
+  sleep 1
+  kill -INT $REC
+  wait_exit $REC 30 || { info "record exited $? on SIGINT"; show stall.json.err; return 1; }
+  show stall.json
+  export_verify stall.db stall.drv --allow-missing || return 1
+  local missing reported
+  missing=$(sed -n 's/.* seqno_gap=\([0-9]*\) .*/\1/p' stall.db.verify)
+  [ "${missing:-0}" -gt 0 ] || { info "no seqno gap: the stall did not overflow the kernel buffer"; return 1; }
+  # record's own count of lost events (its JSON summary's "lost" field)
+  reported=$(tr ',{}' '\n\n\n' <stall.json | sed -n 's/^ *"lost" *: *\([0-9]*\).*/\1/p' | head -n1)
+  info "kernel seqno gap: $missing events; record reports lost=${reported:-?}"
+  [ "$reported" = "$missing" ]
+}
+
+# --refractory 10ms: bursts of three rising edges 2 ms apart, 40 ms between bursts: only the first
+# edge of each burst is kept.
+t_record_refractory() {
+  need_record || return 77
+  start_record refr.db refr.json --edges rising --refractory 10ms || return 1
+  "$DRIVER" toggle --sim "$SIM/sim_gpio0" --count 120 --period-us 1000 --burst 6 --burst-gap-us 40000 \
+    --log refr.drv >/dev/null
+  sleep 0.5
+  kill -INT $REC
+  wait_exit $REC 30 || { info "record exited $?"; show refr.json.err; return 1; }
+  show refr.json
+  export_verify refr.db refr.drv --edges rising --refractory-us 10000
+}
+
+# A second record on a line the first one holds fails with a message that says so.
+t_record_busy() {
+  need_record || return 77
+  start_record busy1.db busy1.json || return 1
+  "$M2MLAT" record --store busy2.db --node guest --channel "hall=$CHIP:0" --count 1 --duration 10s \
+    >busy2.out 2>busy2.err
+  local rc=$?
+  kill -INT $REC
+  wait_exit $REC 30 >/dev/null
+  show busy2.err
+  [ $rc -ne 0 ] || { info "the second record exited 0"; return 1; }
+  grep -qi 'busy' busy2.err || { info "the message does not say the line is busy"; return 1; }
+}
+
+# A chip that does not exist: a clear message naming it, a non-zero exit, within seconds.
+t_record_missing_chip() {
+  need_record || return 77
+  "$M2MLAT" record --store missing.db --node guest --channel hall=gpiochip99:0 --count 1 --duration 10s \
+    >missing.out 2>missing.err
+  local rc=$?
+  show missing.err
+  [ $rc -ne 0 ] || { info "record exited 0"; return 1; }
+  grep -q 'gpiochip99' missing.err || { info "the message does not name the chip"; return 1; }
+}
+
+run_test smoke.boot t_boot
+run_test smoke.chip t_chip
+run_test smoke.driver-lockstep t_driver_lockstep
+run_test smoke.version t_version
+run_test record.lockstep t_record_lockstep
+run_test record.edge-types t_record_edges
+run_test record.shutdown t_record_shutdown
+run_test record.stall t_record_stall
+run_test record.refractory t_record_refractory
+run_test record.busy-line t_record_busy
+run_test record.missing-chip t_record_missing_chip

@@ -1,0 +1,141 @@
+#!/usr/bin/env bash
+# The real-kernel test suite: boots Debian's 6.1 kernel in QEMU with gpio-sim, runs the tests of
+# guest/tests.sh against the real GPIO character device, and prints one line per test and
+# "N passed, N failed" last. Exit 0 only if no test failed and the guest ran to the end.
+#
+#   tests/vm/run.sh [--m2mlat STATIC_BINARY]
+#
+# Steps: host packages (apt-get, once) -> guest kernel, configfs.ko and gpio-sim.ko (kernel.sh, cached
+# in $M2MLAT_VM_CACHE) -> the static m2mlat (CMake, M2MLAT_STATIC=ON, in $M2MLAT_VM_BUILD) and the
+# static test driver (g++ -static) -> an initramfs (busybox, modules, binaries, guest/init,
+# guest/tests.sh) -> QEMU with the uncompressed vmlinux through its PVH entry -> the console's
+# "M2MLAT-VM ..." lines -> the report.
+#
+# Environment:
+#   M2MLAT_VM_CACHE    downloads and the built kernel module (default /var/cache/m2mlat-vm)
+#   M2MLAT_VM_BUILD    build folder of the static m2mlat and the driver (default <repo>/build-vm-static)
+#   M2MLAT_VM_ACCEL    tcg (default) or kvm; KVM only where it works (not on PVM-nested hosts)
+#   M2MLAT_VM_TIMEOUT  seconds before the guest is killed (default 600)
+#   M2MLAT_VM_SMP, M2MLAT_VM_MEM  guest CPUs (default 2) and MiB (default 512)
+#   M2MLAT_VM_KERNEL   a kernel ABI name (6.1.0-NN-amd64) instead of the one linux-image-amd64 pulls in
+#   M2MLAT_VM_VERBOSE  non-empty: print the details of passing tests too
+#   M2MLAT_VM_SKIP     non-empty: skip the whole suite (reported as such)
+set -euo pipefail
+source "$(dirname "$0")/lib.sh"
+
+M2MLAT_BIN=""
+while [ $# -gt 0 ]; do
+  case $1 in
+    --m2mlat) M2MLAT_BIN=$(realpath "$2"); shift 2 ;;
+    -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
+    *) die "unknown argument '$1' (see --help)" ;;
+  esac
+done
+BUILD=${M2MLAT_VM_BUILD:-$REPO/build-vm-static}
+ACCEL=${M2MLAT_VM_ACCEL:-tcg}
+TIMEOUT=${M2MLAT_VM_TIMEOUT:-600}
+SMP=${M2MLAT_VM_SMP:-2}
+MEM=${M2MLAT_VM_MEM:-512}
+SECONDS=0
+
+# Where the suite cannot run, say so and pass nothing: M2MLAT_VM_SKIP=1, or a system whose archive
+# has no Debian 6.1 kernel (Ubuntu, say).
+skip_suite() {
+  echo "SKIP real-kernel suite: $1"
+  echo "0 passed, 0 failed"
+  exit 0
+}
+[ -z "${M2MLAT_VM_SKIP:-}" ] || skip_suite "M2MLAT_VM_SKIP is set"
+if [ -z "${M2MLAT_VM_KERNEL:-}" ] && ! apt-cache depends linux-image-amd64 2>/dev/null | grep -q 'Depends: linux-image-6\.1\.'; then
+  skip_suite "the apt archive has no Debian 6.1 kernel (linux-image-amd64); the suite needs Debian 12's"
+fi
+
+ensure_packages "${VM_HOST_PACKAGES[@]}"
+KERNEL_DIR=$(bash "$VM_DIR/kernel.sh")
+
+# The static m2mlat: its own build folder, so the ordinary (dynamic) builds are untouched. -O2 as
+# the other builds (GCC 12 gives false -Wrestrict warnings at -O3); no debug info, to keep the
+# initramfs small.
+mkdir -p "$BUILD"
+if [ -z "$M2MLAT_BIN" ]; then
+  if [ ! -f "$BUILD/build.ninja" ]; then
+    log "configuring the static build in $BUILD"
+    cmake -S "$REPO" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O2 -DNDEBUG" \
+      -DM2MLAT_STATIC=ON -DM2MLAT_TESTS=OFF -DM2MLAT_BENCH=OFF >&2
+  fi
+  log "building the static m2mlat"
+  cmake --build "$BUILD" --target m2mlat_exe >&2
+  M2MLAT_BIN=$BUILD/m2mlat
+fi
+if readelf -l "$M2MLAT_BIN" | grep -q 'Requesting program interpreter'; then
+  die "$M2MLAT_BIN is dynamically linked; the guest has no C library (build with -DM2MLAT_STATIC=ON)"
+fi
+DRIVER_BIN=$BUILD/m2mlat-vm-driver
+if [ ! -x "$DRIVER_BIN" ] || [ "$VM_DIR/driver.cpp" -nt "$DRIVER_BIN" ]; then
+  log "building the test driver"
+  g++ -std=c++20 -O2 -static -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion \
+    -Wold-style-cast -Werror -o "$DRIVER_BIN" "$VM_DIR/driver.cpp"
+fi
+
+# The initramfs: an uncompressed cpio (the kernel would spend seconds decompressing under TCG).
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+ROOT=$WORK/root
+mkdir -p "$ROOT"/{bin,dev,proc,sys,tmp,lib/modules}
+cp /bin/busybox "$ROOT/bin/busybox"
+file_is_static() { ! readelf -l "$1" | grep -q 'Requesting program interpreter'; }
+file_is_static "$ROOT/bin/busybox" || die "/bin/busybox is not static (install busybox-static)"
+strip -o "$ROOT/bin/m2mlat" "$M2MLAT_BIN"
+cp "$DRIVER_BIN" "$ROOT/bin/m2mlat-vm-driver"
+cp "$KERNEL_DIR/configfs.ko" "$KERNEL_DIR/gpio-sim.ko" "$ROOT/lib/modules/"
+install -m 0755 "$VM_DIR/guest/init" "$ROOT/init"
+cp "$VM_DIR/guest/tests.sh" "$ROOT/tests.sh"
+(cd "$ROOT" && find . -print0 | cpio --null -o -H newc --quiet) >"$WORK/initramfs.cpio"
+
+# Boot. panic=-1 and -no-reboot turn a kernel panic into QEMU's exit; the timeout catches a hang.
+CONSOLE=$BUILD/vm-console.log
+log "booting $(basename "$KERNEL_DIR") under QEMU ($ACCEL, $SMP CPUs, $MEM MiB); console in $CONSOLE"
+case $ACCEL in
+  tcg) ACCEL_ARGS=(-accel tcg,thread=multi -cpu max) ;;
+  kvm) ACCEL_ARGS=(-accel kvm -cpu host) ;;
+  *) die "M2MLAT_VM_ACCEL must be tcg or kvm" ;;
+esac
+BOOT_START=$SECONDS
+set +e
+timeout --foreground -k 10 "$TIMEOUT" qemu-system-x86_64 "${ACCEL_ARGS[@]}" -smp "$SMP" -m "$MEM" \
+  -nographic -no-reboot -net none -kernel "$KERNEL_DIR/vmlinux" -initrd "$WORK/initramfs.cpio" \
+  -append 'console=ttyS0 quiet panic=-1' </dev/null >"$CONSOLE" 2>&1
+QEMU_RC=$?
+set -e
+tr -d '\r' <"$CONSOLE" >"$CONSOLE.tmp" && mv "$CONSOLE.tmp" "$CONSOLE"
+
+# The report: the guest's result lines, its details for the tests that did not pass.
+passed=0 failed=0 skipped=0
+declare -A details
+while IFS= read -r line; do
+  case $line in
+    "M2MLAT-VM INFO "*)
+      rest=${line#M2MLAT-VM INFO }
+      name=${rest%%: *}
+      details[$name]+="      ${rest#*: }"$'\n' ;;
+    "M2MLAT-VM PASS "* | "M2MLAT-VM FAIL "* | "M2MLAT-VM SKIP "*)
+      read -r _ result name secs <<<"$line"
+      printf '%s %-28s %6s s\n' "$result" "$name" "$secs"
+      case $result in
+        PASS) passed=$((passed + 1)) ;;
+        FAIL) failed=$((failed + 1)); printf '%s' "${details[$name]:-}" ;;
+        SKIP) skipped=$((skipped + 1)); printf '%s' "${details[$name]:-}" | head -n 1 ;;
+      esac
+      [ -n "${M2MLAT_VM_VERBOSE:-}" ] && [ "$result" = PASS ] && printf '%s' "${details[$name]:-}"
+      ;;
+  esac
+done <"$CONSOLE"
+
+if ! grep -q '^M2MLAT-VM END' "$CONSOLE"; then
+  failed=$((failed + 1))
+  echo "FAIL guest: did not run to the end (qemu exit $QEMU_RC after $((SECONDS - BOOT_START)) s); last console lines:"
+  tail -n 20 "$CONSOLE" | sed 's/^/      /'
+fi
+echo "guest time $((SECONDS - BOOT_START)) s, total $SECONDS s; $skipped skipped"
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ] && [ "$passed" -gt 0 ]
