@@ -1,27 +1,45 @@
 # The two commands of the README, and the steps behind them.
 #   make demo   install what is missing, build, run the simulated campaign
-#   make check  install what is missing, build with GCC and Clang (warnings are errors), run every test
+#   make check  install what is missing, build with GCC and Clang (warnings are errors), run every test,
+#               the real-kernel suite (make check-vm) included
 BUILD ?= build
 BUILD_CLANG ?= build-clang
+# The real-kernel suite's static build; its downloads and kernel module are cached outside the clone,
+# in $(M2MLAT_VM_CACHE) (default /var/cache/m2mlat-vm; see docs/testing.md).
+BUILD_VM ?= build-vm-static
 CMAKE_FLAGS ?=
 
 # Debian 12 / Ubuntu 24.04 packages the build and the tests need.
 PACKAGES := build-essential cmake ninja-build clang-14 pkg-config \
   libsqlite3-dev sqlite3 libcli11-dev nlohmann-json3-dev libfmt-dev libtomlplusplus-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libboost-math-dev \
-  python3 python3-numpy python3-pandas
+  python3 python3-numpy python3-pandas python3-scipy chromium
+# Packages of the real-kernel suite (make check-vm): QEMU, the guest's busybox, the tools to unpack
+# Debian's kernel packages and pack the initramfs, ccache for the static build. The static m2mlat needs
+# only static archives of the packages above (libsqlite3.a in libsqlite3-dev, libstdc++.a with g++;
+# Debian has no libfmt.a, so fmt is then compiled in from its headers). tests/vm/run.sh installs
+# linux-headers of the guest's kernel itself.
+VM_PACKAGES := qemu-system-x86 busybox-static cpio xz-utils kmod binutils ccache
 
-.PHONY: all deps build build-clang demo check test bench clean
+.PHONY: all deps deps-vm build build-clang demo check check-vm test bench clean
 
 all: build
 
-deps:
-	@missing=$$(for p in $(PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; done); \
+# $(call install_missing,PACKAGES): apt-get install those not installed yet.
+define install_missing
+	@missing=$$(for p in $(1); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; done); \
 	if [ -n "$$missing" ]; then \
 	  echo "installing: $$missing"; \
 	  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
 	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing; \
 	fi
+endef
+
+deps:
+	$(call install_missing,$(PACKAGES))
+
+deps-vm: deps
+	$(call install_missing,$(VM_PACKAGES))
 
 build: deps
 	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS)
@@ -39,9 +57,14 @@ check: CMAKE_FLAGS += -DM2MLAT_WERROR=ON
 check: build build-clang
 	ctest --test-dir $(BUILD) --output-on-failure -j2
 	ctest --test-dir $(BUILD_CLANG) --output-on-failure -j2 -L unit
+	$(MAKE) --no-print-directory check-vm
+
+# The real-kernel suite (tests/vm/): Debian's 6.1 kernel under QEMU with gpio-sim, the static m2mlat.
+check-vm: deps-vm
+	M2MLAT_VM_BUILD=$(abspath $(BUILD_VM)) tests/vm/run.sh
 
 bench: build
 	bench/run.sh $(BUILD)
 
 clean:
-	rm -rf $(BUILD) $(BUILD_CLANG)
+	rm -rf $(BUILD) $(BUILD_CLANG) $(BUILD_VM)

@@ -1,14 +1,17 @@
 // Import throughput: data lines per second for each format the reference rig and m2mlat write, read
 // from a file (in the page cache after the first pass) the way `m2mlat stats` and `import` read it.
 //
-// kernel_log/timestamps is the lean path (read_timestamps: one int64 column per pin, no events);
-// the others build the full result (core::Event per line, or pairs with their events and checks).
+// The .../timestamps cases are the lean path (read_timestamps: one int64 column per pin or label, no
+// events); the others build the full result (a core::Event per line, or pairs with their events and
+// the latency checks).
 #include <fmt/format.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include "m2mlat/formats/import_file.hpp"
 #include "registry.hpp"
@@ -42,13 +45,14 @@ void add_import(const std::string& name, std::string InputFiles::*file, std::siz
   add("import/" + name, [=](benchmark::State& state) {
     const auto& files = input_files();
     const auto& path = files.*file;
-    state.counters["bytes"] = static_cast<double>(std::filesystem::file_size(path));
+    const auto bytes = static_cast<std::int64_t>(std::filesystem::file_size(path));
     for (auto _ : state) {
       const auto result = import(path);
       expect(count(result), files.*lines, path);
       benchmark::DoNotOptimize(&result);
     }
     set_rate(state, files.*lines, "lines");
+    state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * bytes);
   });
 }
 

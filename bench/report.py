@@ -8,6 +8,7 @@ WORK_DIR holds, for each program P in cli (m2mlat stats), lean (m2mlat_lean_stat
 output) and P-B.measure (bench/measure.py's wall seconds and peak memory); and micro.json (Google
 Benchmark's JSON output of m2mlat_bench). One table: step, m2mlat figure, baseline figure, ratio,
 and whether the issue's target (at least 5x faster than the baseline, at no more memory) is met.
+Exits with 1 if a micro-benchmark failed (a target not met is not a failure).
 """
 import json
 import os
@@ -27,6 +28,16 @@ def rate(x):
         if x >= scale:
             return f"{x / scale:.3g} {unit}"
     return f"{x:.3g} "
+
+
+def duration(value, unit):
+    """Google Benchmark's time per iteration, in a readable unit."""
+    seconds = value * {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}[unit]
+    if seconds >= 1:
+        return f"{seconds:.2f} s"
+    if seconds >= 1e-3:
+        return f"{seconds * 1e3:.3g} ms"
+    return f"{seconds * 1e6:.3g} us"
 
 
 def cli_summary(out):
@@ -83,7 +94,7 @@ def end_to_end(table, work, events, bootstrap):
                   f"({base_events:,} in all)")
     n_cli, median_cli = cli_summary(runs["cli", 0][1])
     base0 = runs["baseline", 0][1]
-    table.row("latencies summarised (n)", f"{n_cli:,}", f"{base0['n']:,}")
+    table.row("latencies summarised (n; m2mlat leaves ambiguous pairs out)", f"{n_cli:,}", f"{base0['n']:,}")
     table.row("median latency, ms", f"{median_cli:.3f}", f"{base0['median']:.3f}")
     for program, name in (("cli", "m2mlat stats"), ("lean", "library, lean path")):
         for b in sorted({0, bootstrap}):
@@ -94,11 +105,11 @@ def end_to_end(table, work, events, bootstrap):
             mark = program == "cli"
             table.row(f"{what}: wall time", f"{m['wall_s']:.2f} s ({rate(base_events / m['wall_s'])}ev/s)",
                       f"{base['wall_s']:.2f} s ({rate(base_events / base['wall_s'])}ev/s)",
-                      f"{speedup:.2f}x faster",
+                      f"speed-up {speedup:.2f}x",
                       (verdict(speedup >= SPEED_TARGET) if mark else "(library)") + f" (>= {SPEED_TARGET:g}x)")
             memory = m["peak_mib"] / base["peak_mib"]
             table.row(f"{what}: peak memory", f"{m['peak_mib']:.0f} MiB", f"{base['peak_mib']:.0f} MiB",
-                      f"{memory:.2f}x baseline's",
+                      f"memory {memory:.2f}x",
                       (verdict(memory <= MEMORY_TARGET) if mark else "(library)") + " (<= 1x)")
     # Per step: both programs time their own steps (the lean path and the baseline, same input).
     lean, base = runs["lean", bootstrap][1], runs["baseline", bootstrap][1]
@@ -111,19 +122,23 @@ def end_to_end(table, work, events, bootstrap):
               bt["statistics"] + bt["bootstrap"], base["n"]))
     for step, mine, theirs, items in steps:
         table.row(step, f"{mine:.2f} s ({rate(items / mine)}/s)", f"{theirs:.2f} s ({rate(items / theirs)}/s)",
-                  f"{theirs / mine:.2f}x faster")
+                  f"speed-up {theirs / mine:.2f}x")
 
 
 def micro(table, path):
+    """Adds the micro-benchmarks' rows; returns the number of cases that failed."""
     report = load(path)
+    failed = 0
     table.section("micro-benchmarks (m2mlat_bench, wall-clock time; events count both sides)")
     for b in report["benchmarks"]:
         name = b["name"].removesuffix("/real_time")
         if b.get("error_occurred"):
             table.row(name, "error: " + b.get("error_message", ""))
+            failed += 1
             continue
         unit = b.get("label", "items")
-        table.row(name, f"{rate(b['items_per_second'])}{unit}/s ({b['real_time']:.3g} {b['time_unit']})")
+        table.row(name, f"{rate(b['items_per_second'])}{unit}/s ({duration(b['real_time'], b['time_unit'])})")
+    return failed
 
 
 def main():
@@ -133,12 +148,16 @@ def main():
     work, events, bootstrap = args[0], int(args[1]), int(args[2])
     table = Table()
     end_to_end(table, work, events, bootstrap)
-    micro(table, os.path.join(work, "micro.json"))
+    failed = micro(table, os.path.join(work, "micro.json"))
     print(table.markdown() if "--markdown" in sys.argv else table.text())
+    print("\nspeed-up = baseline's wall time / m2mlat's; memory = m2mlat's peak resident memory / the baseline's. "
+          f"Target (issue): speed-up >= {SPEED_TARGET:g}x at memory <= {MEMORY_TARGET:g}x, for `m2mlat stats`.")
     context = load(os.path.join(work, "micro.json"))["context"]
     load_avg = ", ".join(f"{x:.2f}" for x in context.get("load_avg", []))
     print(f"\nmachine: {context['num_cpus']} CPUs at {context['mhz_per_cpu']} MHz, load average {load_avg} "
           f"(when the micro-benchmarks started), {context['date']}")
+    if failed:
+        sys.exit(f"report.py: {failed} micro-benchmark(s) failed")
 
 
 if __name__ == "__main__":

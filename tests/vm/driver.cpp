@@ -10,6 +10,8 @@
 //   wait-used DEV LINE TIMEOUT_MS     waits until some process has requested the line (so that a
 //                                     capture program started in the background is ready for edges);
 //                                     prints its consumer; exit 1 on timeout
+//   rusage OUT -- CMD ARGS...          runs CMD, passing SIGINT and SIGTERM on to it, and writes its CPU
+//                                     time to OUT: "user_us=U sys_us=S status=X"; exits with its status
 //   toggle --sim DIR --count N [--period-us P] [--burst B --burst-gap-us G] [--log FILE] [--append]
 //          [--watch DEV:LINE --events FILE]
 //       N writes, each flipping the pull, P us apart (0: as fast as possible), optionally in bursts of
@@ -28,7 +30,10 @@
 #include <fcntl.h>
 #include <linux/gpio.h>
 #include <poll.h>
+#include <signal.h>
 #include <sys/ioctl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -145,12 +150,48 @@ int cmd_wait_used(const std::string& dev, std::int64_t line, std::int64_t timeou
   }
   close(fd);
   if ((info.flags & GPIO_V2_LINE_FLAG_USED) == 0) {
-    std::fprintf(stderr, "line %lld of %s still unused after %lld ms\n", static_cast<long long>(line), dev.c_str(),
-                 static_cast<long long>(timeout_ms));
+    std::fprintf(stderr, "line %lld of %s still unused after %lld ms\n", static_cast<long long>(line),
+                 dev.c_str(), static_cast<long long>(timeout_ms));
     return 1;
   }
   std::printf("consumer=%s\n", info.consumer);
   return 0;
+}
+
+// ---- rusage ---------------------------------------------------------------------------------------
+
+pid_t g_child = -1;
+
+void forward_signal(int signal_number) {
+  if (g_child > 0) kill(g_child, signal_number);
+}
+
+// The child's CPU time from wait4(): the kernel's precise per-task runtime, not a tick count.
+int cmd_rusage(const std::string& out_path, char** command) {
+  struct sigaction action {};
+  action.sa_handler = forward_signal;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  g_child = fork();
+  if (g_child < 0) throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+  if (g_child == 0) {
+    execvp(command[0], command);
+    std::fprintf(stderr, "cannot run %s: %s\n", command[0], std::strerror(errno));
+    _exit(127);
+  }
+  int status = 0;
+  rusage usage{};
+  while (wait4(g_child, &status, 0, &usage) < 0) {
+    if (errno != EINTR) throw std::runtime_error(std::string("wait4: ") + std::strerror(errno));
+  }
+  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  std::FILE* out = std::fopen(out_path.c_str(), "w");
+  if (out == nullptr) throw std::runtime_error("cannot write " + out_path);
+  std::fprintf(out, "user_us=%lld sys_us=%lld status=%d\n",
+               static_cast<long long>(usage.ru_utime.tv_sec) * 1000000 + usage.ru_utime.tv_usec,
+               static_cast<long long>(usage.ru_stime.tv_sec) * 1000000 + usage.ru_stime.tv_usec, code);
+  std::fclose(out);
+  return code;
 }
 
 // ---- toggle ---------------------------------------------------------------------------------------
@@ -226,7 +267,8 @@ int cmd_toggle(const std::map<std::string, std::string>& options) {
         watch.substr(0, colon), static_cast<unsigned>(parse_int(watch.substr(colon + 1), "--watch line")));
     events_out = std::fopen(required(options, "events").c_str(), "w");
     if (events_out == nullptr) throw std::runtime_error("cannot write --events file");
-    std::fprintf(events_out, "# format: m2mlat-events/1\nnode,channel,edge,clock,time_ns,seqno,line_seqno,flags\n");
+    std::fprintf(events_out,
+                 "# format: m2mlat-events/1\nnode,channel,edge,clock,time_ns,seqno,line_seqno,flags\n");
   }
 
   std::FILE* log = nullptr;
@@ -351,9 +393,10 @@ std::vector<Stored> read_events(const std::string& path, const std::string& chan
       continue;
     }
     if (!channel.empty() && f.at(column["channel"]) != channel) continue;
-    events.push_back({f.at(column["edge"]) == "rising", f.at(column["clock"]), parse_int(f.at(column["time_ns"]), "time_ns"),
-                      parse_int(f.at(column["seqno"]), "seqno"), parse_int(f.at(column["line_seqno"]), "line_seqno"),
-                      number});
+    events.push_back({f.at(column["edge"]) == "rising", f.at(column["clock"]),
+                      parse_int(f.at(column["time_ns"]), "time_ns"),
+                      parse_int(f.at(column["seqno"]), "seqno"),
+                      parse_int(f.at(column["line_seqno"]), "line_seqno"), number});
   }
   return events;
 }
@@ -363,7 +406,8 @@ int cmd_verify(const std::map<std::string, std::string>& options) {
   const auto events = read_events(required(options, "events"), option_or(options, "channel", ""));
   const std::string edges = option_or(options, "edges", "both");
   if (edges != "both" && edges != "rising" && edges != "falling") throw UsageError("bad --edges " + edges);
-  const std::int64_t refractory_ns = parse_int(option_or(options, "refractory-us", "0"), "--refractory-us") * kNsPerUs;
+  const std::int64_t refractory_ns =
+      parse_int(option_or(options, "refractory-us", "0"), "--refractory-us") * kNsPerUs;
   const bool allow_missing = options.count("allow-missing") != 0;
 
   // The writes the kernel turns into events (edge filter), and among them the ones the refractory
@@ -382,7 +426,8 @@ int cmd_verify(const std::map<std::string, std::string>& options) {
       const std::int64_t longest = writes[i].after_ns - last.before_ns;
       if (longest < refractory_ns) continue;  // surely a bounce
       if (shortest < refractory_ns) {
-        failures.push_back("write " + std::to_string(i) + " is too close to the refractory boundary to decide");
+        failures.push_back("write " + std::to_string(i) +
+                           " is too close to the refractory boundary to decide");
         continue;
       }
     }
@@ -401,18 +446,20 @@ int cmd_verify(const std::map<std::string, std::string>& options) {
   std::int64_t missing = 0;
   for (const Stored& e : events) {
     auto fail = [&](const std::string& what) {
-      failures.push_back("event on line " + std::to_string(e.line) + " (time_ns " + std::to_string(e.time_ns) +
-                         "): " + what);
+      failures.push_back("event on line " + std::to_string(e.line) + " (time_ns " +
+                         std::to_string(e.time_ns) + "): " + what);
     };
     if (e.clock != "realtime") fail("clock is " + e.clock + ", not realtime");
     while (w < writes.size() && writes[w].after_ns < e.time_ns) ++w;
     if (w == writes.size() || writes[w].before_ns > e.time_ns) {
       fail("outside every write's [before, after] window" +
-           (w < writes.size() ? " (next write starts " + std::to_string(writes[w].before_ns - e.time_ns) + " ns later)"
-                              : std::string(" (after the last write)")));
+           (w < writes.size()
+                ? " (next write starts " + std::to_string(writes[w].before_ns - e.time_ns) + " ns later)"
+                : std::string(" (after the last write)")));
       continue;
     }
-    if (writes[w].rising != e.rising) fail(std::string("edge is ") + (e.rising ? "rising" : "falling") + ", the write made the other");
+    if (writes[w].rising != e.rising)
+      fail(std::string("edge is ") + (e.rising ? "rising" : "falling") + ", the write made the other");
     if (position_in_reported[w] == SIZE_MAX) {
       fail("its write's edge type was not requested");
       continue;
@@ -425,11 +472,13 @@ int cmd_verify(const std::map<std::string, std::string>& options) {
     // must advance by the number of requested edges between their writes (each one more is an
     // edge dropped by the kernel or suppressed by the refractory filter, never an unaccounted one).
     const auto expected_step = static_cast<std::int64_t>(
-        previous == nullptr ? position_in_reported[w] + 1 : position_in_reported[w] - position_in_reported[previous_write]);
+        previous == nullptr ? position_in_reported[w] + 1
+                            : position_in_reported[w] - position_in_reported[previous_write]);
     const std::int64_t step = previous == nullptr ? e.seqno : e.seqno - previous->seqno;
     const std::int64_t line_step = previous == nullptr ? e.line_seqno : e.line_seqno - previous->line_seqno;
     if (step != expected_step) {
-      fail("seqno advanced by " + std::to_string(step) + " where " + std::to_string(expected_step) + " edges were made");
+      fail("seqno advanced by " + std::to_string(step) + " where " + std::to_string(expected_step) +
+           " edges were made");
     }
     if (line_step != expected_step) {
       fail("line_seqno advanced by " + std::to_string(line_step) + " where " + std::to_string(expected_step) +
@@ -445,11 +494,14 @@ int cmd_verify(const std::map<std::string, std::string>& options) {
 
   // Which of the expected edges are missing, which stored events were not expected.
   std::vector<std::size_t> absent;
-  std::set_difference(expected.begin(), expected.end(), matched.begin(), matched.end(), std::back_inserter(absent));
+  std::set_difference(expected.begin(), expected.end(), matched.begin(), matched.end(),
+                      std::back_inserter(absent));
   std::vector<std::size_t> unexpected;
-  std::set_difference(matched.begin(), matched.end(), expected.begin(), expected.end(), std::back_inserter(unexpected));
+  std::set_difference(matched.begin(), matched.end(), expected.begin(), expected.end(),
+                      std::back_inserter(unexpected));
   if (!unexpected.empty()) {
-    failures.push_back(std::to_string(unexpected.size()) + " stored events the filter should have suppressed (first: write " +
+    failures.push_back(std::to_string(unexpected.size()) +
+                       " stored events the filter should have suppressed (first: write " +
                        std::to_string(unexpected.front()) + ")");
   }
   if (!absent.empty() && !allow_missing) {
@@ -459,11 +511,12 @@ int cmd_verify(const std::map<std::string, std::string>& options) {
 
   std::sort(delays_ns.begin(), delays_ns.end());
   const std::int64_t median_delay_ns = delays_ns.empty() ? 0 : delays_ns[delays_ns.size() / 2];
-  std::printf("verify: writes=%zu requested=%zu expected=%zu events=%zu seqno_gap=%lld absent=%zu "
-              "median_delay_us=%lld max_delay_us=%lld result=%s\n",
-              writes.size(), reported.size(), expected.size(), events.size(), static_cast<long long>(missing),
-              absent.size(), static_cast<long long>(median_delay_ns / kNsPerUs),
-              static_cast<long long>(max_delay_ns / kNsPerUs), failures.empty() ? "pass" : "fail");
+  std::printf(
+      "verify: writes=%zu requested=%zu expected=%zu events=%zu seqno_gap=%lld absent=%zu "
+      "median_delay_us=%lld max_delay_us=%lld result=%s\n",
+      writes.size(), reported.size(), expected.size(), events.size(), static_cast<long long>(missing),
+      absent.size(), static_cast<long long>(median_delay_ns / kNsPerUs),
+      static_cast<long long>(max_delay_ns / kNsPerUs), failures.empty() ? "pass" : "fail");
   for (std::size_t i = 0; i < failures.size() && i < 10; ++i) std::printf("  %s\n", failures[i].c_str());
   if (failures.size() > 10) std::printf("  ... and %zu more\n", failures.size() - 10);
   return failures.empty() ? 0 : 1;
@@ -473,7 +526,7 @@ int cmd_verify(const std::map<std::string, std::string>& options) {
 
 int main(int argc, char** argv) {
   try {
-    if (argc < 2) throw UsageError("usage: m2mlat-vm-driver info|wait-used|toggle|verify ...");
+    if (argc < 2) throw UsageError("usage: m2mlat-vm-driver info|wait-used|rusage|toggle|verify ...");
     const std::string command = argv[1];
     if (command == "info") {
       if (argc != 3) throw UsageError("usage: m2mlat-vm-driver info /dev/gpiochipN");
@@ -482,6 +535,11 @@ int main(int argc, char** argv) {
     if (command == "wait-used") {
       if (argc != 5) throw UsageError("usage: m2mlat-vm-driver wait-used /dev/gpiochipN LINE TIMEOUT_MS");
       return cmd_wait_used(argv[2], parse_int(argv[3], "LINE"), parse_int(argv[4], "TIMEOUT_MS"));
+    }
+    if (command == "rusage") {
+      if (argc < 5 || std::string_view(argv[3]) != "--")
+        throw UsageError("usage: m2mlat-vm-driver rusage OUT -- CMD ARGS...");
+      return cmd_rusage(argv[2], argv + 4);
     }
     if (command == "toggle") return cmd_toggle(parse_options(argc, argv, 2));
     if (command == "verify") return cmd_verify(parse_options(argc, argv, 2));

@@ -38,10 +38,8 @@ IMAGE_DEB=$CACHE/debs/linux-image-${ABI}_${VERSION}_amd64.deb
 SOURCE_DEB=$CACHE/debs/linux-source-6.1_${VERSION}_all.deb
 (
   cd "$CACHE/debs"
-  # apt-get download drops privileges to _apt when it can; a cache folder owned by another user only
-  # costs a warning.
-  [ -s "$IMAGE_DEB" ] || { log "downloading linux-image-$ABI $VERSION"; apt-get download -q "linux-image-$ABI=$VERSION" >&2; }
-  [ -s "$SOURCE_DEB" ] || { log "downloading linux-source-6.1 $VERSION"; apt-get download -q "linux-source-6.1=$VERSION" >&2; }
+  [ -s "$IMAGE_DEB" ] || { log "downloading linux-image-$ABI $VERSION"; apt_download "linux-image-$ABI=$VERSION"; }
+  [ -s "$SOURCE_DEB" ] || { log "downloading linux-source-6.1 $VERSION"; apt_download "linux-source-6.1=$VERSION"; }
 )
 
 TMP=$(mktemp -d)

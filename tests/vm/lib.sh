@@ -1,4 +1,4 @@
-# Shared by the real-kernel test scripts (sourced, not run): where things live and small helpers.
+# Shared by the real-kernel test scripts (sourced, not run): where things live, and small shell functions.
 #
 # The suite boots Debian's own 6.1 kernel in QEMU and needs three things that must never be committed
 # (the kernel image, its sources, and a module built from them); they are fetched from Debian's archive
@@ -10,9 +10,9 @@ REPO=$(cd "$VM_DIR/../.." && pwd)
 CACHE=${M2MLAT_VM_CACHE:-/var/cache/m2mlat-vm}
 
 # Host packages: QEMU, the guest's userland (busybox), the tools to unpack Debian's kernel packages and
-# to pack the initramfs, and the compiler for the module and the static binaries.
+# to pack the initramfs, the compiler for the module and the static binaries, and ccache for the latter.
 VM_HOST_PACKAGES=(qemu-system-x86 busybox-static cpio xz-utils kmod binutils gzip build-essential
-  libsqlite3-dev libfmt-dev)
+  ccache libsqlite3-dev libfmt-dev)
 
 log() { printf '[vm %s] %s\n' "$(date +%H:%M:%S)" "$*" >&2; }
 die() { printf '[vm] error: %s\n' "$*" >&2; exit 1; }
@@ -32,6 +32,16 @@ ensure_packages() {
   log "installing host packages: ${missing[*]}"
   as_root apt-get update -qq
   as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+}
+
+# apt_download PKG[=VERSION]...: apt-get download into the current folder, quietly. As root, apt
+# would drop to its _apt user and warn that it cannot write the cache folder; it downloads as root.
+apt_download() {
+  if [ "$(id -u)" = 0 ]; then
+    apt-get download -q -o APT::Sandbox::User=root "$@" >&2
+  else
+    apt-get download -q "$@" >&2
+  fi
 }
 
 # kernel_abi: the ABI name of the kernel Debian's metapackage linux-image-amd64 pulls in today

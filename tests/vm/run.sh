@@ -16,7 +16,7 @@
 #   M2MLAT_VM_BUILD    build folder of the static m2mlat and the driver (default <repo>/build-vm-static)
 #   M2MLAT_VM_ACCEL    tcg (default) or kvm; KVM only where it works (not on PVM-nested hosts)
 #   M2MLAT_VM_TIMEOUT  seconds before the guest is killed (default 600)
-#   M2MLAT_VM_SMP, M2MLAT_VM_MEM  guest CPUs (default 2) and MiB (default 512)
+#   M2MLAT_VM_SMP, M2MLAT_VM_MEM  guest CPUs (default 1, see below) and MiB (default 512)
 #   M2MLAT_VM_KERNEL   a kernel ABI name (6.1.0-NN-amd64) instead of the one linux-image-amd64 pulls in
 #   M2MLAT_VM_VERBOSE  non-empty: print the details of passing tests too
 #   M2MLAT_VM_SKIP     non-empty: skip the whole suite (reported as such)
@@ -34,7 +34,7 @@ done
 BUILD=${M2MLAT_VM_BUILD:-$REPO/build-vm-static}
 ACCEL=${M2MLAT_VM_ACCEL:-tcg}
 TIMEOUT=${M2MLAT_VM_TIMEOUT:-600}
-SMP=${M2MLAT_VM_SMP:-2}
+SMP=${M2MLAT_VM_SMP:-1}
 MEM=${M2MLAT_VM_MEM:-512}
 SECONDS=0
 
@@ -58,13 +58,22 @@ KERNEL_DIR=$(bash "$VM_DIR/kernel.sh")
 # initramfs small.
 mkdir -p "$BUILD"
 if [ -z "$M2MLAT_BIN" ]; then
+  # The compiler's output goes to a log, shown only when the build fails. Compilations go through
+  # ccache, its cache beside the kernel's: CI builds a fresh clone each time, and this build (the whole
+  # project once more) would otherwise cost minutes on every run. The base folder makes the hits
+  # independent of where the clone is.
+  BUILD_LOG=$BUILD/static-build.log
+  export CCACHE_DIR=$CACHE/ccache CCACHE_BASEDIR=$REPO CCACHE_NOHASHDIR=true
   if [ ! -f "$BUILD/build.ninja" ]; then
     log "configuring the static build in $BUILD"
     cmake -S "$REPO" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O2 -DNDEBUG" \
-      -DM2MLAT_STATIC=ON -DM2MLAT_TESTS=OFF -DM2MLAT_BENCH=OFF >&2
+      -DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DM2MLAT_STATIC=ON -DM2MLAT_TESTS=OFF -DM2MLAT_BENCH=OFF \
+      >"$BUILD_LOG" 2>&1 ||
+      { tail -n 40 "$BUILD_LOG" >&2; die "configuring the static build failed (log: $BUILD_LOG)"; }
   fi
-  log "building the static m2mlat"
-  cmake --build "$BUILD" --target m2mlat_exe >&2
+  log "building the static m2mlat (log: $BUILD_LOG)"
+  cmake --build "$BUILD" --target m2mlat_exe >"$BUILD_LOG" 2>&1 ||
+    { grep -v '^\[[0-9]*/[0-9]*\] ' "$BUILD_LOG" | tail -n 40 >&2; die "building the static m2mlat failed"; }
   M2MLAT_BIN=$BUILD/m2mlat
 fi
 if readelf -l "$M2MLAT_BIN" | grep -q 'Requesting program interpreter'; then
@@ -89,10 +98,37 @@ strip -o "$ROOT/bin/m2mlat" "$M2MLAT_BIN"
 cp "$DRIVER_BIN" "$ROOT/bin/m2mlat-vm-driver"
 cp "$KERNEL_DIR/configfs.ko" "$KERNEL_DIR/gpio-sim.ko" "$ROOT/lib/modules/"
 install -m 0755 "$VM_DIR/guest/init" "$ROOT/init"
+
+# Debian's gpiomon (gpiod 1.6, dynamically linked), for the performance comparison: its packages
+# fetched into the cache once, its C library from the host (the same Debian release), each library at
+# its own path in the guest. Without it that one test is skipped.
+add_gpiomon() {
+  local x=$WORK/gpiod p deb lib
+  mkdir -p "$x"
+  for p in gpiod libgpiod2; do
+    deb=$(ls -1 "$CACHE/debs/${p}"_*_amd64.deb 2>/dev/null | tail -n1)
+    if [ -z "$deb" ]; then
+      (cd "$CACHE/debs" && apt_download "$p") || return 1
+      deb=$(ls -1 "$CACHE/debs/${p}"_*_amd64.deb | tail -n1)
+    fi
+    dpkg-deb -x "$deb" "$x"
+  done
+  install -D -m 0755 "$x/usr/bin/gpiomon" "$ROOT/bin/gpiomon"
+  LD_LIBRARY_PATH=$x/usr/lib/x86_64-linux-gnu ldd "$x/usr/bin/gpiomon" |
+    awk '$2 == "=>" && $3 ~ /^\// { print $3 } $1 ~ /^\/.*ld-linux/ { print $1 }' |
+    while read -r lib; do
+      install -D -m 0755 "$(readlink -f "$lib")" "$ROOT/${lib#"$x"}"
+    done
+}
+add_gpiomon || log "gpiomon unavailable: the performance comparison will be skipped"
 cp "$VM_DIR/guest/tests.sh" "$ROOT/tests.sh"
 (cd "$ROOT" && find . -print0 | cpio --null -o -H newc --quiet) >"$WORK/initramfs.cpio"
 
-# Boot. panic=-1 and -no-reboot turn a kernel panic into QEMU's exit; the timeout catches a hang.
+# Boot. One guest CPU by default: the edge's interrupt thread (SCHED_FIFO) then runs before the
+# driver's next write, whatever the host does. With two, the host may deschedule the vCPU thread that
+# runs it for milliseconds while the other vCPU goes on writing, and gpio-sim drops edges that arrive
+# while the interrupt is still masked (invisibly: seqno counts events, not edges). panic=-1 and
+# -no-reboot turn a kernel panic into QEMU's exit; the timeout catches a hang.
 CONSOLE=$BUILD/vm-console.log
 log "booting $(basename "$KERNEL_DIR") under QEMU ($ACCEL, $SMP CPUs, $MEM MiB); console in $CONSOLE"
 case $ACCEL in
@@ -107,7 +143,8 @@ timeout --foreground -k 10 "$TIMEOUT" qemu-system-x86_64 "${ACCEL_ARGS[@]}" -smp
   -append 'console=ttyS0 quiet panic=-1' </dev/null >"$CONSOLE" 2>&1
 QEMU_RC=$?
 set -e
-tr -d '\r' <"$CONSOLE" >"$CONSOLE.tmp" && mv "$CONSOLE.tmp" "$CONSOLE"
+# Serial lines end in CR LF; a result line may follow other output on the same line (the firmware's).
+tr -d '\r' <"$CONSOLE" | sed 's/^.\{1,\}\(M2MLAT-VM [A-Z]\)/\1/' >"$CONSOLE.tmp" && mv "$CONSOLE.tmp" "$CONSOLE"
 
 # The report: the guest's result lines, its details for the tests that did not pass.
 passed=0 failed=0 skipped=0

@@ -141,6 +141,24 @@ ScenarioInput load_scenario(const store::Store& store, const std::string& scenar
   return input;
 }
 
+ScenarioInput from_timestamps(std::string scenario, SideInput cause, SideInput effect) {
+  ScenarioInput input;
+  input.scenario = std::move(scenario);
+  input.id_kind = "index";
+  input.clock = core::Clock::realtime;
+  auto take = [](SideInput& side, core::ChannelRef& ref, store::Timestamps& out) {
+    ref = std::move(side.ref);
+    out.clock = core::Clock::realtime;
+    out.seq.resize(side.t_ns.size());
+    std::iota(out.seq.begin(), out.seq.end(), std::int64_t{0});
+    out.t_ns = std::move(side.t_ns);
+    sort_by_time(out);
+  };
+  take(cause, input.cause_ref, input.cause);
+  take(effect, input.effect_ref, input.effect);
+  return input;
+}
+
 ScenarioInput from_events(std::string scenario, std::span<const core::Event> causes,
                           std::span<const core::Event> effects, const Selection& selection) {
   ScenarioInput input;

@@ -43,6 +43,14 @@ std::vector<std::string> scenarios(const store::Store& store);
 ScenarioInput load_scenario(const store::Store& store, const std::string& scenario,
                             const Selection& selection);
 
+// One side as bare timestamps (ns on CLOCK_REALTIME, any order), e.g. from a kernel log.
+struct SideInput {
+  core::ChannelRef ref;
+  std::vector<std::int64_t> t_ns;
+};
+// Sorts each side by time; seq = the timestamp's 0-based position in its input.
+ScenarioInput from_timestamps(std::string scenario, SideInput cause, SideInput effect);
+
 // The same from events in memory (e.g. imported files): filters by selection and sorts by time.
 ScenarioInput from_events(std::string scenario, std::span<const core::Event> causes,
                           std::span<const core::Event> effects, const Selection& selection);

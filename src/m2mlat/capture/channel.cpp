@@ -65,10 +65,11 @@ core::Clock stored_clock(EventClock clock) {
 ChannelSpec parse_channel_flag(std::string_view text) {
   const auto eq = text.find('=');
   const auto colon = text.rfind(':');
-  if (eq == std::string_view::npos || eq == 0 || colon == std::string_view::npos || colon < eq + 2 ||
+  if (eq == std::string_view::npos || eq == 0 || colon == std::string_view::npos || colon < eq + 1 ||
       colon + 1 == text.size())
-    throw core::Error(core::ErrorKind::usage,
-                      fmt::format("--channel '{}': expected NAME=CHIP:LINE, e.g. wheel=pinctrl-rp1:GPIO16", text));
+    throw core::Error(
+        core::ErrorKind::usage,
+        fmt::format("--channel '{}': expected NAME=CHIP:LINE, e.g. wheel=pinctrl-rp1:GPIO16", text));
   ChannelSpec spec;
   spec.name = std::string(text.substr(0, eq));
   spec.chip = std::string(text.substr(eq + 1, colon - eq - 1));

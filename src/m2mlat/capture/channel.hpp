@@ -19,17 +19,17 @@ std::string_view to_string(Edges edges);
 std::string_view to_string(Bias bias);
 std::string_view to_string(EventClock clock);
 // Parse the words of the command line and the TOML file; throw core::Error(usage) listing the choices.
-Edges parse_edges(std::string_view text);       // falling | rising | both
-Bias parse_bias(std::string_view text);         // as-is | pull-up | pull-down | disabled
+Edges parse_edges(std::string_view text);             // falling | rising | both
+Bias parse_bias(std::string_view text);               // as-is | pull-up | pull-down | disabled
 EventClock parse_event_clock(std::string_view text);  // realtime | monotonic | hte
 // The core::Clock an event clock's timestamps are on. HTE providers (Tegra's GTE) count the
 // system counter, the base of CLOCK_MONOTONIC, so hte stamps are stored as monotonic.
 core::Clock stored_clock(EventClock clock);
 
 struct ChannelSpec {
-  std::string name;  // the channel's name in the store, e.g. "wheel"
-  std::string chip;  // path (/dev/gpiochip4), name (gpiochip4) or label (pinctrl-rp1)
-  std::string line;  // offset ("16") or line name ("GPIO16")
+  std::string name;              // the channel's name in the store, e.g. "wheel"
+  std::string chip;              // path (/dev/gpiochip4), name (gpiochip4) or label (pinctrl-rp1)
+  std::string line;              // offset ("16") or line name ("GPIO16")
   Edges edges = Edges::falling;  // the reference rig's A3144 pulls the line low when a magnet passes
   Bias bias = Bias::as_is;
   bool active_low = false;
@@ -41,8 +41,9 @@ struct ChannelSpec {
   core::Duration refractory{0};
 };
 
-// "wheel=pinctrl-rp1:GPIO16" -> name, chip, line (the rest left at defaults). The chip may itself
-// hold ':' only if it is a path; the line is after the last ':'. Throws core::Error(usage).
+// "wheel=pinctrl-rp1:GPIO16" -> name, chip, line (the rest left at defaults). The line is after the
+// last ':'; the chip may be empty ("wheel=:16") for the kmsg source, which has no chips. Throws
+// core::Error(usage).
 ChannelSpec parse_channel_flag(std::string_view text);
 
 }  // namespace m2mlat::capture

@@ -26,13 +26,14 @@ bool parse_offset(std::string_view text, std::uint32_t& offset) {
 std::string permission_advice(const std::string& path) {
   return fmt::format(
       "permission denied opening {}: add your user to the group that owns the GPIO chips (a udev rule "
-      "`SUBSYSTEM==\"gpio\", KERNEL==\"gpiochip*\", GROUP=\"gpio\", MODE=\"0660\"`, then `usermod -aG gpio $USER` "
+      "`SUBSYSTEM==\"gpio\", KERNEL==\"gpiochip*\", GROUP=\"gpio\", MODE=\"0660\"`, then `usermod -aG gpio "
+      "$USER` "
       "and log in again; see docs/hardware.md), or run as root",
       path);
 }
 
-core::Error explain_gpio_error(const std::system_error& error, const GpioDevices& devices, const ChipInfo& chip,
-                               std::int64_t offset) {
+core::Error explain_gpio_error(const std::system_error& error, const GpioDevices& devices,
+                               const ChipInfo& chip, std::int64_t offset) {
   const int err = error.code().value();
   const std::string where = offset >= 0 ? fmt::format("line {} of {} ({})", offset, chip.name, chip.label)
                                         : fmt::format("{} ({})", chip.path, chip.label);
@@ -52,18 +53,21 @@ core::Error explain_gpio_error(const std::system_error& error, const GpioDevices
         } catch (const std::system_error&) {  // the line's holder stays unnamed
         }
       }
-      return {core::ErrorKind::io,
-              fmt::format("{} is already in use by {}: stop the program holding it (gpiomon, a kernel driver or "
-                          "overlay, another m2mlat) or choose another line; `m2mlat doctor` shows who holds "
-                          "which line",
-                          where, consumer)};
+      return {
+          core::ErrorKind::io,
+          fmt::format("{} is already in use by {}: stop the program holding it (gpiomon, a kernel driver or "
+                      "overlay, another m2mlat) or choose another line; `m2mlat doctor` shows who holds "
+                      "which line",
+                      where, consumer)};
     }
     case EINVAL:
     case EOPNOTSUPP:
-      return {core::ErrorKind::usage,
-              fmt::format("{}: the kernel refused the line settings ({}): e.g. --clock hte needs a hardware "
-                          "timestamp engine, a bias the chip cannot set, or a debounce it does not support",
-                          where, error.code().message())};
+      return {
+          core::ErrorKind::usage,
+          fmt::format("{}: the kernel refused the line settings ({}): realtime event timestamps need Linux "
+                      "5.11, --clock hte a hardware timestamp engine; or the chip cannot set that bias "
+                      "or debounce",
+                      where, error.code().message())};
     default: return {core::ErrorKind::io, fmt::format("{}: {}", where, error.what())};
   }
 }
@@ -98,8 +102,9 @@ ChipInfo find_chip(const GpioDevices& devices, std::string_view spec) {
     }
   }
   if (paths.empty())
-    throw core::Error(core::ErrorKind::no_input,
-                      fmt::format("no GPIO chip '{}': this machine has no GPIO chips at all (no /dev/gpiochip*)", wanted));
+    throw core::Error(
+        core::ErrorKind::no_input,
+        fmt::format("no GPIO chip '{}': this machine has no GPIO chips at all (no /dev/gpiochip*)", wanted));
   std::string message = fmt::format("no GPIO chip with the path, name or label '{}'", wanted);
   if (!seen.empty()) message += fmt::format("; the chips are: {}", fmt::join(seen, ", "));
   if (!denied.empty())
@@ -112,8 +117,9 @@ std::uint32_t find_line(const GpioDevices& devices, const ChipInfo& chip, std::s
   std::uint32_t offset = 0;
   if (parse_offset(spec, offset)) {
     if (offset >= chip.lines)
-      throw core::Error(core::ErrorKind::no_input, fmt::format("{} ({}) has lines 0..{}: there is no line {}",
-                                                               chip.name, chip.label, chip.lines - 1, offset));
+      throw core::Error(core::ErrorKind::no_input,
+                        fmt::format("{} ({}) has lines 0..{}: there is no line {}", chip.name, chip.label,
+                                    chip.lines - 1, offset));
     return offset;
   }
   for (std::uint32_t i = 0; i < chip.lines; ++i) {
@@ -123,10 +129,11 @@ std::uint32_t find_line(const GpioDevices& devices, const ChipInfo& chip, std::s
       throw explain_gpio_error(e, devices, chip, i);
     }
   }
-  throw core::Error(core::ErrorKind::no_input,
-                    fmt::format("{} ({}) has no line named '{}' (`m2mlat doctor` lists the line names; an offset "
-                                "works too)",
-                                chip.name, chip.label, spec));
+  throw core::Error(
+      core::ErrorKind::no_input,
+      fmt::format("{} ({}) has no line named '{}' (`m2mlat doctor` lists the line names; an offset "
+                  "works too)",
+                  chip.name, chip.label, spec));
 }
 
 }  // namespace m2mlat::capture

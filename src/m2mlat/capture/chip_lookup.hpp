@@ -21,8 +21,8 @@ ChipInfo find_chip(const GpioDevices& devices, std::string_view spec);
 std::uint32_t find_line(const GpioDevices& devices, const ChipInfo& chip, std::string_view spec);
 
 // A failed uAPI call on `chip` (line `offset`, if it concerns one) as a core::Error with the fix.
-core::Error explain_gpio_error(const std::system_error& error, const GpioDevices& devices, const ChipInfo& chip,
-                               std::int64_t offset = -1);
+core::Error explain_gpio_error(const std::system_error& error, const GpioDevices& devices,
+                               const ChipInfo& chip, std::int64_t offset = -1);
 // The advice for a chip device the user may not open.
 std::string permission_advice(const std::string& path);
 

@@ -50,7 +50,8 @@ namespace {
 
 class FakeLineRequest final : public LineRequest {
  public:
-  FakeLineRequest(std::shared_ptr<FakeGpio::State> state, std::string path, const gpio_v2_line_request& request)
+  FakeLineRequest(std::shared_ptr<FakeGpio::State> state, std::string path,
+                  const gpio_v2_line_request& request)
       : state_(std::move(state)), path_(std::move(path)) {
     fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
     if (fd_ < 0) throw std::system_error(errno, std::generic_category(), "eventfd");
@@ -93,7 +94,8 @@ class FakeLineRequest final : public LineRequest {
   // The kernel's edge handler: stamp, number, buffer (dropping the oldest when full).
   int edge(std::uint32_t offset, bool physical_rising, std::uint64_t timestamp_ns) {
     auto& line = state_->chips.at(path_).lines[offset];
-    const bool logical_rising = (line.flags & GPIO_V2_LINE_FLAG_ACTIVE_LOW) ? !physical_rising : physical_rising;
+    const bool logical_rising =
+        (line.flags & GPIO_V2_LINE_FLAG_ACTIVE_LOW) ? !physical_rising : physical_rising;
     const auto wanted = logical_rising ? GPIO_V2_LINE_FLAG_EDGE_RISING : GPIO_V2_LINE_FLAG_EDGE_FALLING;
     if ((line.flags & wanted) == 0) return 0;
     gpio_v2_line_event event{};
@@ -128,7 +130,8 @@ class FakeLineRequest final : public LineRequest {
 FakeGpio::FakeGpio() : state_(std::make_shared<State>()) {}
 FakeGpio::~FakeGpio() = default;
 
-std::string FakeGpio::add_chip(const std::string& label, std::uint32_t lines, std::vector<std::string> line_names) {
+std::string FakeGpio::add_chip(const std::string& label, std::uint32_t lines,
+                               std::vector<std::string> line_names) {
   const auto number = state_->order.size();
   State::Chip chip;
   chip.info.name = "gpiochip" + std::to_string(number);
@@ -168,7 +171,8 @@ ChipInfo FakeGpio::chip_info(const std::string& path) const { return state_->chi
 
 LineInfo FakeGpio::line_info(const std::string& path, std::uint32_t offset) const {
   auto& chip = state_->chip(path);
-  if (offset >= chip.lines.size()) throw std::system_error(EINVAL, std::generic_category(), path + ": line info");
+  if (offset >= chip.lines.size())
+    throw std::system_error(EINVAL, std::generic_category(), path + ": line info");
   const auto& line = chip.lines[offset];
   LineInfo info;
   info.offset = offset;
@@ -185,7 +189,8 @@ std::unique_ptr<LineRequest> FakeGpio::request_lines(const std::string& path, gp
     throw std::system_error(EINVAL, std::generic_category(), path + ": line request");
   for (std::uint32_t i = 0; i < request.num_lines; ++i) {
     const auto offset = request.offsets[i];
-    if (offset >= chip.lines.size()) throw std::system_error(EINVAL, std::generic_category(), path + ": line request");
+    if (offset >= chip.lines.size())
+      throw std::system_error(EINVAL, std::generic_category(), path + ": line request");
     if (chip.lines[offset].held_elsewhere || chip.lines[offset].request != nullptr)
       throw std::system_error(EBUSY, std::generic_category(), path + ": line request");
   }

@@ -27,7 +27,8 @@ class FakeGpio final : public GpioDevices {
 
   // Adds chip gpiochip<N> (N = number of chips so far) at /dev/gpiochip<N>; returns its path.
   // Line i is named line_names[i] when given.
-  std::string add_chip(const std::string& label, std::uint32_t lines, std::vector<std::string> line_names = {});
+  std::string add_chip(const std::string& label, std::uint32_t lines,
+                       std::vector<std::string> line_names = {});
   // Opening the chip fails with EACCES from now on (a user without the gpio group).
   void deny_access(const std::string& path);
   // A line held by another program: requesting it fails with EBUSY.

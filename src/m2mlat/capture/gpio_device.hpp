@@ -30,9 +30,9 @@ struct ChipInfo {
 
 struct LineInfo {
   std::uint32_t offset = 0;
-  std::string name;      // GPIO16; may be empty
-  std::string consumer;  // who holds it; empty if free
-  std::uint64_t flags = 0;  // GPIO_V2_LINE_FLAG_* bits
+  std::string name;               // GPIO16; may be empty
+  std::string consumer;           // who holds it; empty if free
+  std::uint64_t flags = 0;        // GPIO_V2_LINE_FLAG_* bits
   std::uint32_t debounce_us = 0;  // the debounce attribute, if set
   bool used() const { return (flags & GPIO_V2_LINE_FLAG_USED) != 0; }
 };
@@ -58,7 +58,8 @@ class GpioDevices {
   virtual ChipInfo chip_info(const std::string& path) const = 0;
   virtual LineInfo line_info(const std::string& path, std::uint32_t offset) const = 0;
   // GPIO_V2_GET_LINE_IOCTL with `request` (the kernel fills request.fd).
-  virtual std::unique_ptr<LineRequest> request_lines(const std::string& path, gpio_v2_line_request& request) = 0;
+  virtual std::unique_ptr<LineRequest> request_lines(const std::string& path,
+                                                     gpio_v2_line_request& request) = 0;
 };
 
 // The real character devices under `dev_dir` (/dev).

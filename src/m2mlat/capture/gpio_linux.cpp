@@ -16,7 +16,9 @@ namespace m2mlat::capture {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& what) { throw std::system_error(errno, std::generic_category(), what); }
+[[noreturn]] void fail(const std::string& what) {
+  throw std::system_error(errno, std::generic_category(), what);
+}
 
 // An owned descriptor.
 class Fd {
@@ -108,11 +110,13 @@ class LinuxGpioDevices final : public GpioDevices {
     out.consumer = text(info.consumer, sizeof info.consumer);
     out.flags = info.flags;
     for (std::uint32_t i = 0; i < info.num_attrs && i < GPIO_V2_LINE_NUM_ATTRS_MAX; ++i)
-      if (info.attrs[i].id == GPIO_V2_LINE_ATTR_ID_DEBOUNCE) out.debounce_us = info.attrs[i].debounce_period_us;
+      if (info.attrs[i].id == GPIO_V2_LINE_ATTR_ID_DEBOUNCE)
+        out.debounce_us = info.attrs[i].debounce_period_us;
     return out;
   }
 
-  std::unique_ptr<LineRequest> request_lines(const std::string& path, gpio_v2_line_request& request) override {
+  std::unique_ptr<LineRequest> request_lines(const std::string& path,
+                                             gpio_v2_line_request& request) override {
     const auto chip = open_chip(path);
     if (::ioctl(chip.get(), GPIO_V2_GET_LINE_IOCTL, &request) < 0) fail(path + ": line request");
     return std::make_unique<LinuxLineRequest>(request.fd);

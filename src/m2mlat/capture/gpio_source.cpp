@@ -15,8 +15,8 @@
 
 namespace m2mlat::capture {
 
-gpio_v2_line_request make_input_request(const ChannelSpec& spec, std::uint32_t offset, const std::string& consumer,
-                                        std::uint32_t event_buffer_size) {
+gpio_v2_line_request make_input_request(const ChannelSpec& spec, std::uint32_t offset,
+                                        const std::string& consumer, std::uint32_t event_buffer_size) {
   gpio_v2_line_request request{};
   request.offsets[0] = offset;
   request.num_lines = 1;
@@ -46,24 +46,28 @@ gpio_v2_line_request make_input_request(const ChannelSpec& spec, std::uint32_t o
   return request;
 }
 
-GpioSource::GpioSource(GpioDevices& devices, const std::vector<ChannelSpec>& channels, GpioSourceOptions options)
+GpioSource::GpioSource(GpioDevices& devices, const std::vector<ChannelSpec>& channels,
+                       GpioSourceOptions options)
     : options_(std::move(options)) {
-  if (channels.empty()) throw core::Error(core::ErrorKind::usage, "no channel to capture: give --channel NAME=CHIP:LINE");
+  if (channels.empty())
+    throw core::Error(core::ErrorKind::usage, "no channel to capture: give --channel NAME=CHIP:LINE");
   epoll_fd_ = ::epoll_create1(EPOLL_CLOEXEC);
   if (epoll_fd_ < 0) throw core::Error(core::ErrorKind::io, fmt::format("epoll: {}", std::strerror(errno)));
   try {
     for (const auto& spec : channels) {
       for (const auto& other : channels_)
         if (other.spec.name == spec.name)
-          throw core::Error(core::ErrorKind::usage, fmt::format("channel '{}' is configured twice", spec.name));
+          throw core::Error(core::ErrorKind::usage,
+                            fmt::format("channel '{}' is configured twice", spec.name));
       Channel channel;
       channel.spec = spec;
       channel.chip = find_chip(devices, spec.chip);
       const auto offset = find_line(devices, channel.chip, spec.line);
       for (const auto& other : channels_)
         if (other.chip.path == channel.chip.path && other.line.offset == offset)
-          throw core::Error(core::ErrorKind::usage, fmt::format("channels '{}' and '{}' are the same line {} of {}",
-                                                                other.spec.name, spec.name, offset, channel.chip.name));
+          throw core::Error(core::ErrorKind::usage,
+                            fmt::format("channels '{}' and '{}' are the same line {} of {}", other.spec.name,
+                                        spec.name, offset, channel.chip.name));
       channel.consumer = (options_.consumer_prefix + spec.name).substr(0, GPIO_MAX_NAME_SIZE - 1);
       auto request = make_input_request(spec, offset, channel.consumer, options_.event_buffer_size);
       try {
@@ -139,9 +143,10 @@ std::vector<std::string> GpioSource::describe() const {
   for (const auto& c : channels_) {
     lines.push_back(fmt::format(
         "{}: {} ({}) line {}{}, {} edges, bias {}{}, {} clock, debounce {}, refractory {}, consumer '{}'",
-        c.spec.name, c.chip.path, c.chip.label, c.line.offset, c.line.name.empty() ? "" : " '" + c.line.name + "'",
-        to_string(c.spec.edges), to_string(c.spec.bias), c.spec.active_low ? ", active-low" : "",
-        to_string(c.spec.clock), c.spec.debounce.count() > 0 ? core::format_duration(c.spec.debounce) : "none",
+        c.spec.name, c.chip.path, c.chip.label, c.line.offset,
+        c.line.name.empty() ? "" : " '" + c.line.name + "'", to_string(c.spec.edges), to_string(c.spec.bias),
+        c.spec.active_low ? ", active-low" : "", to_string(c.spec.clock),
+        c.spec.debounce.count() > 0 ? core::format_duration(c.spec.debounce) : "none",
         c.spec.refractory.count() > 0 ? core::format_duration(c.spec.refractory) : "none", c.consumer));
   }
   return lines;
@@ -169,8 +174,8 @@ std::vector<std::string> GpioSource::warnings() const {
           "with --refractory",
           c.spec.name, core::format_duration(c.spec.debounce)));
     if (c.spec.clock != EventClock::realtime)
-      out.push_back(fmt::format("channel '{}': {} timestamps cannot be compared with another board's", c.spec.name,
-                                to_string(c.spec.clock)));
+      out.push_back(fmt::format("channel '{}': {} timestamps cannot be compared with another board's",
+                                c.spec.name, to_string(c.spec.clock)));
   }
   return out;
 }

@@ -21,7 +21,7 @@
 namespace m2mlat::capture {
 
 struct GpioSourceOptions {
-  std::string node;                       // the node name the events carry
+  std::string node;                         // the node name the events carry
   std::string consumer_prefix = "m2mlat-";  // consumer label = prefix + channel name (max 31 bytes)
   std::uint32_t event_buffer_size = kMaxEventBufferSize;  // events the kernel buffers per request
 };
@@ -65,7 +65,7 @@ class GpioSource final : public Source {
 };
 
 // The uAPI request for one channel: input, its edges, bias, active-low, event clock, debounce.
-gpio_v2_line_request make_input_request(const ChannelSpec& spec, std::uint32_t offset, const std::string& consumer,
-                                        std::uint32_t event_buffer_size);
+gpio_v2_line_request make_input_request(const ChannelSpec& spec, std::uint32_t offset,
+                                        const std::string& consumer, std::uint32_t event_buffer_size);
 
 }  // namespace m2mlat::capture

@@ -63,12 +63,14 @@ KmsgSource::KmsgSource(KmsgSourceOptions options) : options_(std::move(options))
   fd_ = ::open(options_.path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd_ < 0) {
     const int err = errno;
-    if (err == ENOENT) throw core::Error(core::ErrorKind::no_input, fmt::format("{}: no such file", options_.path));
+    if (err == ENOENT)
+      throw core::Error(core::ErrorKind::no_input, fmt::format("{}: no such file", options_.path));
     if (err == EACCES || err == EPERM)
-      throw core::Error(core::ErrorKind::io,
-                        fmt::format("{}: permission denied: reading the kernel log needs CAP_SYSLOG (root) or "
-                                    "`sysctl kernel.dmesg_restrict=0`",
-                                    options_.path));
+      throw core::Error(
+          core::ErrorKind::io,
+          fmt::format("{}: permission denied: reading the kernel log needs CAP_SYSLOG (root) or "
+                      "`sysctl kernel.dmesg_restrict=0`",
+                      options_.path));
     throw core::Error(core::ErrorKind::io, fmt::format("{}: {}", options_.path, std::strerror(err)));
   }
   struct stat st {};
@@ -141,9 +143,11 @@ void KmsgSource::read(ReadResult& out, std::size_t max_events) {
 std::vector<std::string> KmsgSource::describe() const {
   std::vector<std::string> lines;
   const auto kind = device_ ? "kernel log device, new records" : "followed file";
-  if (options_.channels.empty()) lines.push_back(fmt::format("every pin: {} ({}), channel gpio<pin>", options_.path, kind));
+  if (options_.channels.empty())
+    lines.push_back(fmt::format("every pin: {} ({}), channel gpio<pin>", options_.path, kind));
   for (const auto& [pin, index] : by_pin_)
-    lines.push_back(fmt::format("{}: GPIO_{}_IRQ lines of {} ({})", options_.channels[index].name, pin, options_.path, kind));
+    lines.push_back(fmt::format("{}: GPIO_{}_IRQ lines of {} ({})", options_.channels[index].name, pin,
+                                options_.path, kind));
   return lines;
 }
 
@@ -156,10 +160,11 @@ std::vector<std::string> KmsgSource::channels() const {
 std::vector<std::string> KmsgSource::notes() const {
   std::vector<std::string> out;
   if (malformed_ > 0)
-    out.push_back(fmt::format("{}: {} GPIO line(s) were malformed and passed over, the first at {}", options_.path,
-                              malformed_, first_malformed_));
+    out.push_back(fmt::format("{}: {} GPIO line(s) were malformed and passed over, the first at {}",
+                              options_.path, malformed_, first_malformed_));
   if (other_pins_ > 0)
-    out.push_back(fmt::format("{}: {} record(s) of pins no channel watches were passed over", options_.path, other_pins_));
+    out.push_back(fmt::format("{}: {} record(s) of pins no channel watches were passed over", options_.path,
+                              other_pins_));
   return out;
 }
 

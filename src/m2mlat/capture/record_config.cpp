@@ -3,7 +3,6 @@
 
 #include <fmt/format.h>
 
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -22,9 +21,10 @@ class Reader {
  public:
   explicit Reader(std::string name) : name_(std::move(name)) {}
 
-  [[noreturn]] void fail(const toml::source_region& where, const std::string& key, const std::string& what) const {
-    throw core::Error(core::ErrorKind::data,
-                      fmt::format("{}:{}:{}: {}: {}", name_, where.begin.line, where.begin.column, key, what));
+  [[noreturn]] void fail(const toml::source_region& where, const std::string& key,
+                         const std::string& what) const {
+    throw core::Error(core::ErrorKind::data, fmt::format("{}:{}:{}: {}: {}", name_, where.begin.line,
+                                                         where.begin.column, key, what));
   }
 
   std::string string(const toml::node& node, const std::string& key) const {
@@ -37,10 +37,12 @@ class Reader {
     fail(node.source(), key, "expected true or false");
   }
 
-  std::int64_t integer(const toml::node& node, const std::string& key, std::int64_t low, std::int64_t high) const {
+  std::int64_t integer(const toml::node& node, const std::string& key, std::int64_t low,
+                       std::int64_t high) const {
     const auto* i = node.as_integer();
     if (i == nullptr) fail(node.source(), key, "expected an integer");
-    if (i->get() < low || i->get() > high) fail(node.source(), key, fmt::format("must be in {}..{}", low, high));
+    if (i->get() < low || i->get() > high)
+      fail(node.source(), key, fmt::format("must be in {}..{}", low, high));
     return i->get();
   }
 
@@ -70,22 +72,34 @@ class Reader {
     }
   }
 
-  ChannelSpec channel(const toml::table& table, const std::string& prefix, std::set<std::string>& keys) const {
+  ChannelSpec channel(const toml::table& table, const std::string& prefix,
+                      std::set<std::string>& keys) const {
     ChannelSpec spec;
     for (auto&& [k, v] : table) {
       const std::string key(k.str());
       const auto full = prefix + "." + key;
       keys.insert(key);
-      if (key == "name") spec.name = string(v, full);
-      else if (key == "chip") spec.chip = string(v, full);
-      else if (key == "line") spec.line = v.is_integer() ? std::to_string(integer(v, full, 0, 65535)) : string(v, full);
-      else if (key == "edges") spec.edges = word(v, full, parse_edges);
-      else if (key == "bias") spec.bias = word(v, full, parse_bias);
-      else if (key == "active_low") spec.active_low = boolean(v, full);
-      else if (key == "clock") spec.clock = word(v, full, parse_event_clock);
-      else if (key == "refractory") spec.refractory = duration(v, full);
-      else if (key == "debounce") spec.debounce = duration(v, full);
-      else fail(k.source(), full, "unknown key (name, chip, line, edges, bias, active_low, clock, refractory, debounce)");
+      if (key == "name")
+        spec.name = string(v, full);
+      else if (key == "chip")
+        spec.chip = string(v, full);
+      else if (key == "line")
+        spec.line = v.is_integer() ? std::to_string(integer(v, full, 0, 65535)) : string(v, full);
+      else if (key == "edges")
+        spec.edges = word(v, full, parse_edges);
+      else if (key == "bias")
+        spec.bias = word(v, full, parse_bias);
+      else if (key == "active_low")
+        spec.active_low = boolean(v, full);
+      else if (key == "clock")
+        spec.clock = word(v, full, parse_event_clock);
+      else if (key == "refractory")
+        spec.refractory = duration(v, full);
+      else if (key == "debounce")
+        spec.debounce = duration(v, full);
+      else
+        fail(k.source(), full,
+             "unknown key (name, chip, line, edges, bias, active_low, clock, refractory, debounce)");
     }
     if (spec.name.empty()) fail(table.source(), prefix, "a channel needs a name");
     if (spec.line.empty()) fail(table.source(), prefix + ".line", "a channel needs a line (offset or name)");
@@ -96,16 +110,22 @@ class Reader {
     RecordConfig c;
     for (auto&& [k, v] : root) {
       const std::string key(k.str());
-      if (key == "node") c.node = string(v, key);
-      else if (key == "role") c.role = word(v, key, core::parse_role);
-      else if (key == "scenario") c.scenario = string(v, key);
-      else if (key == "label") c.label = string(v, key);
-      else if (key == "source") c.source = word(v, key, [](const std::string& s) {
-        if (s != "gpio" && s != "kmsg" && s != "sim")
-          throw core::Error(core::ErrorKind::usage, fmt::format("'{}': use gpio, kmsg or sim", s));
-        return s;
-      });
-      else if (key == "kmsg") c.kmsg = string(v, key);
+      if (key == "node")
+        c.node = string(v, key);
+      else if (key == "role")
+        c.role = word(v, key, core::parse_role);
+      else if (key == "scenario")
+        c.scenario = string(v, key);
+      else if (key == "label")
+        c.label = string(v, key);
+      else if (key == "source")
+        c.source = word(v, key, [](const std::string& s) {
+          if (s != "gpio" && s != "kmsg" && s != "sim")
+            throw core::Error(core::ErrorKind::usage, fmt::format("'{}': use gpio, kmsg or sim", s));
+          return s;
+        });
+      else if (key == "kmsg")
+        c.kmsg = string(v, key);
       else if (key == "channel") {
         const auto* array = v.as_array();
         if (array == nullptr) fail(v.source(), key, "expected [[channel]] tables");
@@ -117,35 +137,46 @@ class Reader {
           c.channels.push_back(channel(*table, prefix, c.channel_keys.back()));
           for (std::size_t j = 0; j + 1 < c.channels.size(); ++j)
             if (c.channels[j].name == c.channels.back().name)
-              fail(table->source(), prefix + ".name", fmt::format("channel '{}' is defined twice", c.channels[j].name));
+              fail(table->source(), prefix + ".name",
+                   fmt::format("channel '{}' is defined twice", c.channels[j].name));
         }
       } else if (key == "rt") {
         const auto* table = v.as_table();
         if (table == nullptr) fail(v.source(), key, "expected a table [rt]");
         for (auto&& [rk, rv] : *table) {
           const auto full = "rt." + std::string(rk.str());
-          if (rk.str() == "priority") c.rt_priority = static_cast<int>(integer(rv, full, 1, 99));
-          else if (rk.str() == "cpu") c.cpu = static_cast<int>(integer(rv, full, 0, 4095));
-          else if (rk.str() == "irq_cpu") c.irq_cpu = static_cast<int>(integer(rv, full, 0, 4095));
-          else if (rk.str() == "mlock") c.mlock = boolean(rv, full);
-          else fail(rk.source(), full, "unknown key (priority, cpu, mlock, irq_cpu)");
+          if (rk.str() == "priority")
+            c.rt_priority = static_cast<int>(integer(rv, full, 1, 99));
+          else if (rk.str() == "cpu")
+            c.cpu = static_cast<int>(integer(rv, full, 0, 4095));
+          else if (rk.str() == "irq_cpu")
+            c.irq_cpu = static_cast<int>(integer(rv, full, 0, 4095));
+          else if (rk.str() == "mlock")
+            c.mlock = boolean(rv, full);
+          else
+            fail(rk.source(), full, "unknown key (priority, cpu, mlock, irq_cpu)");
         }
       } else if (key == "store") {
         const auto* table = v.as_table();
         if (table == nullptr) fail(v.source(), key, "expected a table [store]");
         for (auto&& [sk, sv] : *table) {
           const auto full = "store." + std::string(sk.str());
-          if (sk.str() == "batch") c.batch = integer(sv, full, 1, 1'000'000);
-          else if (sk.str() == "commit_interval") c.commit_interval = duration(sv, full);
-          else if (sk.str() == "durability") c.durability = word(sv, full, [](const std::string& s) {
-            if (s != "full" && s != "normal" && s != "off")
-              throw core::Error(core::ErrorKind::usage, fmt::format("'{}': use full, normal or off", s));
-            return s;
-          });
-          else fail(sk.source(), full, "unknown key (batch, commit_interval, durability)");
+          if (sk.str() == "batch")
+            c.batch = integer(sv, full, 1, 1'000'000);
+          else if (sk.str() == "commit_interval")
+            c.commit_interval = duration(sv, full);
+          else if (sk.str() == "durability")
+            c.durability = word(sv, full, [](const std::string& s) {
+              if (s != "full" && s != "normal" && s != "off")
+                throw core::Error(core::ErrorKind::usage, fmt::format("'{}': use full, normal or off", s));
+              return s;
+            });
+          else
+            fail(sk.source(), full, "unknown key (batch, commit_interval, durability)");
         }
       } else {
-        fail(k.source(), key, "unknown key (node, role, scenario, label, source, kmsg, [[channel]], [rt], [store])");
+        fail(k.source(), key,
+             "unknown key (node, role, scenario, label, source, kmsg, [[channel]], [rt], [store])");
       }
     }
     return c;
@@ -170,7 +201,8 @@ RecordConfig parse_record_config(std::string_view text, const std::string& name)
 
 RecordConfig load_record_config(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw core::Error(core::ErrorKind::no_input, fmt::format("{}: cannot read the configuration", path));
+  if (!in)
+    throw core::Error(core::ErrorKind::no_input, fmt::format("{}: cannot read the configuration", path));
   std::ostringstream text;
   text << in.rdbuf();
   return parse_record_config(text.str(), path);

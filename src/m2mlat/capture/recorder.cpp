@@ -17,7 +17,8 @@ namespace m2mlat::capture {
 core::TimePoint realtime_now() {
   timespec ts{};
   clock_gettime(CLOCK_REALTIME, &ts);
-  return core::TimePoint::from_ns(core::Clock::realtime, std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec);
+  return core::TimePoint::from_ns(core::Clock::realtime,
+                                  std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec);
 }
 
 core::Duration monotonic_now() {
@@ -35,8 +36,9 @@ Recorder::Channel& Recorder::channel(const std::string& name) {
   const auto it = index_.find(name);
   if (it != index_.end()) return channels_[it->second];
   const auto period = options_.refractory.find(name);
-  channels_.push_back({{name, 0, 0, 0, std::nullopt},
-                       RefractoryGate(period == options_.refractory.end() ? core::Duration{0} : period->second)});
+  channels_.push_back(
+      {{name, 0, 0, 0, std::nullopt},
+       RefractoryGate(period == options_.refractory.end() ? core::Duration{0} : period->second)});
   index_.emplace(name, channels_.size() - 1);
   return channels_.back();
 }
@@ -88,55 +90,67 @@ RecordCounters Recorder::run(int stop_fd, const std::function<std::string()>& st
     }
   };
 
-  for (;;) {
-    auto timeout = std::min(options_.commit_interval, options_.progress_interval);
-    if (source_.fd() < 0) timeout = std::min(timeout, source_.poll_interval());
-    if (options_.max_duration.count() > 0) {
-      const auto left = options_.max_duration - (monotonic_now() - started);
-      if (left.count() <= 0) {
-        counters.stop_reason = "duration";
+  try {
+    for (;;) {
+      auto timeout = std::min(options_.commit_interval, options_.progress_interval);
+      if (source_.fd() < 0) timeout = std::min(timeout, source_.poll_interval());
+      if (options_.max_duration.count() > 0) {
+        const auto left = options_.max_duration - (monotonic_now() - started);
+        if (left.count() <= 0) {
+          counters.stop_reason = "duration";
+          break;
+        }
+        timeout = std::min(timeout, left);
+      }
+      pollfd fds[2] = {{stop_fd, POLLIN, 0}, {source_.fd(), POLLIN, 0}};
+      const int timeout_ms =
+          static_cast<int>(std::max<std::int64_t>(0, (timeout.count() + 999'999) / 1'000'000));
+      if (::poll(fds, 2, timeout_ms) < 0 && errno != EINTR)
+        throw core::Error(core::ErrorKind::io, fmt::format("poll: {}", std::strerror(errno)));
+      if (stop_fd >= 0 && (fds[0].revents & POLLIN) != 0) {
+        counters.stop_reason = stop_name ? stop_name() : "stop";
+        if (counters.stop_reason.empty()) counters.stop_reason = "stop";
         break;
       }
-      timeout = std::min(timeout, left);
-    }
-    pollfd fds[2] = {{stop_fd, POLLIN, 0}, {source_.fd(), POLLIN, 0}};
-    const int timeout_ms = static_cast<int>(std::max<std::int64_t>(0, (timeout.count() + 999'999) / 1'000'000));
-    if (::poll(fds, 2, timeout_ms) < 0 && errno != EINTR)
-      throw core::Error(core::ErrorKind::io, fmt::format("poll: {}", std::strerror(errno)));
-    if (stop_fd >= 0 && (fds[0].revents & POLLIN) != 0) {
-      counters.stop_reason = stop_name ? stop_name() : "stop";
-      if (counters.stop_reason.empty()) counters.stop_reason = "stop";
-      break;
-    }
-    batch.clear();
-    source_.read(batch, options_.read_batch);
-    take();
-    writer.poll();
-    if (limit_reached) {
-      counters.stop_reason = "count";
-      break;
-    }
-    if (batch.finished) {
-      counters.stop_reason = "source finished";
-      break;
-    }
-    const auto now = monotonic_now();
-    if (options_.on_progress && now - last_progress >= options_.progress_interval) {
-      last_progress = now;
-      snapshot();
-      options_.on_progress(counters);
-    }
-  }
-
-  // What the kernel buffered before the stop was acknowledged by nobody yet: keep it too.
-  if (!limit_reached) {
-    for (;;) {
       batch.clear();
       source_.read(batch, options_.read_batch);
-      if (batch.events.empty() && batch.gaps.empty()) break;
       take();
-      if (limit_reached) break;
+      writer.poll();
+      if (limit_reached) {
+        counters.stop_reason = "count";
+        break;
+      }
+      if (batch.finished) {
+        counters.stop_reason = "source finished";
+        break;
+      }
+      const auto now = monotonic_now();
+      if (options_.on_progress && now - last_progress >= options_.progress_interval) {
+        last_progress = now;
+        snapshot();
+        options_.on_progress(counters);
+      }
     }
+
+    // What the kernel buffered before the stop was acknowledged by nobody yet: keep it too.
+    if (!limit_reached) {
+      for (;;) {
+        batch.clear();
+        source_.read(batch, options_.read_batch);
+        if (batch.events.empty() && batch.gaps.empty()) break;
+        take();
+        if (limit_reached) break;
+      }
+    }
+  } catch (...) {
+    // A source that fails (a device gone, a read error): keep what was read and close the session,
+    // then report the failure.
+    try {
+      writer.flush();
+      store_.end_session(counters.session_id, realtime_now());
+    } catch (...) {  // NOLINT(bugprone-empty-catch): the first failure is the one to report
+    }
+    throw;
   }
   writer.flush();
   store_.end_session(counters.session_id, realtime_now());

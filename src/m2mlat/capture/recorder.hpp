@@ -22,9 +22,9 @@ namespace m2mlat::capture {
 
 struct ChannelCounters {
   std::string channel;
-  std::uint64_t events = 0;      // stored
-  std::uint64_t suppressed = 0;  // refused by the refractory gate (bounces)
-  std::uint64_t lost = 0;        // missing according to the kernel's sequence numbers
+  std::uint64_t events = 0;             // stored
+  std::uint64_t suppressed = 0;         // refused by the refractory gate (bounces)
+  std::uint64_t lost = 0;               // missing according to the kernel's sequence numbers
   std::optional<core::TimePoint> last;  // the last stored event's timestamp
 };
 
@@ -39,12 +39,12 @@ struct RecordCounters {
 
 struct RecorderOptions {
   store::Session session;  // node, role, label, scenario, config_json; start and end are the recorder's
-  std::map<std::string, core::Duration> refractory;  // per channel; missing = none
+  std::map<std::string, core::Duration> refractory;                 // per channel; missing = none
   std::size_t batch = 512;                                          // events per commit
   core::Duration commit_interval = std::chrono::milliseconds(100);  // longest an event waits for its commit
   std::size_t read_batch = 256;                                     // events taken from the source per read
-  std::uint64_t max_events = 0;      // stop after this many stored events (0: no limit)
-  core::Duration max_duration{0};    // stop after this long (0: no limit)
+  std::uint64_t max_events = 0;    // stop after this many stored events (0: no limit)
+  core::Duration max_duration{0};  // stop after this long (0: no limit)
   // Called at most every progress_interval and once at the end (live counters).
   std::function<void(const RecordCounters&)> on_progress;
   core::Duration progress_interval = std::chrono::milliseconds(250);

@@ -4,7 +4,8 @@
 namespace m2mlat::capture {
 
 bool RefractoryGate::admit(core::TimePoint time) {
-  if (period_.count() > 0 && last_kept_ && last_kept_->clock() == time.clock() && time - *last_kept_ < period_) {
+  if (period_.count() > 0 && last_kept_ && last_kept_->clock() == time.clock() &&
+      time - *last_kept_ < period_) {
     ++suppressed_;
     return false;
   }

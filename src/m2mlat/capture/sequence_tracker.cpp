@@ -7,7 +7,8 @@ namespace m2mlat::capture {
 
 SequenceTracker::SequenceTracker(std::uint64_t first_expected, unsigned wrap_bits)
     : expected_(first_expected),
-      mask_(wrap_bits >= 64 ? std::numeric_limits<std::uint64_t>::max() : (std::uint64_t{1} << wrap_bits) - 1) {}
+      mask_(wrap_bits >= 64 ? std::numeric_limits<std::uint64_t>::max()
+                            : (std::uint64_t{1} << wrap_bits) - 1) {}
 
 std::optional<SequenceTracker::Missing> SequenceTracker::observe(std::uint64_t value) {
   value &= mask_;

@@ -19,10 +19,10 @@ namespace m2mlat::capture {
 
 // Events known to be missing, from a jump in a sequence number.
 struct Gap {
-  std::string channel;               // the channel it was seen on; empty for a node-wide counter (kmsg)
-  std::string kind;                  // "seqno_gap", "line_seqno_gap" or "kmsg_gap" (store::kLossKinds)
-  std::uint64_t first_missing = 0;   // first missing number of that counter
-  std::uint64_t count = 0;           // how many numbers are missing (at least 1)
+  std::string channel;              // the channel it was seen on; empty for a node-wide counter (kmsg)
+  std::string kind;                 // "seqno_gap", "line_seqno_gap" or "kmsg_gap" (store::kLossKinds)
+  std::uint64_t first_missing = 0;  // first missing number of that counter
+  std::uint64_t count = 0;          // how many numbers are missing (at least 1)
   friend bool operator==(const Gap&, const Gap&) = default;
 };
 

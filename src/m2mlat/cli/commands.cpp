@@ -12,6 +12,10 @@ Runner attach_stats(CLI::App& sub);
 Runner attach_simulate(CLI::App& sub);
 Runner attach_import(CLI::App& sub);
 Runner attach_export(CLI::App& sub);
+Runner attach_record(CLI::App& sub);
+Runner attach_report(CLI::App& sub);
+Runner attach_pulse(CLI::App& sub);
+Runner attach_doctor(CLI::App& sub);
 
 namespace {
 constexpr std::array kCommands{
@@ -21,6 +25,10 @@ constexpr std::array kCommands{
     Command{"stats", "Latency statistics per scenario, from stores or data files", &attach_stats},
     Command{"import", "Read the reference rig's files or m2mlat's own into a store", &attach_import},
     Command{"export", "Write a store's events, or its pairs, as CSV or JSON Lines", &attach_export},
+    Command{"record", "Record one node's edges (GPIO, kernel log or simulated) into a store", &attach_record},
+    Command{"pulse", "Toggle an output line on a fixed schedule for the synchronisation test", &attach_pulse},
+    Command{"doctor", "Check this board for capture and say what to fix", &attach_doctor},
+    Command{"report", "Statistics, comparisons and figures (text, Markdown, CSV, JSON, HTML, pgfplots)", &attach_report},
     Command{"help", "List the subcommands with a line on each", &attach_help},
 };
 }  // namespace

@@ -19,10 +19,10 @@ std::optional<formats::Format> format_of(const InputFlags& flags) {
   return formats::parse_format(flags.format);
 }
 
-std::vector<core::Event> events_of(const formats::ImportedFile& file, const std::string& path) {
-  if (const auto* events = std::get_if<formats::EventImport>(&file.content)) return events->events;
-  if (const auto* paired = std::get_if<formats::PairedImport>(&file.content)) {
-    auto all = paired->causes;
+std::vector<core::Event> events_of(formats::ImportedFile&& file, const std::string& path) {
+  if (auto* events = std::get_if<formats::EventImport>(&file.content)) return std::move(events->events);
+  if (auto* paired = std::get_if<formats::PairedImport>(&file.content)) {
+    auto all = std::move(paired->causes);
     all.insert(all.end(), paired->effects.begin(), paired->effects.end());
     return all;
   }
@@ -53,6 +53,29 @@ analysis::ScenarioResult as_given(std::string scenario, const formats::PairedImp
   r.match.cause_count = r.match.effect_count = static_cast<std::int64_t>(paired.pairs.size());
   r.summary = stats::summarize(latencies, ids, options);
   return r;
+}
+
+// The reference rig's kernel log and export CSV hold one pin per line and nothing but timestamps:
+// read only those (8 bytes an edge, no events built) when the file has one pin and no other channel
+// was asked for. nullopt: take the general path.
+std::optional<analysis::SideInput> lean_side(const std::string& path, std::optional<formats::Format> format,
+                                             const std::string& node, const std::optional<core::ChannelRef>& want) {
+  if (!format) {
+    std::ifstream in(path, std::ios::binary);
+    std::string head(64 * 1024, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(in.gcount()));
+    format = formats::detect_format(head);
+  }
+  if (format != formats::Format::kernel_log && format != formats::Format::rig_export_csv) return std::nullopt;
+  auto series = formats::read_timestamps(path, format);
+  if (series.size() != 1) return std::nullopt;
+  auto& only = series.front();
+  const bool numeric = !only.label.empty() && only.label.find_first_not_of("0123456789") == std::string::npos;
+  analysis::SideInput side{{node, numeric ? "gpio" + only.label : only.label}, std::move(only.ns)};
+  if (want && (want->node != side.ref.node || (!want->channel.empty() && want->channel != side.ref.channel)))
+    return std::nullopt;
+  return side;
 }
 
 }  // namespace
@@ -94,16 +117,20 @@ std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags,
 
   std::vector<analysis::ScenarioResult> results;
   if (!flags.cause_file.empty()) {
-    import_options.node = "cause";
-    const auto causes =
-        events_of(formats::import_file(flags.cause_file, format, import_options), flags.cause_file);
-    import_options.node = "effect";
-    const auto effects =
-        events_of(formats::import_file(flags.effect_file, format, import_options), flags.effect_file);
-    results.push_back(
-        analysis::analyse(analysis::from_events(std::filesystem::path(flags.cause_file).stem().string(),
-                                                causes, effects, selection),
-                          match_options, summary_options, match_flags.include_ambiguous));
+    auto cause = lean_side(flags.cause_file, format, "cause", selection.cause);
+    auto effect = lean_side(flags.effect_file, format, "effect", selection.effect);
+    const auto scenario = std::filesystem::path(flags.cause_file).stem().string();
+    if (cause && effect) {
+      results.push_back(analysis::analyse(analysis::from_timestamps(scenario, std::move(*cause), std::move(*effect)),
+                                          match_options, summary_options, match_flags.include_ambiguous));
+    } else {
+      import_options.node = "cause";
+      const auto causes = events_of(formats::import_file(flags.cause_file, format, import_options), flags.cause_file);
+      import_options.node = "effect";
+      const auto effects = events_of(formats::import_file(flags.effect_file, format, import_options), flags.effect_file);
+      results.push_back(analysis::analyse(analysis::from_events(scenario, causes, effects, selection), match_options,
+                                          summary_options, match_flags.include_ambiguous));
+    }
   }
   for (const auto& path : flags.inputs) {
     if (!std::filesystem::exists(path) && path != "-")
@@ -119,7 +146,7 @@ std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags,
       continue;
     }
     const auto scenario = std::filesystem::path(path).stem().string();
-    const auto file = formats::import_file(path, format, import_options);
+    auto file = formats::import_file(path, format, import_options);
     if (const auto* paired = std::get_if<formats::PairedImport>(&file.content); paired && !flags.rematch) {
       results.push_back(as_given(scenario, *paired, summary_options));
       continue;
@@ -128,7 +155,7 @@ std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags,
     auto sel = selection;
     if (!sel.cause) sel.cause = core::ChannelRef{"operator", ""};
     if (!sel.effect) sel.effect = core::ChannelRef{"vehicle", ""};
-    const auto events = events_of(file, path);
+    const auto events = events_of(std::move(file), path);
     results.push_back(analysis::analyse(analysis::from_events(scenario, events, events, sel), match_options,
                                         summary_options, match_flags.include_ambiguous));
   }

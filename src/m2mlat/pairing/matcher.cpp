@@ -152,14 +152,20 @@ std::vector<std::int64_t> local_reference(const std::vector<std::int64_t>& cause
     }
   std::vector<std::int64_t> reference(causes.size(), fallback);
   if (latency.empty()) return reference;
+  // The window [p - k, p + k] slides one pair at a time: keep it sorted, remove the pair that
+  // leaves and insert the one that enters (binary search + a short move), instead of re-selecting.
   std::vector<std::int64_t> median(latency.size()), window;
   const auto n = static_cast<std::ptrdiff_t>(latency.size());
+  std::ptrdiff_t first = 0, last = 0;  // the window holds latency[first, last)
   for (std::ptrdiff_t p = 0; p < n; ++p) {
-    const auto first = std::max<std::ptrdiff_t>(0, p - k), last = std::min<std::ptrdiff_t>(n, p + k + 1);
-    window.assign(latency.begin() + first, latency.begin() + last);
-    auto mid = window.begin() + static_cast<std::ptrdiff_t>(window.size() / 2);
-    std::nth_element(window.begin(), mid, window.end());
-    median[static_cast<std::size_t>(p)] = *mid;
+    const auto want_first = std::max<std::ptrdiff_t>(0, p - k), want_last = std::min<std::ptrdiff_t>(n, p + k + 1);
+    for (; last < want_last; ++last) {
+      const auto value = latency[static_cast<std::size_t>(last)];
+      window.insert(std::upper_bound(window.begin(), window.end(), value), value);
+    }
+    for (; first < want_first; ++first)
+      window.erase(std::lower_bound(window.begin(), window.end(), latency[static_cast<std::size_t>(first)]));
+    median[static_cast<std::size_t>(p)] = window[window.size() / 2];
   }
   std::size_t p = 0;
   for (std::size_t i = 0; i < causes.size(); ++i) {
@@ -289,10 +295,11 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   const std::int64_t wide = (max_ns - min_ns) + 1;
   auto match1 = align(causes.ns, effects.ns, windows, wide, false, [&](std::size_t) { return global; });
   // Pass 2: the local reference; within the tolerance, the most pairs, then the best fit.
-  const auto reference = local_reference(causes.ns, effects.ns, match1, options.reference_neighbours, global);
+  auto reference = local_reference(causes.ns, effects.ns, match1, options.reference_neighbours, global);
   match1 = {};
   const auto matched = align(causes.ns, effects.ns, windows, options.tolerance.count(), true,
                              [&](std::size_t i) { return reference[i]; });
+  reference = {};
 
   MatchResult result;
   result.clock = clock;
@@ -300,6 +307,8 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   result.effect_count = static_cast<std::int64_t>(effect_ns.size());
   std::vector<bool> effect_used(effects.ns.size(), false);
   const auto ambiguous = ambiguous_pairs(causes.ns, effects.ns, matched, options.burst_gap.count());
+  result.pairs.reserve(static_cast<std::size_t>(
+      std::count_if(matched.begin(), matched.end(), [](std::uint32_t j) { return j != kNone; })));
   for (std::size_t i = 0; i < matched.size(); ++i) {
     if (matched[i] == kNone) continue;
     const auto j = matched[i];

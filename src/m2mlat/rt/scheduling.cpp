@@ -35,17 +35,20 @@ std::uint64_t soft_limit(int resource) {
 Outcome set_fifo_priority(int priority) {
   const int low = sched_get_priority_min(SCHED_FIFO), high = sched_get_priority_max(SCHED_FIFO);
   if (priority < low || priority > high)
-    return Outcome::failure(fmt::format("SCHED_FIFO priority {} is out of range {}..{}", priority, low, high));
+    return Outcome::failure(
+        fmt::format("SCHED_FIFO priority {} is out of range {}..{}", priority, low, high));
   sched_param param{};
   param.sched_priority = priority;
   if (sched_setscheduler(0, SCHED_FIFO, &param) == 0)
     return Outcome::success(fmt::format("running at SCHED_FIFO priority {}", priority));
   const int err = errno;
   if (err == EPERM)
-    return Outcome::failure(fmt::format(
-        "SCHED_FIFO priority {} not permitted: needs CAP_SYS_NICE (run as root, or `setcap cap_sys_nice+ep` on "
-        "the binary) or an RLIMIT_RTPRIO of at least {} (limits.conf: `@gpio - rtprio 99`); the current limit is {}",
-        priority, priority, soft_limit(RLIMIT_RTPRIO)));
+    return Outcome::failure(
+        fmt::format("SCHED_FIFO priority {} not permitted: needs CAP_SYS_NICE (run as root, or `setcap "
+                    "cap_sys_nice+ep` on "
+                    "the binary) or an RLIMIT_RTPRIO of at least {} (limits.conf: `@gpio - rtprio 99`); the "
+                    "current limit is {}",
+                    priority, priority, soft_limit(RLIMIT_RTPRIO)));
   return Outcome::failure(fmt::format("SCHED_FIFO priority {}: {}", priority, std::strerror(err)));
 }
 
@@ -54,7 +57,8 @@ Outcome set_cpu_affinity(int cpu) {
   cpu_set_t set;
   CPU_ZERO(&set);
   CPU_SET(static_cast<std::size_t>(cpu), &set);
-  if (sched_setaffinity(0, sizeof set, &set) == 0) return Outcome::success(fmt::format("running on CPU {}", cpu));
+  if (sched_setaffinity(0, sizeof set, &set) == 0)
+    return Outcome::success(fmt::format("running on CPU {}", cpu));
   const int err = errno;
   if (err == EINVAL)
     return Outcome::failure(
@@ -69,7 +73,8 @@ Outcome lock_memory() {
   const int err = errno;
   if (err == EPERM || err == ENOMEM)
     return Outcome::failure(fmt::format(
-        "mlockall not permitted: needs CAP_IPC_LOCK (run as root, or `setcap cap_ipc_lock+ep` on the binary) or "
+        "mlockall not permitted: needs CAP_IPC_LOCK (run as root, or `setcap cap_ipc_lock+ep` on the binary) "
+        "or "
         "a larger RLIMIT_MEMLOCK (limits.conf: `@gpio - memlock unlimited`); the current limit is {} bytes",
         soft_limit(RLIMIT_MEMLOCK)));
   return Outcome::failure(fmt::format("mlockall: {}", std::strerror(err)));

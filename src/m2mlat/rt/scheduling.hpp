@@ -40,8 +40,8 @@ bool has_capability(int cap);
 struct Privileges {
   bool cap_sys_nice = false;
   bool cap_ipc_lock = false;
-  std::uint64_t rtprio_limit = 0;    // RLIMIT_RTPRIO soft limit (highest FIFO priority allowed)
-  std::uint64_t memlock_limit = 0;   // RLIMIT_MEMLOCK soft limit, bytes (UINT64_MAX: unlimited)
+  std::uint64_t rtprio_limit = 0;   // RLIMIT_RTPRIO soft limit (highest FIFO priority allowed)
+  std::uint64_t memlock_limit = 0;  // RLIMIT_MEMLOCK soft limit, bytes (UINT64_MAX: unlimited)
   bool can_fifo() const { return cap_sys_nice || rtprio_limit > 0; }
   bool can_mlock_all() const { return cap_ipc_lock || memlock_limit == UINT64_MAX; }
 };

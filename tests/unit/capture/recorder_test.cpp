@@ -10,6 +10,7 @@
 
 #include "m2mlat/capture/fake_gpio.hpp"
 #include "m2mlat/capture/gpio_source.hpp"
+#include "m2mlat/core/error.hpp"
 
 namespace m2mlat::capture {
 namespace {
@@ -110,7 +111,8 @@ TEST_F(RecorderTest, BouncesAreCountedNotStoredAndTheCountLimitStopsExactly) {
   const auto counters = recorder.run(-1);
   EXPECT_EQ(counters.stop_reason, "count");
   EXPECT_EQ(counters.events, 7u);
-  EXPECT_EQ(counters.channels[0].suppressed, 12u);  // the bounces of the first six passes; the 7th kept edge ends the run
+  EXPECT_EQ(counters.channels[0].suppressed,
+            12u);  // the bounces of the first six passes; the 7th kept edge ends the run
   const auto stored = store.events_after(0, 100);
   ASSERT_EQ(stored.size(), 7u);
   for (std::size_t i = 0; i < stored.size(); ++i)
@@ -130,6 +132,40 @@ TEST_F(RecorderTest, TheDurationLimitEndsAnIdleRecording) {
   EXPECT_EQ(counters.events, 0u);
   EXPECT_GE(progress_calls, 1);
   EXPECT_TRUE(store.session(counters.session_id)->end.has_value());
+}
+
+// A source that delivers one event, then fails as a vanished device would.
+class FailingSource final : public Source {
+ public:
+  void read(ReadResult& out, std::size_t) override {
+    if (reads_++ > 0) throw core::Error(core::ErrorKind::io, "device gone");
+    core::Event e;
+    e.node = "vehicle";
+    e.channel = "wheel";
+    e.time = core::TimePoint::from_ns(core::Clock::realtime, 42);
+    e.seqno = e.line_seqno = 1;
+    out.events.push_back(e);
+  }
+  int fd() const override { return -1; }
+  core::Duration poll_interval() const override { return core::Duration{0}; }
+  std::vector<std::string> describe() const override { return {"failing"}; }
+  std::vector<std::string> channels() const override { return {"wheel"}; }
+
+ private:
+  int reads_ = 0;
+};
+
+TEST_F(RecorderTest, AFailingSourceKeepsWhatWasReadAndClosesTheSession) {
+  auto store = store::Store::open(path_);
+  FailingSource source;
+  Recorder recorder(store, source, options());
+  EXPECT_THROW(recorder.run(-1), core::Error);
+  const auto sessions = store.sessions();
+  ASSERT_EQ(sessions.size(), 1u);
+  EXPECT_TRUE(sessions[0].end.has_value());
+  const auto stored = store.events_after(0, 10);
+  ASSERT_EQ(stored.size(), 1u);
+  EXPECT_EQ(stored[0].event.time.ns(), 42);
 }
 
 }  // namespace

@@ -52,8 +52,8 @@ TEST(RefractoryGate, MeasuresFromTheLastKeptEdge) {
   const auto t = [](std::int64_t ms) { return TimePoint::from_ns(core::Clock::realtime, ms * 1'000'000); };
   EXPECT_TRUE(gate.admit(t(0)));
   EXPECT_FALSE(gate.admit(t(3)));
-  EXPECT_FALSE(gate.admit(t(9)));   // 9 ms after the kept edge, though 6 after the last bounce
-  EXPECT_TRUE(gate.admit(t(10)));   // exactly the period: kept
+  EXPECT_FALSE(gate.admit(t(9)));  // 9 ms after the kept edge, though 6 after the last bounce
+  EXPECT_TRUE(gate.admit(t(10)));  // exactly the period: kept
   EXPECT_FALSE(gate.admit(t(19)));
   EXPECT_EQ(gate.suppressed(), 3u);
   RefractoryGate none;

@@ -1,0 +1,142 @@
+// Absolute deadlines on CLOCK_REALTIME; poll(2) on the stop descriptor until just before each
+// deadline, then clock_nanosleep to it exactly.
+#include "m2mlat/capture/pulse.hpp"
+
+#include <fmt/format.h>
+#include <poll.h>
+#include <time.h>
+
+#include <cerrno>
+#include <cstring>
+#include <system_error>
+
+#include "m2mlat/capture/chip_lookup.hpp"
+#include "m2mlat/core/error.hpp"
+
+namespace m2mlat::capture {
+
+namespace {
+
+constexpr std::int64_t kNsPerSec = 1'000'000'000;
+
+std::int64_t realtime_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return std::int64_t{ts.tv_sec} * kNsPerSec + ts.tv_nsec;
+}
+
+void sleep_until(std::int64_t deadline_ns) {
+  timespec ts{};
+  ts.tv_sec = deadline_ns / kNsPerSec;
+  ts.tv_nsec = deadline_ns % kNsPerSec;
+  while (clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  }
+}
+
+}  // namespace
+
+core::Event commanded_event(const std::string& node, const PulseEdge& edge) {
+  core::Event event;
+  event.node = node;
+  event.channel = "pulse";
+  event.edge = edge.edge;
+  event.time = edge.commanded;
+  event.flags = kFlagCommanded | core::kFlagNoKernelSeqno;
+  return event;
+}
+
+PulseGenerator::PulseGenerator(GpioDevices& devices, PulseOptions options) : options_(std::move(options)) {
+  if (options_.period.count() <= 0) throw core::Error(core::ErrorKind::usage, "--period must be positive");
+  if (!options_.now) options_.now = realtime_ns;
+  chip_ = find_chip(devices, options_.chip);
+  offset_ = find_line(devices, chip_, options_.line);
+  gpio_v2_line_request request{};
+  request.offsets[0] = offset_;
+  request.num_lines = 1;
+  const auto label = options_.consumer.substr(0, sizeof request.consumer - 1);
+  std::memcpy(request.consumer, label.data(), label.size());
+  request.config.flags = GPIO_V2_LINE_FLAG_OUTPUT;
+  auto& attr = request.config.attrs[request.config.num_attrs++];
+  attr.mask = 1;
+  attr.attr.id = GPIO_V2_LINE_ATTR_ID_OUTPUT_VALUES;
+  attr.attr.values = 0;  // start low
+  try {
+    request_ = devices.request_lines(chip_.path, request);
+  } catch (const std::system_error& e) {
+    throw explain_gpio_error(e, devices, chip_, offset_);
+  }
+}
+
+PulseGenerator::~PulseGenerator() {
+  try {
+    if (request_) request_->set_values(0, 1);
+  } catch (const std::system_error&) {  // the line is released right after anyway
+  }
+}
+
+std::string PulseGenerator::describe() const {
+  return fmt::format("pulse: {} ({}) line {}, a toggle every {}{}", chip_.path, chip_.label, offset_,
+                     core::format_duration(options_.period),
+                     options_.count > 0 ? fmt::format(", {} edges", options_.count) : std::string());
+}
+
+PulseSummary PulseGenerator::run(int stop_fd, const std::function<void(const PulseEdge&)>& on_edge,
+                                 const std::function<std::string()>& stop_name) {
+  const std::int64_t period = options_.period.count();
+  // The first edge on a multiple of the period, at least 100 ms (and a period) from now.
+  const std::int64_t start = options_.now();
+  const std::int64_t first = ((start + 100'000'000) / period + 1) * period;
+  const std::int64_t end = options_.duration.count() > 0 ? start + options_.duration.count() : INT64_MAX;
+  PulseSummary summary;
+  bool level = false;
+  for (std::uint64_t k = 0;; ++k) {
+    if (options_.count > 0 && k >= options_.count) {
+      summary.stop_reason = "count";
+      break;
+    }
+    const std::int64_t deadline = first + static_cast<std::int64_t>(k) * period;
+    if (deadline > end) {
+      summary.stop_reason = "duration";
+      break;
+    }
+    // Wait for a stop until 2 ms before the deadline; then sleep to the deadline itself.
+    bool stopped = false;
+    for (;;) {
+      const std::int64_t left = deadline - options_.now() - 2'000'000;
+      if (left <= 0) break;
+      pollfd fd{stop_fd, POLLIN, 0};
+      const int ready = ::poll(&fd, 1, static_cast<int>(std::min<std::int64_t>(left / 1'000'000 + 1, 1000)));
+      if (ready < 0 && errno != EINTR)
+        throw core::Error(core::ErrorKind::io, fmt::format("poll: {}", std::strerror(errno)));
+      if (stop_fd >= 0 && ready > 0 && (fd.revents & POLLIN) != 0) {
+        stopped = true;
+        break;
+      }
+    }
+    if (stopped) {
+      summary.stop_reason = stop_name ? stop_name() : "stop";
+      if (summary.stop_reason.empty()) summary.stop_reason = "stop";
+      break;
+    }
+    sleep_until(deadline);
+    level = !level;
+    const std::int64_t commanded = options_.now();
+    try {
+      request_->set_values(level ? 1 : 0, 1);
+    } catch (const std::system_error& e) {
+      throw core::Error(core::ErrorKind::io,
+                        fmt::format("pulse line {} of {}: {}", offset_, chip_.name, e.what()));
+    }
+    const core::Duration late{commanded - deadline};
+    summary.max_late = std::max(summary.max_late, late);
+    summary.total_late += late;
+    ++summary.edges;
+    if (on_edge)
+      on_edge({k, level ? core::Edge::rising : core::Edge::falling,
+               core::TimePoint::from_ns(core::Clock::realtime, deadline),
+               core::TimePoint::from_ns(core::Clock::realtime, commanded)});
+  }
+  return summary;
+}
+
+}  // namespace m2mlat::capture

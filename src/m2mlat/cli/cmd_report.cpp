@@ -1,0 +1,247 @@
+// `m2mlat report`: statistics, comparisons and figures of one or more scenarios, from campaign stores
+// or data files, as a terminal table, Markdown, CSV, JSON (m2mlat-report/1), a self-contained HTML
+// page and pgfplots figures. Everything is recomputed from the raw events on every run, so other
+// matcher windows, thresholds or groupings are a matter of re-running the command (docs/report.md).
+#include <fmt/format.h>
+#include <sqlite3.h>
+
+#include <boost/version.hpp>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "m2mlat/cli/analysis_options.hpp"
+#include "m2mlat/cli/command.hpp"
+#include "m2mlat/cli/inputs.hpp"
+#include "m2mlat/cli/output.hpp"
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/core/version.hpp"
+#include "m2mlat/report/html_report.hpp"
+#include "m2mlat/report/pgfplots.hpp"
+#include "m2mlat/report/report_json.hpp"
+#include "m2mlat/report/report_tables.hpp"
+#include "m2mlat/store/store.hpp"
+
+namespace m2mlat::cli {
+
+namespace {
+
+struct ReportCommand {
+  InputFlags inputs;
+  SelectionFlags selection;
+  MatchFlags match;
+  StatsFlags stats;
+  std::vector<std::string> groups;  // NAME=s1,s2
+  bool no_groups = false;
+  std::vector<std::string> compares;  // SUBJECT:BASELINE
+  bool no_compare = false;
+  std::string uncertainty;  // duration; empty = unknown where no clock data
+  double alpha = 0.05;
+  std::string format = "text";
+  std::string out_dir, html, pgfplots_dir;
+};
+
+// The command line as the user typed it, shell-quoted where needed (from /proc/self/cmdline).
+std::string command_line() {
+  std::ifstream in("/proc/self/cmdline", std::ios::binary);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const auto all = buffer.str();
+  std::string out;
+  std::size_t start = 0;
+  bool first = true;
+  while (start < all.size()) {
+    auto end = all.find('\0', start);
+    if (end == std::string::npos) end = all.size();
+    auto arg = all.substr(start, end - start);
+    if (first) arg = std::filesystem::path(arg).filename().string();  // "m2mlat", not the build path
+    const bool plain = !arg.empty() && arg.find_first_not_of(
+                                           "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                           "0123456789-_./=:,+@%") == std::string::npos;
+    if (!first) out += ' ';
+    if (plain) {
+      out += arg;
+    } else {
+      out += '\'';
+      for (char ch : arg) out += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+      out += '\'';
+    }
+    first = false;
+    start = end + 1;
+  }
+  return out.empty() ? "m2mlat report" : out;
+}
+
+void write_file(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << text;
+  out.close();
+  if (!out) throw core::Error(core::ErrorKind::io, fmt::format("{}: cannot write", path.string()));
+}
+
+std::vector<std::pair<std::string, std::vector<std::string>>> parse_groups(
+    const std::vector<std::string>& specs) {
+  std::vector<std::pair<std::string, std::vector<std::string>>> out;
+  for (const auto& spec : specs) {
+    const auto eq = spec.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size())
+      throw core::Error(core::ErrorKind::usage,
+                        fmt::format("--group '{}': expected NAME=scenario,scenario,...", spec));
+    std::vector<std::string> members;
+    std::stringstream list(spec.substr(eq + 1));
+    for (std::string m; std::getline(list, m, ',');)
+      if (!m.empty()) members.push_back(m);
+    out.emplace_back(spec.substr(0, eq), std::move(members));
+  }
+  return out;
+}
+
+report::Report build(const ReportCommand& c) {
+  report::Report r;
+  r.command = command_line();
+  r.versions = {{"m2mlat", core::kVersion},
+                {"compiler", __VERSION__},
+                {"Boost", fmt::format("{}.{}", BOOST_VERSION / 100000, BOOST_VERSION / 100 % 1000)},
+                {"SQLite", sqlite3_libversion()}};
+  r.alpha = c.alpha;
+  if (!(c.alpha > 0 && c.alpha < 1))
+    throw core::Error(core::ErrorKind::usage, fmt::format("--alpha {} is not in (0, 1)", c.alpha));
+  if (!c.uncertainty.empty()) {
+    try {
+      r.assumed_uncertainty_ms = static_cast<double>(core::parse_duration(c.uncertainty).count()) / 1e6;
+    } catch (const core::Error& e) {
+      throw core::Error(core::ErrorKind::usage, fmt::format("--uncertainty: {}", e.what()));
+    }
+  }
+
+  // Each input on its own, so that a store's scenarios can be given its clock samples and losses.
+  auto analyse_one = [&](InputFlags flags) { return analyse_inputs(flags, c.selection, c.match, c.stats); };
+  if (!c.inputs.cause_file.empty()) {
+    auto flags = c.inputs;
+    flags.inputs.clear();
+    for (auto& res : analyse_one(flags)) r.scenarios.push_back({std::move(res), {}, {}, {}, {}, {}, {}});
+  }
+  for (const auto& path : c.inputs.inputs) {
+    auto flags = c.inputs;
+    flags.inputs = {path};
+    flags.cause_file.clear();
+    flags.effect_file.clear();
+    auto results = analyse_one(flags);
+    std::optional<store::Store> store;
+    if (is_sqlite_file(path)) {
+      store::Options o;
+      o.read_only = true;
+      store = store::Store::open(path, o);
+    }
+    for (auto& res : results) {
+      report::ScenarioReport s{std::move(res), {}, {}, {}, {}, {}, {}};
+      s.uncertainty_ns.assign(s.result.match.pairs.size(), std::nullopt);
+      if (store) report::attach_store_data(s, *store);
+      r.scenarios.push_back(std::move(s));
+    }
+  }
+  if (c.inputs.inputs.empty() && c.inputs.cause_file.empty())
+    throw core::Error(core::ErrorKind::usage,
+                      "no input: give a store or data files, or --cause-file and --effect-file");
+  for (auto& s : r.scenarios)
+    if (s.uncertainty_ns.size() != s.result.match.pairs.size())
+      s.uncertainty_ns.assign(s.result.match.pairs.size(), std::nullopt);
+
+  report::assign_groups(r, parse_groups(c.groups), !c.no_groups);
+
+  std::vector<std::pair<std::string, std::string>> pairs;
+  for (const auto& spec : c.compares) {
+    const auto colon = spec.find(':');
+    if (colon == std::string::npos || colon == 0 || colon + 1 == spec.size())
+      throw core::Error(core::ErrorKind::usage,
+                        fmt::format("--compare '{}': expected SUBJECT:BASELINE", spec));
+    pairs.emplace_back(spec.substr(0, colon), spec.substr(colon + 1));
+  }
+  if (pairs.empty() && !c.no_compare) {
+    // Default comparisons skip a scenario with too few latencies (an explicit --compare fails on it).
+    for (const auto& [subject, baseline] : report::default_comparisons(r)) {
+      const auto too_few = [&](const std::string& name) { return r.find(name)->result.summary.n < 2; };
+      if (too_few(subject) || too_few(baseline))
+        warn(fmt::format("{} vs {} not compared: fewer than 2 latencies", subject, baseline));
+      else
+        pairs.emplace_back(subject, baseline);
+    }
+  }
+  stats::CompareOptions options;
+  const auto summary_options = c.stats.options();
+  options.thresholds = summary_options.thresholds;
+  options.resamples = c.stats.bootstrap;
+  options.seed = c.stats.seed;
+  options.level = c.stats.level;
+  for (const auto& [subject, baseline] : pairs) {
+    progress(fmt::format("comparing {} with {}", subject, baseline));
+    r.comparisons.push_back(report::compare_scenarios(r, subject, baseline, options));
+  }
+  progress_done();
+  return r;
+}
+
+}  // namespace
+
+Runner attach_report(CLI::App& sub) {
+  auto c = std::make_shared<ReportCommand>();
+  c->inputs.add_to(sub, true);
+  c->selection.add_to(sub);
+  c->match.add_to(sub);
+  c->stats.add_to(sub);
+  auto* g = sub.add_option_group("report");
+  g->add_option(
+      "--group", c->groups,
+      "A group of scenarios for the plots and default comparisons: NAME=s1,s2 (repeatable; default: "
+      "by the name's prefix before '_' or '-')");
+  g->add_flag("--no-groups", c->no_groups, "Do not group scenarios by name");
+  g->add_option("--compare", c->compares,
+                "Compare two scenarios, SUBJECT:BASELINE (repeatable; default: within each group, each later "
+                "scenario against each earlier one)");
+  g->add_flag("--no-compare", c->no_compare, "No comparisons");
+  g->add_option("--uncertainty", c->uncertainty,
+                "Measurement uncertainty per latency (e.g. 1ms) for scenarios without clock samples");
+  g->add_option("--alpha", c->alpha, "Significance level of the tests")->capture_default_str();
+  g->add_option("--print", c->format,
+                "What to print: text, markdown, csv (scenarios), csv-comparisons or json")
+      ->check(CLI::IsMember({"text", "markdown", "csv", "csv-comparisons", "json"}))
+      ->capture_default_str();
+  g->add_option(
+      "--out", c->out_dir,
+      "Write report.html, report.md, report.json, scenarios.csv, comparisons.csv and pgfplots/ here");
+  g->add_option("--html", c->html, "Write the HTML report to this file");
+  g->add_option("--pgfplots", c->pgfplots_dir, "Write pgfplots figures and their data into this folder");
+  return [c] {
+    const auto r = build(*c);
+    if (!c->out_dir.empty()) {
+      const std::filesystem::path dir(c->out_dir);
+      std::error_code ec;
+      std::filesystem::create_directories(dir, ec);
+      if (ec)
+        throw core::Error(core::ErrorKind::io,
+                          fmt::format("{}: cannot create: {}", c->out_dir, ec.message()));
+      write_file(dir / "report.html", report::report_html(r));
+      write_file(dir / "report.md", report::report_markdown(r));
+      write_file(dir / "report.json", report::report_document(r).dump(2) + "\n");
+      write_file(dir / "scenarios.csv", report::scenarios_csv(r));
+      write_file(dir / "comparisons.csv", report::comparisons_csv(r));
+      report::write_pgfplots(r, dir / "pgfplots");
+    }
+    if (!c->html.empty()) write_file(c->html, report::report_html(r));
+    if (!c->pgfplots_dir.empty()) report::write_pgfplots(r, c->pgfplots_dir);
+    if (c->format == "json")
+      print_json(report::report_document(r));
+    else if (c->format == "markdown")
+      fmt::print("{}", report::report_markdown(r));
+    else if (c->format == "csv")
+      fmt::print("{}", report::scenarios_csv(r));
+    else if (c->format == "csv-comparisons")
+      fmt::print("{}", report::comparisons_csv(r));
+    else
+      fmt::print("{}", report::report_text(r));
+    return 0;
+  };
+}
+
+}  // namespace m2mlat::cli

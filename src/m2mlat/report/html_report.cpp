@@ -1,0 +1,397 @@
+// HTML page assembly and the charts, drawn with svg_plot from plot_data.
+#include "m2mlat/report/html_report.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "m2mlat/report/comparison_text.hpp"
+#include "m2mlat/report/plot_data.hpp"
+#include "m2mlat/report/svg_plot.hpp"
+#include "m2mlat/report/table.hpp"
+
+namespace m2mlat::report {
+
+namespace {
+
+constexpr const char* kCss = R"(
+:root{--fg:#1b1b1b;--muted:#666;--line:#ccc}
+*{box-sizing:border-box}
+body{font:15px/1.45 system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;color:var(--fg);margin:0;background:#fff}
+main{max-width:980px;margin:0 auto;padding:12px 16px 48px}
+h1{font-size:1.5em;margin:.4em 0}h2{font-size:1.2em;margin:1.6em 0 .4em;border-bottom:1px solid var(--line)}
+.meta,.note-text{color:var(--muted);font-size:.9em}
+code{font-size:.9em;word-break:break-all}
+.scroll{overflow-x:auto;-webkit-overflow-scrolling:touch}
+table{border-collapse:collapse;font-size:.88em;margin:.4em 0}
+th,td{border-bottom:1px solid #e3e3e3;padding:3px 8px;text-align:right;white-space:nowrap}
+th:first-child,td:first-child{text-align:left}
+ul.sentences li{margin:.35em 0}
+figure{margin:1em 0;break-inside:avoid;page-break-inside:avoid}
+figcaption{font-size:.85em;color:var(--muted)}
+svg.chart{width:100%;height:auto;display:block;font-family:inherit}
+svg .title{font-size:14px;font-weight:600;fill:var(--fg)}
+svg .note,svg .reflabel{font-size:10px;fill:var(--muted)}
+svg .tick,svg .legend{font-size:11px;fill:#333}
+svg .axis{font-size:12px;fill:#333}
+svg .grid{stroke:#eee;stroke-width:1}
+svg .frame{fill:none;stroke:#999;stroke-width:1}
+svg .line{fill:none;stroke-width:1.6}
+svg .seg{stroke-width:1.2}
+svg .err{stroke-width:1;opacity:.55}
+svg .box{fill-opacity:.25;stroke-width:1.4}
+svg .bar{fill-opacity:.35;stroke-width:.8}
+svg .med{stroke-width:2.4}
+svg .band{fill-opacity:.18;stroke:none}
+svg .pt{fill-opacity:.8}
+svg .ref{stroke:#b00;stroke-dasharray:4 3;stroke-width:1}
+@media print{body{font-size:11pt}main{max-width:none;padding:0}h2{break-after:avoid}.scroll{overflow:visible}}
+)";
+
+std::string html_table(const std::vector<std::string>& header,
+                       const std::vector<std::vector<std::string>>& rows, const std::string& name) {
+  std::string s = fmt::format("<div class=\"scroll\"><table data-table=\"{}\"><thead><tr>", name);
+  for (const auto& h : header) s += "<th>" + xml_escape(h) + "</th>";
+  s += "</tr></thead><tbody>\n";
+  for (const auto& r : rows) {
+    s += "<tr>";
+    for (const auto& c : r) s += "<td>" + xml_escape(c) + "</td>";
+    s += "</tr>\n";
+  }
+  return s + "</tbody></table></div>\n";
+}
+
+std::string figure(const std::string& svg, const std::string& caption) {
+  return "<figure>\n" + svg + "<figcaption>" + xml_escape(caption) + "</figcaption></figure>\n";
+}
+
+std::string box_chart(const Report& report) {
+  std::vector<BoxData> boxes;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& s : report.scenarios) {
+    boxes.push_back(box_data(s));
+    const auto& b = boxes.back();
+    if (b.n == 0) continue;
+    lo = std::min(
+        {lo, b.whisker_low,
+         b.outliers.empty() ? b.whisker_low : *std::min_element(b.outliers.begin(), b.outliers.end())});
+    hi = std::max(
+        {hi, b.whisker_high,
+         b.outliers.empty() ? b.whisker_high : *std::max_element(b.outliers.begin(), b.outliers.end())});
+  }
+  if (!(hi >= lo)) lo = 0, hi = 1;
+  const double pad = (hi - lo) * 0.06 + 1e-3;
+  // Positions: one slot per box, an empty slot between groups.
+  std::vector<double> xs;
+  double x = 0;
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    if (i > 0 && boxes[i].group != boxes[i - 1].group) x += 0.6;
+    xs.push_back(x);
+    x += 1;
+  }
+  SvgPlot plot("box", "Latency per scenario", report.groups.empty() ? "scenario" : "scenario (grouped)",
+               "latency (ms)", -0.6, x - 0.4, lo - pad, hi + pad, 720, 360);
+  std::vector<std::pair<double, std::string>> cats;
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    const auto& b = boxes[i];
+    const auto colour = palette(i);
+    cats.emplace_back(xs[i], b.scenario);
+    if (b.n == 0) continue;
+    const double w = 0.32;
+    plot.rect(xs[i] - w, b.q1, xs[i] + w, b.q3, colour);
+    plot.segment(xs[i] - w, b.median, xs[i] + w, b.median, colour, "med");
+    plot.segment(xs[i], b.q3, xs[i], b.whisker_high, colour);
+    plot.segment(xs[i], b.q1, xs[i], b.whisker_low, colour);
+    plot.segment(xs[i] - w / 2, b.whisker_high, xs[i] + w / 2, b.whisker_high, colour);
+    plot.segment(xs[i] - w / 2, b.whisker_low, xs[i] + w / 2, b.whisker_low, colour);
+    for (double o : b.outliers) plot.circle(xs[i], o, 2.2, colour);
+  }
+  if (!report.scenarios.empty())
+    for (const auto& t : report.scenarios.front().result.summary.thresholds)
+      plot.hline(static_cast<double>(t.threshold.count()) / 1e6,
+                 fmt::format("{:g} ms", static_cast<double>(t.threshold.count()) / 1e6));
+  plot.set_x_categories(std::move(cats));
+  if (!report.groups.empty()) {
+    std::string g = "groups:";
+    for (const auto& name : report.groups) g += " " + name;
+    plot.note(g);
+  }
+  return plot.render();
+}
+
+std::string ecdf_chart(const Report& report) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  std::vector<Curve> curves;
+  for (const auto& s : report.scenarios) {
+    curves.push_back(ecdf_data(s));
+    if (!curves.back().x.empty()) {
+      lo = std::min(lo, curves.back().x.front());
+      hi = std::max(hi, curves.back().x.back());
+    }
+  }
+  if (!(hi >= lo)) lo = 0, hi = 1;
+  const double pad = (hi - lo) * 0.03 + 1e-3;
+  SvgPlot plot("ecdf", "Empirical distribution (ECDF)", "latency (ms)", "fraction of samples <= latency",
+               lo - pad, hi + pad, 0, 1);
+  std::vector<std::pair<std::string, std::string>> legend;
+  for (std::size_t i = 0; i < curves.size(); ++i) {
+    plot.step_line(curves[i].x, curves[i].y, palette(i));
+    legend.emplace_back(report.scenarios[i].result.input.scenario, std::string(palette(i)));
+  }
+  plot.legend(legend);
+  return plot.render();
+}
+
+std::string histogram_chart(const Report& report) {
+  const auto h = histogram_data(report);
+  if (h.edges.empty()) return {};
+  std::size_t top = 1;
+  for (const auto& c : h.counts)
+    for (auto k : c) top = std::max(top, k);
+  SvgPlot plot("histogram", "Histogram", "latency (ms)", "pairs per bin", h.edges.front(), h.edges.back(), 0,
+               static_cast<double>(top) * 1.08);
+  std::vector<std::pair<std::string, std::string>> legend;
+  for (std::size_t i = 0; i < h.counts.size(); ++i) {
+    for (std::size_t k = 0; k < h.counts[i].size(); ++k)
+      if (h.counts[i][k] > 0)
+        plot.rect(h.edges[k], 0, h.edges[k + 1], static_cast<double>(h.counts[i][k]), palette(i), "bar");
+    legend.emplace_back(report.scenarios[i].result.input.scenario, std::string(palette(i)));
+  }
+  plot.legend(legend);
+  plot.note(fmt::format("{} bins of {:.1f} ms over all scenarios' samples", h.edges.size() - 1,
+                        h.edges[1] - h.edges[0]));
+  return plot.render();
+}
+
+std::string series_chart(const ScenarioReport& s, std::size_t index) {
+  const auto ts = time_series(s);
+  if (ts.t_s.empty()) return {};
+  const double lo = *std::min_element(ts.low_ms.begin(), ts.low_ms.end());
+  const double hi = *std::max_element(ts.high_ms.begin(), ts.high_ms.end());
+  const double pad = (hi - lo) * 0.05 + 1e-3;
+  const double t_end = std::max(ts.t_s.back(), 1e-3);
+  SvgPlot plot(fmt::format("timeseries-{}", index),
+               fmt::format("Latency over time: {}", s.result.input.scenario), "time since the first pair (s)",
+               "latency (ms)", 0, t_end, lo - pad, hi + pad, 720, 300);
+  const auto colour = palette(index);
+  for (std::size_t i = 0; i < ts.t_s.size(); ++i) {
+    if (ts.high_ms[i] > ts.low_ms[i])
+      plot.segment(ts.t_s[i], ts.low_ms[i], ts.t_s[i], ts.high_ms[i], colour, "err");
+    plot.circle(ts.t_s[i], ts.latency_ms[i], ts.binned ? 1.2 : 2.0, colour);
+  }
+  bool any_u = false;
+  double u_max = 0;
+  for (double u : ts.uncertainty_ms)
+    if (!std::isnan(u)) any_u = true, u_max = std::max(u_max, u);
+  if (ts.binned)
+    plot.note(fmt::format("{} pairs in {} bins: dot = bin median, bar = bin min..max{}", ts.samples,
+                          ts.t_s.size(), any_u ? fmt::format("; largest uncertainty {:.3f} ms", u_max) : ""));
+  else
+    plot.note(any_u ? fmt::format("bars: +/- the per-sample uncertainty (largest {:.3f} ms)", u_max)
+                    : "per-sample uncertainty unknown (no clock samples)");
+  return plot.render();
+}
+
+std::string clock_chart(const ScenarioReport& s, std::size_t index) {
+  const auto curves = clock_curves(s);
+  if (curves.empty()) return {};
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo, t0 = lo, t1 = -lo;
+  for (const auto& c : curves)
+    for (std::size_t i = 0; i < c.t_s.size(); ++i) {
+      lo = std::min(lo, c.offset_ms[i] - c.bound_ms[i]);
+      hi = std::max(hi, c.offset_ms[i] + c.bound_ms[i]);
+      t0 = std::min(t0, c.t_s[i]);
+      t1 = std::max(t1, c.t_s[i]);
+    }
+  const double pad = (hi - lo) * 0.05 + 1e-4;
+  SvgPlot plot(fmt::format("clock-{}", index),
+               fmt::format("Clock offset and error bound: {}", s.result.input.scenario),
+               "time since the first pair (s)", "offset (ms)", t0, t1 > t0 ? t1 : t0 + 1, lo - pad, hi + pad,
+               720, 280);
+  std::vector<std::pair<std::string, std::string>> legend;
+  for (std::size_t k = 0; k < curves.size(); ++k) {
+    const auto& c = curves[k];
+    const auto colour = palette(k * 3);  // blue and vermillion for two boards
+    std::vector<double> low, high;
+    for (std::size_t i = 0; i < c.t_s.size(); ++i) {
+      low.push_back(c.offset_ms[i] - c.bound_ms[i]);
+      high.push_back(c.offset_ms[i] + c.bound_ms[i]);
+    }
+    plot.band(c.t_s, low, high, colour);
+    plot.polyline(c.t_s, c.offset_ms, colour);
+    legend.emplace_back(fmt::format("{} ({})", c.node, c.source), std::string(colour));
+  }
+  plot.legend(legend);
+  plot.note("line: estimated offset; band: +/- the maximum error bound");
+  return plot.render();
+}
+
+std::string budget_chart(const Report& report) {
+  std::vector<const ScenarioReport*> known;
+  double top = 0;
+  for (const auto& s : report.scenarios)
+    if (s.cause_clock_ms && s.effect_clock_ms) {
+      known.push_back(&s);
+      top = std::max(top, *s.cause_clock_ms + *s.effect_clock_ms);
+    }
+  if (known.empty()) return {};
+  SvgPlot plot("budget", "Error budget per latency (median over pairs)", "scenario", "bound (ms)", -0.6,
+               static_cast<double>(known.size()) - 0.4, 0, top * 1.15 + 1e-6, 720, 280);
+  std::vector<std::pair<double, std::string>> cats;
+  for (std::size_t i = 0; i < known.size(); ++i) {
+    const double x = static_cast<double>(i), a = *known[i]->cause_clock_ms, b = *known[i]->effect_clock_ms;
+    plot.rect(x - 0.3, 0, x + 0.3, a, palette(0), "bar");
+    plot.rect(x - 0.3, a, x + 0.3, a + b, palette(1), "bar");
+    cats.emplace_back(x, known[i]->result.input.scenario);
+  }
+  plot.set_x_categories(std::move(cats));
+  plot.legend(
+      {{"cause board clock", std::string(palette(0))}, {"effect board clock", std::string(palette(1))}});
+  return plot.render();
+}
+
+std::string ms_or_dash(const std::optional<double>& x, int d = 3) {
+  return x ? fmt::format("{:.{}f}", *x, d) : "-";
+}
+
+}  // namespace
+
+std::string report_html(const Report& report) {
+  std::string h =
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+      "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+      "<title>m2mlat latency report</title>\n<style>" +
+      std::string(kCss) + "</style>\n</head>\n<body>\n<main>\n<h1>Latency report</h1>\n";
+  h += "<p class=\"meta\">Produced by <code>" + xml_escape(report.command) + "</code>";
+  for (const auto& [name, version] : report.versions)
+    h += "; " + xml_escape(name) + " " + xml_escape(version);
+  h += ".</p>\n";
+
+  // Summary table.
+  h += "<h2>Scenarios</h2>\n";
+  std::vector<std::string> header{"scenario", "group", "pairs", "median", "IQR",
+                                  "mean",     "SD",    "min",   "max",    "P95"};
+  if (!report.scenarios.empty())
+    for (const auto& t : report.scenarios.front().result.summary.thresholds)
+      header.push_back(fmt::format("> {:g} ms", static_cast<double>(t.threshold.count()) / 1e6));
+  header.push_back("median 95% CI");
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& s : report.scenarios) {
+    const auto& m = s.result.summary;
+    std::vector<std::string> r{s.result.input.scenario,
+                               s.group.empty() ? "-" : s.group,
+                               std::to_string(m.n),
+                               ms_text(m.median_ms),
+                               ms_text(m.iqr_ms),
+                               ms_text(m.mean_ms),
+                               ms_text(m.sd_ms),
+                               m.min ? ms_text(m.min->ms()) : "-",
+                               m.max ? ms_text(m.max->ms()) : "-",
+                               ms_text(m.p95_ms)};
+    for (const auto& t : m.thresholds) r.push_back(percent_text(t.fraction_above));
+    r.push_back(m.bootstrap ? fmt::format("{:.1f} to {:.1f}", m.bootstrap->median_ms.lower,
+                                          m.bootstrap->median_ms.upper)
+                            : "-");
+    rows.push_back(std::move(r));
+  }
+  h += html_table(header, rows, "scenarios");
+  h += "<p class=\"note-text\">Latencies in ms; type-7 quantiles; shares are of samples strictly above the "
+       "limit. Ambiguous pairs are left out unless asked for.</p>\n";
+
+  if (!report.comparisons.empty()) {
+    h += "<h2>Comparisons</h2>\n<ul class=\"sentences\">\n";
+    for (const auto& c : report.comparisons) h += "<li>" + xml_escape(comparison_sentence(c)) + "</li>\n";
+    h += "</ul>\n";
+    std::vector<std::vector<std::string>> crows;
+    const auto ci = [](const stats::Interval& i, int d) {
+      return std::isnan(i.lower) ? std::string("-")
+                                 : fmt::format("{:.{}f} to {:.{}f}", i.lower, d, i.upper, d);
+    };
+    for (const auto& r : report.comparisons) {
+      const auto& c = r.comparison;
+      crows.push_back({r.subject + " vs " + r.baseline, fmt::format("{:+.1f}", c.median_difference_ms),
+                       ci(c.median_difference_ci_ms, 1), p_text(c.mann_whitney.p),
+                       fmt::format("{:.3f}", c.iqr_ratio), ci(c.iqr_ratio_ci, 3),
+                       fmt::format("{:.3f}", c.sd_ratio), ci(c.sd_ratio_ci, 3), p_text(c.brown_forsythe.p),
+                       ms_or_dash(c.uncertainty_ms)});
+    }
+    h += html_table({"subject vs baseline", "median diff (ms)", "CI", "Mann-Whitney", "IQR ratio", "CI",
+                     "SD ratio", "CI", "Brown-Forsythe", "uncertainty (ms)"},
+                    crows, "comparisons");
+  }
+
+  h += "<h2>Distributions</h2>\n";
+  h += figure(box_chart(report),
+              "Box: quartiles; line: median; whiskers: the most extreme samples within 1.5 IQR; "
+              "dots: samples beyond (at most 100 per side drawn); dashed: latency limits.");
+  h += figure(ecdf_chart(report), "Share of samples at or below each latency.");
+  if (auto hist = histogram_chart(report); !hist.empty()) h += figure(hist, "Counts per bin, all samples.");
+
+  h += "<h2>Latency over time</h2>\n";
+  for (std::size_t i = 0; i < report.scenarios.size(); ++i)
+    if (auto c = series_chart(report.scenarios[i], i); !c.empty())
+      h += figure(
+          c,
+          "Each pair at its cause edge's time; bars show the per-sample uncertainty (both boards' clock "
+          "error bounds) or, for long series, each bin's range.");
+
+  bool any_clock = false;
+  for (const auto& s : report.scenarios) any_clock |= !s.clocks.empty();
+  h += "<h2>Clocks</h2>\n";
+  if (!any_clock) h += "<p class=\"note-text\">No clock samples in the inputs (data files carry none).</p>\n";
+  for (std::size_t i = 0; i < report.scenarios.size(); ++i)
+    if (auto c = clock_chart(report.scenarios[i], i); !c.empty())
+      h += figure(c,
+                  "Per board: the clock's estimated offset from its reference and its maximum error bound.");
+
+  h += "<h2>Error budget</h2>\n";
+  if (auto b = budget_chart(report); !b.empty()) {
+    h += figure(
+        b,
+        "Median per-pair bound on a latency's error: the cause board's clock error bound plus the effect "
+        "board's.");
+    std::vector<std::vector<std::string>> brows;
+    for (const auto& s : report.scenarios)
+      brows.push_back({s.result.input.scenario, ms_or_dash(s.cause_clock_ms), ms_or_dash(s.effect_clock_ms),
+                       ms_or_dash(s.median_uncertainty_ms()), ms_or_dash(s.max_uncertainty_ms())});
+    h += html_table(
+        {"scenario", "cause clock (ms)", "effect clock (ms)", "median total (ms)", "max total (ms)"}, brows,
+        "budget");
+  } else {
+    h += fmt::format("<p class=\"note-text\">Unknown: no clock samples{}.</p>\n",
+                     report.assumed_uncertainty_ms
+                         ? fmt::format("; comparisons assume {:.3f} ms per latency (--uncertainty)",
+                                       *report.assumed_uncertainty_ms)
+                         : "");
+  }
+
+  h += "<h2>Losses and unmatched edges</h2>\n";
+  std::vector<std::vector<std::string>> lrows;
+  for (const auto& s : report.scenarios) {
+    std::size_t by_reason[2][3] = {};
+    for (const auto& u : s.result.match.unmatched)
+      ++by_reason[static_cast<int>(u.side)][static_cast<int>(u.reason)];
+    std::string recorded = s.losses.empty() ? "none recorded" : "";
+    for (const auto& l : s.losses)
+      recorded += fmt::format("{}{}: {} {} ({} records)", recorded.empty() ? "" : "; ", l.node, l.events,
+                              l.kind, l.records);
+    lrows.push_back({s.result.input.scenario, std::to_string(s.result.match.cause_count),
+                     std::to_string(s.result.match.effect_count), std::to_string(s.result.match.pairs.size()),
+                     std::to_string(s.result.ambiguous_pairs()),
+                     fmt::format("{} / {} / {}", by_reason[0][0], by_reason[0][1], by_reason[0][2]),
+                     fmt::format("{} / {} / {}", by_reason[1][0], by_reason[1][1], by_reason[1][2]),
+                     recorded});
+  }
+  h += html_table({"scenario", "cause edges", "effect edges", "pairs", "ambiguous",
+                   "cause unmatched (bounce / no candidate / outmatched)",
+                   "effect unmatched (bounce / no candidate / outmatched)", "recorded losses"},
+                  lrows, "losses");
+  h += "<p class=\"meta\">Every number and chart is recomputed from the raw events by the command above; "
+       "re-run it "
+       "with other matcher windows, thresholds or groups to change them.</p>\n";
+  return h + "</main>\n</body>\n</html>\n";
+}
+
+}  // namespace m2mlat::report

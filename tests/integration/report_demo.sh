@@ -1,0 +1,102 @@
+# The report of the simulated campaign: every output written, groups and comparisons as expected,
+# numbers recomputed with other settings on a re-run, the HTML page opened in a real headless browser
+# (no console message, every chart present and non-empty, a screenshot kept beside the executable in
+# test-artifacts/), and the pgfplots figures compiled with pdflatex. The browser and TeX parts are
+# skipped, saying so, when chromium or pdflatex with pgfplots is not installed.
+source "$(dirname "$0")/lib.bash"
+ARTIFACTS=$(dirname "$M2MLAT")/test-artifacts
+mkdir -p "$ARTIFACTS"
+skipped=0
+
+"$M2MLAT" demo --store c.db > /dev/null
+"$M2MLAT" report c.db --out out > report.txt
+for f in report.html report.md report.json scenarios.csv comparisons.csv pgfplots/figures.tex pgfplots/box.tex \
+         pgfplots/box.dat pgfplots/ecdf.tex pgfplots/histogram.tex pgfplots/timeseries-static_wifi.tex \
+         pgfplots/clock-static_5g.tex; do
+  [ -s "out/$f" ] || fail "out/$f missing or empty"
+done
+grep -q "static_5g vs static_wifi: IQR" report.txt || fail "no comparison sentence in the terminal report"
+$PY - out/report.json <<'PY'
+import json, sys
+doc = json.load(open(sys.argv[1]))
+assert doc["format"] == "m2mlat-report/1"
+assert doc["generated_by"]["command"].startswith("m2mlat report c.db"), doc["generated_by"]
+assert doc["groups"] == ["static", "dynamic"], doc["groups"]
+names = [s["scenario"] for s in doc["scenarios"]]
+assert names == ["static_wifi", "static_5g", "dynamic_co_referenced", "dynamic_autonomous"], names
+pairs = [(c["subject"], c["baseline"]) for c in doc["comparisons"]]
+assert pairs == [("static_5g", "static_wifi"), ("dynamic_autonomous", "dynamic_co_referenced")], pairs
+for s in doc["scenarios"]:
+    u = s["uncertainty"]
+    assert u["pairs_with_bound"] == s["pairing"]["pairs"] and u["median_ms"] > 0, u   # the demo records clock samples
+    assert len(s["clocks"]) == 2, s["clocks"]
+PY
+
+# Other settings on a re-run: no groups (so all 6 comparisons), another threshold, another window.
+"$M2MLAT" report c.db --no-groups --threshold 900ms --max-latency 2s --bootstrap 300 --seed 5 --print json > regrouped.json
+$PY - regrouped.json <<'PY'
+import json, sys
+doc = json.load(open(sys.argv[1]))
+assert doc["groups"] == [] and len(doc["comparisons"]) == 6
+assert [a["threshold_ns"] for a in doc["scenarios"][0]["latency"]["above"]] == [900000000]
+assert doc["comparisons"][0]["bootstrap"] == {"level": 0.95, "resamples": 300, "seed": 5}
+PY
+"$M2MLAT" report c.db --group fast=static_5g,dynamic_autonomous --compare static_wifi:dynamic_autonomous --print csv-comparisons > cmp.csv
+[ "$(wc -l < cmp.csv)" = 2 ] && grep -q '^static_wifi,dynamic_autonomous,' cmp.csv || fail "explicit --compare: $(cat cmp.csv)"
+expect_exit 2 "$M2MLAT" report c.db --compare nope:static_5g
+grep -q "no scenario 'nope'" err.txt || fail "unknown scenario: $(cat err.txt)"
+expect_exit 2 "$M2MLAT" report c.db --group nonsense
+
+# The HTML page in a real browser.
+if command -v chromium > /dev/null; then
+  chrome=(chromium --headless --no-sandbox --disable-gpu --no-first-run --disable-background-networking
+          --disable-component-update --disable-sync --enable-logging=stderr --v=0)
+  page="file://$PWD/out/report.html"
+  timeout 120 "${chrome[@]}" --user-data-dir="$PWD/chrome-1" --dump-dom "$page" > dom.html 2> chrome.err
+  timeout 120 "${chrome[@]}" --user-data-dir="$PWD/chrome-2" --window-size=1000,4000 \
+    --screenshot="$ARTIFACTS/report_demo.png" "$page" > /dev/null 2>> chrome.err
+  [ -s "$ARTIFACTS/report_demo.png" ] || fail "no screenshot"
+  if grep -E "CONSOLE|Uncaught|Failed to load resource" chrome.err; then fail "console messages from the report page"; fi
+  # The checker itself must see a broken page as broken.
+  printf '<!DOCTYPE html><p>x</p><script>undefinedFunction();</script>' > broken.html
+  timeout 120 "${chrome[@]}" --user-data-dir="$PWD/chrome-3" --dump-dom "file://$PWD/broken.html" > /dev/null 2> broken.err
+  grep -q "CONSOLE" broken.err || fail "the console check did not see a script error"
+  $PY - dom.html <<'PY'
+import sys
+from html.parser import HTMLParser
+want = ["box", "ecdf", "histogram", "timeseries-0", "timeseries-1", "timeseries-2", "timeseries-3",
+        "clock-0", "clock-1", "clock-2", "clock-3", "budget"]
+class Charts(HTMLParser):
+    def __init__(self):
+        super().__init__(); self.marks = {}; self.chart = None; self.depth = 0
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "svg" and "data-chart" in a:
+            self.chart = a["data-chart"]; self.marks[self.chart] = 0
+        elif self.chart and tag in ("rect", "circle", "polyline", "polygon", "line") and "class" in a \
+                and a["class"] not in ("grid", "frame"):
+            self.marks[self.chart] += 1
+    def handle_endtag(self, tag):
+        if tag == "svg": self.chart = None
+p = Charts(); p.feed(open(sys.argv[1]).read())
+missing = [c for c in want if c not in p.marks]
+empty = [c for c in want if p.marks.get(c, 0) < 3]
+assert not missing and not empty, ("missing", missing, "empty", empty, p.marks)
+print("charts:", p.marks)
+PY
+else
+  echo "skipped: chromium is not installed (apt-get install chromium): the HTML was not opened in a browser"
+  skipped=$((skipped + 1))
+fi
+
+# The pgfplots figures compiled.
+if command -v pdflatex > /dev/null && kpsewhich pgfplots.sty > /dev/null 2>&1; then
+  (cd out/pgfplots && timeout 300 pdflatex -interaction=nonstopmode -halt-on-error figures.tex > latex.out 2>&1) ||
+    { tail -30 out/pgfplots/latex.out >&2; fail "pdflatex failed on the pgfplots figures"; }
+  [ -s out/pgfplots/figures.pdf ] || fail "no figures.pdf"
+  cp out/pgfplots/figures.pdf "$ARTIFACTS/report_demo_figures.pdf"
+else
+  echo "skipped: pdflatex with pgfplots is not installed (apt-get install texlive-latex-base texlive-pictures)"
+  skipped=$((skipped + 1))
+fi
+echo "1 passed, 0 failed, $skipped skipped"

@@ -1,0 +1,58 @@
+// The simulated source: one side of the rig, renamed, unchanged otherwise, and recorded end to end.
+#include "m2mlat/capture/sim_source.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+#include "m2mlat/capture/recorder.hpp"
+#include "m2mlat/sim/presets.hpp"
+#include "m2mlat/sim/simulate.hpp"
+
+namespace m2mlat::capture {
+namespace {
+
+sim::RigConfig small_run() {
+  auto config = sim::preset("static_wifi");
+  config.manoeuvres = 20;
+  return config;
+}
+
+TEST(SimSource, HandsOverOneSidesEventsUnchangedButForTheNames) {
+  const auto truth = sim::simulate(small_run());
+  SimSource source({"truck", "steer", core::Role::effect, small_run(), false});
+  ReadResult out;
+  while (!out.finished) source.read(out, 7);
+  ASSERT_EQ(out.events.size(), truth.effect_events.size());
+  for (std::size_t i = 0; i < out.events.size(); ++i) {
+    auto expected = truth.effect_events[i];
+    expected.node = "truck";
+    expected.channel = "steer";
+    EXPECT_EQ(out.events[i], expected);
+  }
+}
+
+TEST(SimSource, RecordsARunIntoAStoreUntilItEnds) {
+  const auto path =
+      (std::filesystem::temp_directory_path() / ("m2mlat-simsrc-" + std::to_string(::getpid()) + ".db"))
+          .string();
+  std::filesystem::remove(path);
+  {
+    auto store = store::Store::open(path);
+    SimSource source({"operator", "wheel", core::Role::cause, small_run(), false});
+    RecorderOptions options;
+    options.session.node = "operator";
+    options.session.role = core::Role::cause;
+    Recorder recorder(store, source, options);
+    const auto counters = recorder.run(-1);
+    EXPECT_EQ(counters.stop_reason, "source finished");
+    const auto truth = sim::simulate(small_run());
+    EXPECT_EQ(counters.events, truth.cause_events.size());
+    EXPECT_EQ(store.event_count(counters.session_id), static_cast<std::int64_t>(truth.cause_events.size()));
+  }
+  for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path + suffix);
+}
+
+}  // namespace
+}  // namespace m2mlat::capture
