@@ -41,7 +41,7 @@ core::Event commanded_event(const std::string& node, const PulseEdge& edge) {
   event.channel = "pulse";
   event.edge = edge.edge;
   event.time = edge.commanded;
-  event.flags = kFlagCommanded | core::kFlagNoKernelSeqno;
+  event.flags = core::kFlagCommanded | core::kFlagNoKernelSeqno;
   return event;
 }
 

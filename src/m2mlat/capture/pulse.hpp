@@ -18,9 +18,6 @@
 
 namespace m2mlat::capture {
 
-// Event flag of a commanded (generated, not captured) edge. Bit 4 is taken here until
-// core::EventFlag names it; it is stored with the event like the others.
-inline constexpr std::uint32_t kFlagCommanded = 1u << 4;
 
 struct PulseOptions {
   std::string chip;                                        // path, name or label

@@ -26,6 +26,7 @@ enum EventFlag : std::uint32_t {
   kFlagImported = 1u << 1,        // read from a file, not captured live
   kFlagNoKernelSeqno = 1u << 2,   // the source had no kernel sequence numbers (seqno fields are 0)
   kFlagAfterClockStep = 1u << 3,  // the clock was stepped between this event and the previous one
+  kFlagCommanded = 1u << 4,       // an edge m2mlat commanded (pulse generator), not one it observed
 };
 
 struct Event {

@@ -85,7 +85,7 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
     std::string dat = "scenario group n lower_whisker q1 median q3 upper_whisker outliers\n";
     std::string tex =
         header("Box plot of latency per scenario") +
-        "\\begin{tikzpicture}\n\\begin{axis}[width=\\linewidth, height=6cm, ylabel={latency (ms)},\n"
+        "\\begin{tikzpicture}\n\\begin{axis}[width=0.95\\linewidth, height=6cm, ylabel={latency (ms)},\n"
         "  boxplot/draw direction=y, xtick={";
     std::string ticks, labels, plots;
     double x = 1;
@@ -121,7 +121,7 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
   {
     std::string tex =
         header("Empirical distribution functions") +
-        "\\begin{tikzpicture}\n\\begin{axis}[width=\\linewidth, height=6cm, xlabel={latency (ms)},\n"
+        "\\begin{tikzpicture}\n\\begin{axis}[width=0.95\\linewidth, height=6cm, xlabel={latency (ms)},\n"
         "  ylabel={fraction $\\le$ latency}, ymin=0, ymax=1, legend pos=south east, legend cell "
         "align=left]\n";
     for (std::size_t i = 0; i < report.scenarios.size(); ++i) {
@@ -155,7 +155,7 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
     w.file("histogram.dat", dat);
     std::string tex =
         header("Histogram of latency") +
-        "\\begin{tikzpicture}\n\\begin{axis}[width=\\linewidth, height=6cm, xlabel={latency (ms)},\n"
+        "\\begin{tikzpicture}\n\\begin{axis}[width=0.95\\linewidth, height=6cm, xlabel={latency (ms)},\n"
         "  ylabel={pairs per bin}, ymin=0, ybar interval, legend cell align=left]\n";
     for (std::size_t i = 0; i < report.scenarios.size(); ++i)
       tex += fmt::format(
@@ -179,7 +179,7 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
       w.file(fmt::format("timeseries-{}.dat", name), dat);
       w.file(fmt::format("timeseries-{}.tex", name),
              header(fmt::format("Latency over time, {}", s.result.input.scenario)) +
-                 fmt::format("\\begin{{tikzpicture}}\n\\begin{{axis}}[width=\\linewidth, height=5cm, "
+                 fmt::format("\\begin{{tikzpicture}}\n\\begin{{axis}}[width=0.95\\linewidth, height=5cm, "
                              "xlabel={{time (s)}}, ylabel={{latency (ms)}}, title={{{}}}]\n"
                              "\\addplot[{}, only marks, mark=*, mark size=0.8pt, error bars/.cd, y dir=both, "
                              "y explicit]\n"
@@ -193,7 +193,7 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
       std::string tex =
           header(fmt::format("Clock offset and error bound, {}", s.result.input.scenario)) +
           fmt::format(
-              "\\begin{{tikzpicture}}\n\\begin{{axis}}[width=\\linewidth, height=5cm, "
+              "\\begin{{tikzpicture}}\n\\begin{{axis}}[width=0.95\\linewidth, height=5cm, "
               "xlabel={{time (s)}}, ylabel={{offset (ms)}}, title={{{}}}, legend cell align=left]\n",
               tex_escape(s.result.input.scenario));
       for (std::size_t k = 0; k < clocks.size(); ++k) {

@@ -53,7 +53,7 @@ TEST(Pulse, TogglesOnMultiplesOfThePeriodAndLeavesTheLineLow) {
   EXPECT_EQ(event.channel, "pulse");
   EXPECT_EQ(event.edge, core::Edge::falling);
   EXPECT_EQ(event.time, edges[1].commanded);
-  EXPECT_EQ(event.flags, kFlagCommanded | core::kFlagNoKernelSeqno);
+  EXPECT_EQ(event.flags, core::kFlagCommanded | core::kFlagNoKernelSeqno);
 }
 
 TEST(Pulse, AStopBeforeTheFirstDeadlineMakesNoEdge) {
