@@ -83,15 +83,20 @@ template <typename Reference>
 std::vector<std::uint32_t> align(const std::vector<std::int64_t>& causes,
                                  const std::vector<std::int64_t>& effects, const Windows& w,
                                  std::int64_t tolerance_ns, bool most_pairs_first, Reference reference) {
-  struct Best {
-    std::int64_t pairs = 0;           // counted only when most_pairs_first
+  struct Best {                      // 16 bytes: one per effect
     std::int64_t fit = 0;             // sum of (tolerance - deviation), ns
+    std::uint32_t pairs = 0;          // counted only when most_pairs_first (fewer than 2^32 causes)
     std::uint32_t candidate = kNone;  // the chain's last candidate, or kNone for the empty chain
     bool operator>(const Best& o) const { return pairs != o.pairs ? pairs > o.pairs : fit > o.fit; }
   };
-  const std::int64_t pair_count = most_pairs_first ? 1 : 0;
-  // Candidates, in cause order: the effect index and the predecessor candidate (8 bytes each).
+  const std::uint32_t pair_count = most_pairs_first ? 1 : 0;
+  // Candidates, in cause order: the effect index and the predecessor candidate (8 bytes each),
+  // reserved for every window's size so that the vectors never grow past what is needed.
   std::vector<std::uint32_t> cand_effect, cand_pred;
+  std::size_t window_total = 0;
+  for (std::size_t i = 0; i < causes.size(); ++i) window_total += w.hi[i] - w.lo[i];
+  cand_effect.reserve(window_total);
+  cand_pred.reserve(window_total);
   std::vector<std::uint32_t> row_start(causes.size() + 1, 0);
   std::vector<Best> best(effects.size());
   Best frozen;  // best over effects [0, folded)
@@ -114,7 +119,7 @@ std::vector<std::uint32_t> align(const std::vector<std::int64_t>& causes,
         const auto id = static_cast<std::uint32_t>(cand_effect.size());
         cand_effect.push_back(j);
         cand_pred.push_back(running.candidate);
-        row.emplace_back(j, Best{running.pairs + pair_count, running.fit + (tolerance_ns - deviation), id});
+        row.emplace_back(j, Best{running.fit + (tolerance_ns - deviation), running.pairs + pair_count, id});
       }
       if (best[j] > running) running = best[j];
     }
