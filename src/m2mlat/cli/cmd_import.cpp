@@ -61,7 +61,6 @@ std::vector<PendingSession> sessions_of(const ImportCommand& c, const std::strin
       p.session.scenario = c.scenario.empty() ? std::filesystem::path(path).stem().string() : c.scenario;
       p.session.config_json =
           nlohmann::json{{"source", "import"}, {"file", path}, {"format", formats::to_string(format)}}.dump();
-      p.session.start = e.time;
       out.push_back(std::move(p));
     }
     out[it->second].events.push_back(std::move(e));

@@ -9,6 +9,7 @@
 
 #include "m2mlat/report/comparison_text.hpp"
 #include "m2mlat/report/plot_data.hpp"
+#include "m2mlat/report/scenario_text.hpp"
 #include "m2mlat/report/svg_plot.hpp"
 #include "m2mlat/report/table.hpp"
 
@@ -280,17 +281,8 @@ std::string report_html(const Report& report) {
   std::vector<std::vector<std::string>> rows;
   for (const auto& s : report.scenarios) {
     const auto& m = s.result.summary;
-    std::vector<std::string> r{s.result.input.scenario,
-                               s.group.empty() ? "-" : s.group,
-                               std::to_string(m.n),
-                               ms_text(m.median_ms),
-                               ms_text(m.iqr_ms),
-                               ms_text(m.mean_ms),
-                               ms_text(m.sd_ms),
-                               m.min ? ms_text(m.min->ms()) : "-",
-                               m.max ? ms_text(m.max->ms()) : "-",
-                               ms_text(m.p95_ms)};
-    for (const auto& t : m.thresholds) r.push_back(percent_text(t.fraction_above));
+    std::vector<std::string> r{s.result.input.scenario, s.group.empty() ? "-" : s.group};
+    for (auto& cell : summary_cells(m)) r.push_back(std::move(cell));
     r.push_back(m.bootstrap ? fmt::format("{:.1f} to {:.1f}", m.bootstrap->median_ms.lower,
                                           m.bootstrap->median_ms.upper)
                             : "-");

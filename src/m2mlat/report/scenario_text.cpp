@@ -26,15 +26,8 @@ std::string threshold_name(core::Duration d) {
 }
 }  // namespace
 
-std::string scenario_table(std::span<const analysis::ScenarioResult> results) {
-  std::vector<std::string> header{"scenario", "pairs", "median", "IQR", "mean", "sd", "min", "max", "P95"};
-  if (!results.empty())
-    for (const auto& t : results.front().summary.thresholds) header.push_back(threshold_name(t.threshold));
-  Table table(header);
-  for (const auto& r : results) {
-    const auto& s = r.summary;
-    std::vector<std::string> row{r.input.scenario,
-                                 std::to_string(s.n),
+std::vector<std::string> summary_cells(const stats::Summary& s) {
+  std::vector<std::string> cells{std::to_string(s.n),
                                  ms_text(s.median_ms),
                                  ms_text(s.iqr_ms),
                                  ms_text(s.mean_ms),
@@ -42,7 +35,18 @@ std::string scenario_table(std::span<const analysis::ScenarioResult> results) {
                                  s.min ? ms_text(s.min->ms()) : "-",
                                  s.max ? ms_text(s.max->ms()) : "-",
                                  ms_text(s.p95_ms)};
-    for (const auto& t : s.thresholds) row.push_back(percent_text(t.fraction_above));
+  for (const auto& t : s.thresholds) cells.push_back(percent_text(t.fraction_above));
+  return cells;
+}
+
+std::string scenario_table(std::span<const analysis::ScenarioResult> results) {
+  std::vector<std::string> header{"scenario", "pairs", "median", "IQR", "mean", "sd", "min", "max", "P95"};
+  if (!results.empty())
+    for (const auto& t : results.front().summary.thresholds) header.push_back(threshold_name(t.threshold));
+  Table table(header);
+  for (const auto& r : results) {
+    std::vector<std::string> row{r.input.scenario};
+    for (auto& cell : summary_cells(r.summary)) row.push_back(std::move(cell));
     row.resize(header.size(), "-");
     table.add_row(std::move(row));
   }

@@ -3,11 +3,15 @@
 
 #include <span>
 #include <string>
+#include <vector>
 
 #include "m2mlat/analysis/scenario_result.hpp"
 
 namespace m2mlat::report {
 
+// The cells of one scenario's summary row (ms, 1 decimal): n, median, IQR, mean, sd, min, max, P95,
+// then the share above each threshold. Shared by the terminal table and the HTML report.
+std::vector<std::string> summary_cells(const stats::Summary& summary);
 // One row per scenario: pairs, unmatched, median, IQR, mean, sd, min, max, P95, shares above.
 std::string scenario_table(std::span<const analysis::ScenarioResult> results);
 // Every statistic of one scenario, with the identity of the min/max samples and the CIs.
