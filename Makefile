@@ -11,7 +11,7 @@ CMAKE_FLAGS ?=
 
 # Debian 12 / Ubuntu 24.04 packages the build and the tests need.
 PACKAGES := build-essential cmake ninja-build clang-14 pkg-config \
-  libsqlite3-dev sqlite3 libcli11-dev nlohmann-json3-dev libfmt-dev libtomlplusplus-dev \
+  libsqlite3-dev sqlite3 libcpp-httplib-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtomlplusplus-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libboost-math-dev \
   python3 python3-numpy python3-pandas python3-scipy chromium
 # Packages of the real-kernel suite (make check-vm): QEMU, the guest's busybox, the tools to unpack

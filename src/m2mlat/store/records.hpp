@@ -116,4 +116,38 @@ struct Timestamps {
   std::vector<std::int64_t> t_ns;  // its timestamp, ns on `clock`
 };
 
+// A clock sample or a loss with its row id in the store that holds it (increasing, never reused):
+// what the agent serves and a campaign store resumes from.
+struct StoredClockSample {
+  std::int64_t id = 0;
+  ClockSample sample;
+  friend bool operator==(const StoredClockSample&, const StoredClockSample&) = default;
+};
+struct StoredLoss {
+  std::int64_t id = 0;
+  Loss loss;
+  friend bool operator==(const StoredLoss&, const StoredLoss&) = default;
+};
+
+// How far a campaign store has taken in one origin store (an agent's or a board's file): the
+// largest origin event seq, clock-sample id and loss id it holds. 0 = nothing yet.
+struct IngestCursor {
+  std::int64_t events = 0;
+  std::int64_t clock_samples = 0;
+  std::int64_t losses = 0;
+  friend bool operator==(const IngestCursor&, const IngestCursor&) = default;
+};
+
+// What an origin store had, as read from it (agent API or file). Ids, seqs and session ids are the
+// origin's. Items at or below the campaign store's cursor for this origin are skipped, so giving
+// the same batch twice changes nothing.
+struct IngestBatch {
+  std::string origin;                 // the origin's store_id(); must not be empty
+  std::vector<Session> sessions;      // every origin session the items below name (ended or not),
+                                      // and any whose end became known; ids are the origin's
+  std::vector<StoredEvent> events;    // in origin seq order
+  std::vector<StoredClockSample> clock_samples;  // in origin id order
+  std::vector<StoredLoss> losses;                // in origin id order
+};
+
 }  // namespace m2mlat::store

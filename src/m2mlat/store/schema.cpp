@@ -82,8 +82,32 @@ CREATE TABLE losses (
 CREATE INDEX losses_by_session ON losses (session_id, clock, t_ns);
 )sql";
 
+// Version 2: campaign stores. Every store gets a random identity (meta 'store_id', 32 hex digits);
+// a store that takes events from others (the coordinator's, merge's) keeps, per origin store, how far
+// it has taken each kind (origin seq / ids, 0 = nothing) and which local session mirrors each origin
+// session. The cursor row is updated in the transaction that stores the items, so each origin item is
+// stored exactly once.
+constexpr std::string_view kVersion2 = R"sql(
+INSERT INTO meta (key, value) VALUES ('store_id', lower(hex(randomblob(16))));
+
+CREATE TABLE origins (
+  origin          TEXT PRIMARY KEY CHECK (origin <> ''),
+  event_seq       INTEGER NOT NULL,
+  clock_sample_id INTEGER NOT NULL,
+  loss_id         INTEGER NOT NULL
+);
+
+CREATE TABLE origin_sessions (
+  origin            TEXT NOT NULL REFERENCES origins (origin),
+  origin_session_id INTEGER NOT NULL,
+  session_id        INTEGER NOT NULL UNIQUE REFERENCES sessions (id),
+  PRIMARY KEY (origin, origin_session_id)
+);
+)sql";
+
 constexpr std::array kMigrations{
     Migration{"sessions, events, clock samples, losses, meta", kVersion1},
+    Migration{"store identity, origins of a campaign store", kVersion2},
 };
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include "m2mlat/store/rows.hpp"
 #include "m2mlat/store/schema.hpp"
 #include "m2mlat/store/sqlite.hpp"
+#include "m2mlat/store/store_impl.hpp"
 #include "m2mlat/store/validate.hpp"
 
 namespace m2mlat::store {
@@ -89,69 +90,7 @@ std::int64_t limit_column(std::size_t limit) {
   return static_cast<std::int64_t>(std::min(limit, kMax));
 }
 
-// Resets a reused statement when the scope ends, also by an exception, so that it does not keep a
-// read transaction open (which would stop checkpoints from shrinking the WAL).
-class ResetOnExit {
- public:
-  explicit ResetOnExit(sqlite::Statement& statement) : statement_(statement) {}
-  ResetOnExit(const ResetOnExit&) = delete;
-  ResetOnExit& operator=(const ResetOnExit&) = delete;
-  ~ResetOnExit() { statement_.reset(); }
-
- private:
-  sqlite::Statement& statement_;
-};
-
 }  // namespace
-
-struct Store::Impl {
-  Impl(sqlite::Database database, Options opts, int schema_version)
-      : db(std::move(database)),
-        options(opts),
-        version(schema_version),
-        insert_event(db, rows::kInsertEvent),
-        insert_loss(db, rows::kInsertLoss),
-        insert_clock_sample(db, rows::kInsertClockSample),
-        session_state(db, "SELECT node, end_ns IS NOT NULL FROM sessions WHERE id = ?1"),
-        events_after(db, fmt::format("SELECT {} FROM events e JOIN sessions s ON s.id = e.session_id "
-                                     "WHERE e.seq > ?1 ORDER BY e.seq LIMIT ?2",
-                                     rows::kEventColumns)) {}
-
-  // What a write needs to know about a session, read under the write lock.
-  struct SessionState {
-    std::string node;
-    bool ended = false;
-  };
-  std::optional<SessionState> lookup(std::int64_t id) {
-    ResetOnExit done(session_state);
-    session_state.bind(1, id);
-    if (!session_state.step()) return std::nullopt;
-    return SessionState{std::string(session_state.column_text(0)), session_state.column_int64(1) != 0};
-  }
-  // The session must exist and be open; returns its node.
-  std::string require_open_session(std::int64_t id, std::string_view what) {
-    const auto state = lookup(id);
-    if (!state)
-      core::throw_data_error({db.path(), 0}, fmt::format("{}: session {} does not exist", what, id));
-    if (state->ended)
-      core::throw_data_error({db.path(), 0}, fmt::format("{}: session {} has ended", what, id));
-    return state->node;
-  }
-
-  void require_writable() const {
-    if (options.read_only)
-      throw core::Error(core::ErrorKind::usage, fmt::format("{}: the store is open read-only", db.path()));
-  }
-
-  sqlite::Database db;
-  Options options;
-  int version;
-  sqlite::Statement insert_event;
-  sqlite::Statement insert_loss;
-  sqlite::Statement insert_clock_sample;
-  sqlite::Statement session_state;
-  sqlite::Statement events_after;
-};
 
 Store::Store(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Store::Store(Store&&) noexcept = default;
@@ -201,6 +140,9 @@ int Store::schema_version() const { return impl_->version; }
 
 std::string Store::created_by() const {
   return impl_->db.query_text("SELECT value FROM meta WHERE key = 'created_by'");
+}
+std::string Store::store_id() const {
+  return impl_->db.query_text("SELECT value FROM meta WHERE key = 'store_id'");
 }
 std::string Store::journal_mode() const { return impl_->db.query_text("PRAGMA journal_mode"); }
 int Store::synchronous() const { return static_cast<int>(impl_->db.query_int("PRAGMA synchronous")); }
@@ -395,6 +337,28 @@ std::vector<Loss> Store::losses(std::optional<std::int64_t> session_id) const {
   if (session_id) query.bind(1, *session_id);
   std::vector<Loss> out;
   while (query.step()) out.push_back(rows::read_loss(query, path()));
+  return out;
+}
+
+std::vector<StoredClockSample> Store::clock_samples_after(std::int64_t after_id, std::size_t limit) const {
+  // The row id is selected last, after the columns read_clock_sample expects from position 0.
+  sqlite::Statement query(impl_->db, fmt::format("SELECT {}, id FROM clock_samples WHERE id > ?1 "
+                                                 "ORDER BY id LIMIT ?2",
+                                                 rows::kClockSampleColumns));
+  query.bind(1, after_id);
+  query.bind(2, limit_column(limit));
+  std::vector<StoredClockSample> out;
+  while (query.step()) out.push_back({query.column_int64(9), rows::read_clock_sample(query, path())});
+  return out;
+}
+
+std::vector<StoredLoss> Store::losses_after(std::int64_t after_id, std::size_t limit) const {
+  sqlite::Statement query(impl_->db, fmt::format("SELECT {}, id FROM losses WHERE id > ?1 ORDER BY id LIMIT ?2",
+                                                 rows::kLossColumns));
+  query.bind(1, after_id);
+  query.bind(2, limit_column(limit));
+  std::vector<StoredLoss> out;
+  while (query.step()) out.push_back({query.column_int64(7), rows::read_loss(query, path())});
   return out;
 }
 

@@ -41,6 +41,9 @@ class Store {
   std::string created_by() const;    // "m2mlat <version>" that created the file
   std::string journal_mode() const;  // "wal" for a store opened by m2mlat
   int synchronous() const;           // SQLite's PRAGMA synchronous: 0 off, 1 normal, 2 full
+  // A random 128-bit identity (32 hex digits) made when the file was created: a campaign store
+  // tells origin stores apart by it.
+  std::string store_id() const;
 
   // Sessions. begin_session ignores session.id and fills an empty software_version with this
   // build's; it returns the new id. end_session refuses an unknown or already ended session.
@@ -74,6 +77,20 @@ class Store {
                                          core::TimePoint to) const;
   // Losses of one session (or all), in the order recorded.
   std::vector<Loss> losses(std::optional<std::int64_t> session_id = {}) const;
+  // Up to `limit` clock samples / losses with id > after_id, in id order (resume-by-id reads).
+  std::vector<StoredClockSample> clock_samples_after(std::int64_t after_id, std::size_t limit) const;
+  std::vector<StoredLoss> losses_after(std::int64_t after_id, std::size_t limit) const;
+
+  // Campaign stores. ingest() appends, all or nothing, what `batch` holds beyond this store's cursor
+  // for batch.origin: origin sessions are mapped to local ones (made on first sight, their end set
+  // when it becomes known), events/samples/losses get local seqs/ids, and the cursor advances in the
+  // same transaction, so every origin item is stored exactly once however often it is given.
+  // Returns the new cursor. Refuses (changing nothing) items naming a session the batch does not
+  // carry and never carried before, and an origin equal to this store's own id.
+  IngestCursor ingest(const IngestBatch& batch);
+  IngestCursor ingest_cursor(const std::string& origin) const;
+  // The origins this store has taken from, sorted.
+  std::vector<std::string> origins() const;
 
   // The distinct channel names of a session's events, sorted.
   std::vector<std::string> channels(std::int64_t session_id) const;

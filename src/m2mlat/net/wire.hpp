@@ -1,0 +1,67 @@
+// The agent API's wire format, version 1 (docs/api.md): JSON objects for sessions, events, clock
+// samples, losses and the agent's status, kept apart from the in-memory types so either can change
+// without the other. The server encodes with these; the coordinator's client decodes with them.
+// Decoding refuses a missing, mistyped or out-of-range field with core::Error(data) naming `where`
+// (e.g. "http://10.0.0.2:8470/v1/events line 12") and the field.
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "m2mlat/store/records.hpp"
+
+namespace m2mlat::net {
+
+inline constexpr std::string_view kApiName = "m2mlat-agent/1";
+inline constexpr std::string_view kApiHeader = "X-M2mlat-Api";  // value "1" on every response
+inline constexpr std::string_view kLastSeqHeader = "X-M2mlat-Last-Seq";
+
+struct ChannelStatus {
+  std::string name;
+  std::uint64_t events = 0;
+  std::uint64_t suppressed = 0;
+  std::uint64_t lost = 0;
+  std::optional<std::int64_t> last_ns;  // the last stored event's time, ns on the session's clock
+  friend bool operator==(const ChannelStatus&, const ChannelStatus&) = default;
+};
+
+struct Status {
+  std::string api{kApiName};
+  std::string software_version;
+  std::string node;
+  core::Role role = core::Role::observer;
+  std::string store_id;
+  std::optional<store::Session> session;  // the open session, if any
+  std::vector<ChannelStatus> channels;
+  std::uint64_t events = 0;   // stored since the agent started
+  std::uint64_t lost = 0;     // reported lost since the agent started
+  std::uint64_t dropped = 0;  // seen while no session was open (not stored)
+  std::int64_t last_seq = 0;  // the store's last committed seq
+  std::optional<store::ClockSample> clock;  // the latest clock sample
+  std::int64_t started_ns = 0;  // CLOCK_REALTIME when the agent started
+  std::int64_t now_ns = 0;      // CLOCK_REALTIME when the status was made
+  friend bool operator==(const Status&, const Status&) = default;
+};
+
+nlohmann::json to_json(const store::Session& session);
+nlohmann::json to_json(const store::StoredEvent& event);  // node and role are the session's: not sent
+nlohmann::json to_json(const store::StoredClockSample& sample);
+nlohmann::json to_json(const store::StoredLoss& loss);
+nlohmann::json to_json(const Status& status);
+
+store::Session session_from_json(const nlohmann::json& json, std::string_view where);
+// The event's node and role come from its session (looked up by the caller): pass them in.
+store::StoredEvent event_from_json(const nlohmann::json& json, std::string_view where, const std::string& node,
+                                   core::Role role);
+store::StoredClockSample clock_sample_from_json(const nlohmann::json& json, std::string_view where);
+store::StoredLoss loss_from_json(const nlohmann::json& json, std::string_view where);
+Status status_from_json(const nlohmann::json& json, std::string_view where);
+
+// {"error":{"status":N,"message":"..."}}
+std::string error_body(int status, std::string_view message);
+
+}  // namespace m2mlat::net

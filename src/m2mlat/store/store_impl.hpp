@@ -1,0 +1,82 @@
+// The store's private state, shared by the files that implement Store (store.cpp, ingest.cpp): the
+// connection, its options and the statements prepared once per connection. Not part of the API.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/store/rows.hpp"
+#include "m2mlat/store/sqlite.hpp"
+#include "m2mlat/store/store.hpp"
+
+namespace m2mlat::store {
+
+// Resets a reused statement when the scope ends, also by an exception, so that it does not keep a
+// read transaction open (which would stop checkpoints from shrinking the WAL).
+class ResetOnExit {
+ public:
+  explicit ResetOnExit(sqlite::Statement& statement) : statement_(statement) {}
+  ResetOnExit(const ResetOnExit&) = delete;
+  ResetOnExit& operator=(const ResetOnExit&) = delete;
+  ~ResetOnExit() { statement_.reset(); }
+
+ private:
+  sqlite::Statement& statement_;
+};
+
+struct Store::Impl {
+  Impl(sqlite::Database database, Options opts, int schema_version)
+      : db(std::move(database)),
+        options(opts),
+        version(schema_version),
+        insert_event(db, rows::kInsertEvent),
+        insert_loss(db, rows::kInsertLoss),
+        insert_clock_sample(db, rows::kInsertClockSample),
+        session_state(db, "SELECT node, end_ns IS NOT NULL FROM sessions WHERE id = ?1"),
+        events_after(db, fmt::format("SELECT {} FROM events e JOIN sessions s ON s.id = e.session_id "
+                                     "WHERE e.seq > ?1 ORDER BY e.seq LIMIT ?2",
+                                     rows::kEventColumns)) {}
+
+  // What a write needs to know about a session, read under the write lock.
+  struct SessionState {
+    std::string node;
+    bool ended = false;
+  };
+  std::optional<SessionState> lookup(std::int64_t id) {
+    ResetOnExit done(session_state);
+    session_state.bind(1, id);
+    if (!session_state.step()) return std::nullopt;
+    return SessionState{std::string(session_state.column_text(0)), session_state.column_int64(1) != 0};
+  }
+  // The session must exist and be open; returns its node.
+  std::string require_open_session(std::int64_t id, std::string_view what) {
+    const auto state = lookup(id);
+    if (!state)
+      core::throw_data_error({db.path(), 0}, fmt::format("{}: session {} does not exist", what, id));
+    if (state->ended)
+      core::throw_data_error({db.path(), 0}, fmt::format("{}: session {} has ended", what, id));
+    return state->node;
+  }
+
+  void require_writable() const {
+    if (options.read_only)
+      throw core::Error(core::ErrorKind::usage, fmt::format("{}: the store is open read-only", db.path()));
+  }
+
+  sqlite::Database db;
+  Options options;
+  int version;
+  sqlite::Statement insert_event;
+  sqlite::Statement insert_loss;
+  sqlite::Statement insert_clock_sample;
+  sqlite::Statement session_state;
+  sqlite::Statement events_after;
+};
+
+}  // namespace m2mlat::store
