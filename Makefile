@@ -4,9 +4,9 @@
 #               the real-kernel suite (make check-vm) included
 BUILD ?= build
 BUILD_CLANG ?= build-clang
-# The real-kernel suite's static build; its downloads and kernel module are cached outside the clone,
+# The real-kernel suite's build of m2mlat; its downloads and kernel module are cached outside the clone,
 # in $(M2MLAT_VM_CACHE) (default /var/cache/m2mlat-vm; see docs/testing.md).
-BUILD_VM ?= build-vm-static
+BUILD_VM ?= build-vm
 CMAKE_FLAGS ?=
 
 # Debian 12 / Ubuntu 24.04 packages the build and the tests need.
@@ -15,10 +15,8 @@ PACKAGES := build-essential cmake ninja-build clang-14 pkg-config \
   libgtest-dev libgmock-dev libbenchmark-dev libboost-math-dev \
   python3 python3-numpy python3-pandas python3-scipy chromium
 # Packages of the real-kernel suite (make check-vm): QEMU, the guest's busybox, the tools to unpack
-# Debian's kernel packages and pack the initramfs, ccache for the static build. The static m2mlat needs
-# only static archives of the packages above (libsqlite3.a in libsqlite3-dev, libstdc++.a with g++;
-# Debian has no libfmt.a, so fmt is then compiled in from its headers). tests/vm/run.sh installs
-# linux-headers of the guest's kernel itself.
+# Debian's kernel packages and pack the initramfs, ccache for the guest's build of m2mlat (whose shared
+# libraries the initramfs carries). tests/vm/run.sh installs linux-headers of the guest's kernel itself.
 VM_PACKAGES := qemu-system-x86 busybox-static cpio xz-utils kmod binutils ccache
 
 .PHONY: all deps deps-vm build build-clang demo check check-vm test bench clean
@@ -59,7 +57,7 @@ check: build build-clang
 	ctest --test-dir $(BUILD_CLANG) --output-on-failure -j2 -L unit
 	$(MAKE) --no-print-directory check-vm
 
-# The real-kernel suite (tests/vm/): Debian's 6.1 kernel under QEMU with gpio-sim, the static m2mlat.
+# The real-kernel suite (tests/vm/): Debian's 6.1 kernel under QEMU with gpio-sim, m2mlat in the guest.
 check-vm: deps-vm
 	M2MLAT_VM_BUILD=$(abspath $(BUILD_VM)) tests/vm/run.sh
 

@@ -3,17 +3,17 @@
 # guest/tests.sh against the real GPIO character device, and prints one line per test and
 # "N passed, N failed" last. Exit 0 only if no test failed and the guest ran to the end.
 #
-#   tests/vm/run.sh [--m2mlat STATIC_BINARY]
+#   tests/vm/run.sh [--m2mlat BINARY]
 #
 # Steps: host packages (apt-get, once) -> guest kernel, configfs.ko and gpio-sim.ko (kernel.sh, cached
-# in $M2MLAT_VM_CACHE) -> the static m2mlat (CMake, M2MLAT_STATIC=ON, in $M2MLAT_VM_BUILD) and the
-# static test driver (g++ -static) -> an initramfs (busybox, modules, binaries, guest/init,
-# guest/tests.sh) -> QEMU with the uncompressed vmlinux through its PVH entry -> the console's
+# in $M2MLAT_VM_CACHE) -> m2mlat (CMake, Release, in $M2MLAT_VM_BUILD) and the static test driver
+# (g++ -static) -> an initramfs (busybox, modules, the binaries with the shared libraries they load,
+# guest/init, guest/tests.sh) -> QEMU with the uncompressed vmlinux through its PVH entry -> the console's
 # "M2MLAT-VM ..." lines -> the report.
 #
 # Environment:
 #   M2MLAT_VM_CACHE    downloads and the built kernel module (default /var/cache/m2mlat-vm)
-#   M2MLAT_VM_BUILD    build folder of the static m2mlat and the driver (default <repo>/build-vm-static)
+#   M2MLAT_VM_BUILD    build folder of the guest's m2mlat and the driver (default <repo>/build-vm)
 #   M2MLAT_VM_ACCEL    tcg (default) or kvm; KVM only where it works (not on PVM-nested hosts)
 #   M2MLAT_VM_TIMEOUT  seconds before the guest is killed (default 600)
 #   M2MLAT_VM_SMP, M2MLAT_VM_MEM  guest CPUs (default 1, see below) and MiB (default 512)
@@ -31,7 +31,7 @@ while [ $# -gt 0 ]; do
     *) die "unknown argument '$1' (see --help)" ;;
   esac
 done
-BUILD=${M2MLAT_VM_BUILD:-$REPO/build-vm-static}
+BUILD=${M2MLAT_VM_BUILD:-$REPO/build-vm}
 ACCEL=${M2MLAT_VM_ACCEL:-tcg}
 TIMEOUT=${M2MLAT_VM_TIMEOUT:-600}
 SMP=${M2MLAT_VM_SMP:-1}
@@ -53,31 +53,29 @@ fi
 ensure_packages "${VM_HOST_PACKAGES[@]}"
 KERNEL_DIR=$(bash "$VM_DIR/kernel.sh")
 
-# The static m2mlat: its own build folder, so the ordinary (dynamic) builds are untouched. -O2 as
-# the other builds (GCC 12 gives false -Wrestrict warnings at -O3); no debug info, to keep the
-# initramfs small.
+# The guest's m2mlat: its own build folder, so the ordinary builds are untouched. -O2 as the other
+# builds (GCC 12 gives false -Wrestrict warnings at -O3); no debug info, to keep the initramfs small.
+# It is linked dynamically (cpp-httplib, for one, has no static archive in Debian): the initramfs
+# carries the shared libraries it loads, from this host, which is the guest kernel's Debian release.
 mkdir -p "$BUILD"
 if [ -z "$M2MLAT_BIN" ]; then
   # The compiler's output goes to a log, shown only when the build fails. Compilations go through
   # ccache, its cache beside the kernel's: CI builds a fresh clone each time, and this build (the whole
   # project once more) would otherwise cost minutes on every run. The base folder makes the hits
   # independent of where the clone is.
-  BUILD_LOG=$BUILD/static-build.log
+  BUILD_LOG=$BUILD/build.log
   export CCACHE_DIR=$CACHE/ccache CCACHE_BASEDIR=$REPO CCACHE_NOHASHDIR=true
   if [ ! -f "$BUILD/build.ninja" ]; then
-    log "configuring the static build in $BUILD"
+    log "configuring the guest's build in $BUILD"
     cmake -S "$REPO" -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O2 -DNDEBUG" \
-      -DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DM2MLAT_STATIC=ON -DM2MLAT_TESTS=OFF -DM2MLAT_BENCH=OFF \
+      -DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DM2MLAT_TESTS=OFF -DM2MLAT_BENCH=OFF \
       >"$BUILD_LOG" 2>&1 ||
-      { tail -n 40 "$BUILD_LOG" >&2; die "configuring the static build failed (log: $BUILD_LOG)"; }
+      { tail -n 40 "$BUILD_LOG" >&2; die "configuring the guest's build failed (log: $BUILD_LOG)"; }
   fi
-  log "building the static m2mlat (log: $BUILD_LOG)"
+  log "building the guest's m2mlat (log: $BUILD_LOG)"
   cmake --build "$BUILD" --target m2mlat_exe >"$BUILD_LOG" 2>&1 ||
-    { grep -v '^\[[0-9]*/[0-9]*\] ' "$BUILD_LOG" | tail -n 40 >&2; die "building the static m2mlat failed"; }
+    { grep -v '^\[[0-9]*/[0-9]*\] ' "$BUILD_LOG" | tail -n 40 >&2; die "building the guest's m2mlat failed"; }
   M2MLAT_BIN=$BUILD/m2mlat
-fi
-if readelf -l "$M2MLAT_BIN" | grep -q 'Requesting program interpreter'; then
-  die "$M2MLAT_BIN is dynamically linked; the guest has no C library (build with -DM2MLAT_STATIC=ON)"
 fi
 DRIVER_BIN=$BUILD/m2mlat-vm-driver
 if [ ! -x "$DRIVER_BIN" ] || [ "$VM_DIR/driver.cpp" -nt "$DRIVER_BIN" ]; then
@@ -94,7 +92,17 @@ mkdir -p "$ROOT"/{bin,dev,proc,sys,tmp,lib/modules}
 cp /bin/busybox "$ROOT/bin/busybox"
 file_is_static() { ! readelf -l "$1" | grep -q 'Requesting program interpreter'; }
 file_is_static "$ROOT/bin/busybox" || die "/bin/busybox is not static (install busybox-static)"
+# install_libraries BINARY [LIBRARY_PATH]: the shared libraries BINARY loads (and the dynamic loader),
+# each at its own path in the guest.
+install_libraries() {
+  LD_LIBRARY_PATH=${2:-} ldd "$1" |
+    awk '$2 == "=>" && $3 ~ /^\// { print $3 } $1 ~ /^\/.*ld-linux/ { print $1 }' |
+    while read -r lib; do
+      [ -e "$ROOT/${lib#"${3:-}"}" ] || install -D -m 0755 "$(readlink -f "$lib")" "$ROOT/${lib#"${3:-}"}"
+    done
+}
 strip -o "$ROOT/bin/m2mlat" "$M2MLAT_BIN"
+install_libraries "$M2MLAT_BIN"
 cp "$DRIVER_BIN" "$ROOT/bin/m2mlat-vm-driver"
 cp "$KERNEL_DIR/configfs.ko" "$KERNEL_DIR/gpio-sim.ko" "$ROOT/lib/modules/"
 install -m 0755 "$VM_DIR/guest/init" "$ROOT/init"
@@ -114,11 +122,7 @@ add_gpiomon() {
     dpkg-deb -x "$deb" "$x"
   done
   install -D -m 0755 "$x/usr/bin/gpiomon" "$ROOT/bin/gpiomon"
-  LD_LIBRARY_PATH=$x/usr/lib/x86_64-linux-gnu ldd "$x/usr/bin/gpiomon" |
-    awk '$2 == "=>" && $3 ~ /^\// { print $3 } $1 ~ /^\/.*ld-linux/ { print $1 }' |
-    while read -r lib; do
-      install -D -m 0755 "$(readlink -f "$lib")" "$ROOT/${lib#"$x"}"
-    done
+  install_libraries "$x/usr/bin/gpiomon" "$x/usr/lib/x86_64-linux-gnu" "$x"
 }
 add_gpiomon || log "gpiomon unavailable: the performance comparison will be skipped"
 cp "$VM_DIR/guest/tests.sh" "$ROOT/tests.sh"

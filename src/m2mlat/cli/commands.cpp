@@ -11,6 +11,7 @@ Runner attach_pair(CLI::App& sub);
 Runner attach_stats(CLI::App& sub);
 Runner attach_simulate(CLI::App& sub);
 Runner attach_import(CLI::App& sub);
+Runner attach_merge(CLI::App& sub);
 Runner attach_export(CLI::App& sub);
 Runner attach_record(CLI::App& sub);
 Runner attach_report(CLI::App& sub);
@@ -24,6 +25,7 @@ constexpr std::array kCommands{
     Command{"pair", "Pair cause and effect edges into latency samples", &attach_pair},
     Command{"stats", "Latency statistics per scenario, from stores or data files", &attach_stats},
     Command{"import", "Read the reference rig's files or m2mlat's own into a store", &attach_import},
+    Command{"merge", "Join per-board stores into a campaign store (offline; idempotent)", &attach_merge},
     Command{"export", "Write a store's events, or its pairs, as CSV or JSON Lines", &attach_export},
     Command{"record", "Record one node's edges (GPIO, kernel log or simulated) into a store", &attach_record},
     Command{"pulse", "Toggle an output line on a fixed schedule for the synchronisation test", &attach_pulse},

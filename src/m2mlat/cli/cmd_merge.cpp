@@ -1,0 +1,52 @@
+// `m2mlat merge`: join per-board store files into a campaign store (offline path; the live path is
+// `m2mlat collect`). Idempotent: a store merged again adds only what it gained since.
+#include <fmt/format.h>
+
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "m2mlat/campaign/merge.hpp"
+#include "m2mlat/cli/command.hpp"
+#include "m2mlat/cli/output.hpp"
+#include "m2mlat/store/store.hpp"
+
+namespace m2mlat::cli {
+
+namespace {
+
+struct MergeCommand {
+  std::string campaign;
+  std::vector<std::string> boards;
+  bool json = false;
+};
+
+int run_merge(const MergeCommand& c) {
+  auto campaign = store::Store::open(c.campaign);
+  nlohmann::json report = nlohmann::json::array();
+  for (const auto& board : c.boards) {
+    const auto r = campaign::merge_store(campaign, board);
+    report.push_back({{"store", r.path},
+                      {"origin", r.origin},
+                      {"nodes", r.nodes},
+                      {"events", r.events},
+                      {"clock_samples", r.clock_samples},
+                      {"losses", r.losses}});
+    if (!c.json)
+      fmt::print("{} ({}): {} new events, {} clock samples, {} losses\n", r.path, fmt::join(r.nodes, ", "),
+                 r.events, r.clock_samples, r.losses);
+  }
+  if (c.json) print_json({{"campaign", c.campaign}, {"merged", report}});
+  return 0;
+}
+
+}  // namespace
+
+Runner attach_merge(CLI::App& sub) {
+  auto c = std::make_shared<MergeCommand>();
+  sub.add_option("campaign", c->campaign, "Campaign store to merge into (created if missing)")->required();
+  sub.add_option("boards", c->boards, "Board stores (from `m2mlat record`, `agent` or `import`)")->required();
+  sub.add_flag("--json", c->json, "Print what was merged as JSON");
+  return [c] { return run_merge(*c); };
+}
+
+}  // namespace m2mlat::cli
