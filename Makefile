@@ -13,13 +13,14 @@ CMAKE_FLAGS ?=
 PACKAGES := build-essential cmake ninja-build clang-14 pkg-config \
   libsqlite3-dev sqlite3 libcpp-httplib-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtomlplusplus-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libboost-math-dev \
-  python3 python3-numpy python3-pandas python3-scipy chromium
+  python3 python3-numpy python3-pandas python3-scipy chromium chrony rt-tests linuxptp libclang-rt-14-dev
 # Packages of the real-kernel suite (make check-vm): QEMU, the guest's busybox, the tools to unpack
 # Debian's kernel packages and pack the initramfs, ccache for the guest's build of m2mlat (whose shared
 # libraries the initramfs carries). tests/vm/run.sh installs linux-headers of the guest's kernel itself.
 VM_PACKAGES := qemu-system-x86 busybox-static cpio xz-utils kmod binutils ccache
 
-.PHONY: all deps deps-vm build build-clang demo check check-vm test bench clean
+.PHONY: all deps deps-vm build build-clang demo check check-vm fuzz test bench clean
+.PHONY: deps-arm64 deps-package cross-arm64 check-arm64 package check-package
 
 all: build
 
@@ -56,13 +57,88 @@ check: build build-clang
 	ctest --test-dir $(BUILD) --output-on-failure -j2
 	ctest --test-dir $(BUILD_CLANG) --output-on-failure -j2 -L unit
 	$(MAKE) --no-print-directory check-vm
+	$(MAKE) --no-print-directory check-arm64 check-package
+	$(MAKE) --no-print-directory fuzz
 
 # The real-kernel suite (tests/vm/): Debian's 6.1 kernel under QEMU with gpio-sim, m2mlat in the guest.
 check-vm: deps-vm
 	M2MLAT_VM_BUILD=$(abspath $(BUILD_VM)) tests/vm/run.sh
 
+# The boards (docs/packaging.md): the arm64 cross-build with Debian's cross toolchain and multiarch
+# arm64 libraries, its tests under qemu-aarch64, and the .deb packages for amd64 and arm64.
+BUILD_ARM64 ?= build-arm64
+PKG_DIR ?= dist
+# Compilations of the cross-build go through ccache, kept outside the clone (CI builds a fresh clone).
+M2MLAT_CCACHE_DIR ?= /var/cache/m2mlat-ccache
+CCACHE_ENV = CCACHE_DIR=$(M2MLAT_CCACHE_DIR) CCACHE_BASEDIR=$(CURDIR) CCACHE_NOHASHDIR=true
+ARM64_PACKAGES := crossbuild-essential-arm64 g++-aarch64-linux-gnu qemu-user ccache file \
+  libsqlite3-dev:arm64 libfmt-dev:arm64 libcpp-httplib-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 \
+  libtomlplusplus-dev:arm64 libboost-dev:arm64 libboost-math-dev:arm64
+PACKAGE_PACKAGES := dpkg-dev help2man debootstrap file sqlite3
+
+deps-arm64: deps
+	@if ! dpkg --print-foreign-architectures | grep -qx arm64; then \
+	  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
+	  echo "adding the arm64 architecture to dpkg"; $$SUDO dpkg --add-architecture arm64; \
+	fi
+	$(call install_missing,$(ARM64_PACKAGES))
+
+deps-package: deps
+	$(call install_missing,$(PACKAGE_PACKAGES))
+
+cross-arm64: deps-arm64
+	cmake -S . -B $(BUILD_ARM64) -G Ninja -DCMAKE_TOOLCHAIN_FILE=$(CURDIR)/cmake/toolchain-aarch64.cmake \
+	  -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O2 -DNDEBUG" -DM2MLAT_WERROR=ON -DM2MLAT_BENCH=OFF \
+	  -DCMAKE_CXX_COMPILER_LAUNCHER=ccache
+	$(CCACHE_ENV) cmake --build $(BUILD_ARM64)
+
+# Unit tests under the emulator (ctest prefixes them with it), the uAPI layout on both architectures,
+# the integration subset, and stores crossing between amd64 and arm64.
+check-arm64: build cross-arm64
+	ctest --test-dir $(BUILD_ARM64) --output-on-failure -j2 -L unit
+	tests/packaging/abi_layout.sh
+	tests/packaging/arm64_integration.sh $(BUILD_ARM64)/m2mlat
+	tests/packaging/store_portability.sh $(BUILD)/m2mlat $(BUILD_ARM64)/m2mlat
+
+# $(PKG_DIR)/m2mlat_<version>-1_{amd64,arm64}.deb, and in $(PKG_DIR)/upgrade the amd64 one again with a
+# higher version for the upgrade test.
+package: build cross-arm64 deps-package
+	rm -rf $(PKG_DIR) && mkdir -p $(PKG_DIR)/upgrade
+	cpack --config $(BUILD)/CPackConfig.cmake -B $(PKG_DIR) >$(PKG_DIR)/cpack-amd64.log
+	cpack --config $(BUILD_ARM64)/CPackConfig.cmake -B $(PKG_DIR) >$(PKG_DIR)/cpack-arm64.log
+	version=$$(sed -n 's/^set(CPACK_PACKAGE_VERSION "\(.*\)")/\1/p' $(BUILD)/CPackConfig.cmake); \
+	  cpack --config $(BUILD)/CPackConfig.cmake -B $(PKG_DIR)/upgrade -D CPACK_PACKAGE_VERSION=$$version+upgradetest \
+	  >$(PKG_DIR)/cpack-upgrade.log
+	rm -rf $(PKG_DIR)/_CPack_Packages $(PKG_DIR)/upgrade/_CPack_Packages
+	@ls -l $(PKG_DIR)/*.deb $(PKG_DIR)/upgrade/*.deb
+
+check-package: package
+	tests/packaging/irq_affinity.sh
+	tests/packaging/deb_contents.sh $(PKG_DIR)/m2mlat_*_amd64.deb $(PKG_DIR)/m2mlat_*_arm64.deb
+	@if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
+	  $$SUDO tests/packaging/deb_install.sh $(PKG_DIR)/m2mlat_*_amd64.deb $(PKG_DIR)/upgrade/m2mlat_*_amd64.deb
+
+# The request parsers' fuzz targets (fuzz/): clang's libFuzzer with AddressSanitizer, the whole library
+# instrumented, each run for FUZZ_TIME seconds from its seed corpus (new inputs go to $(BUILD_FUZZ)).
+BUILD_FUZZ ?= build-fuzz
+FUZZ_TIME ?= 20
+FUZZ_TARGETS := query_params session_body authorization wire_decode
+fuzz: deps
+	$(call install_missing,libclang-rt-14-dev)
+	cmake -S . -B $(BUILD_FUZZ) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
+	  -DM2MLAT_FUZZ=ON -DM2MLAT_TESTS=OFF -DM2MLAT_BENCH=OFF -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address" \
+	  $(CMAKE_FLAGS)
+	cmake --build $(BUILD_FUZZ) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
+	@for t in $(FUZZ_TARGETS); do \
+	  mkdir -p $(BUILD_FUZZ)/corpus/$$t && \
+	  echo "fuzz_$$t: $(FUZZ_TIME) s" && \
+	  ./$(BUILD_FUZZ)/fuzz/fuzz_$$t -max_total_time=$(FUZZ_TIME) -print_final_stats=1 \
+	    $(BUILD_FUZZ)/corpus/$$t fuzz/corpus/$$t 2> $(BUILD_FUZZ)/fuzz_$$t.log || { tail -40 $(BUILD_FUZZ)/fuzz_$$t.log; exit 1; }; \
+	  grep -E '^stat::number_of_executed_units' $(BUILD_FUZZ)/fuzz_$$t.log; \
+	done
+
 bench: build
 	bench/run.sh $(BUILD)
 
 clean:
-	rm -rf $(BUILD) $(BUILD_CLANG) $(BUILD_VM)
+	rm -rf $(BUILD) $(BUILD_CLANG) $(BUILD_VM) $(BUILD_FUZZ) $(BUILD_ARM64) $(PKG_DIR)

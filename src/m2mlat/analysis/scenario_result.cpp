@@ -5,11 +5,16 @@
 
 namespace m2mlat::analysis {
 
+bool ScenarioResult::in_statistics(std::size_t i) const {
+  if (!include_ambiguous && match.pairs[i].ambiguous()) return false;
+  return !(refuse_gated && i < uncertainty.size() && uncertainty[i].gated());
+}
+
 std::vector<std::int64_t> ScenarioResult::latencies_ns() const {
   std::vector<std::int64_t> out;
   out.reserve(match.pairs.size());
-  for (const auto& p : match.pairs)
-    if (include_ambiguous || !p.ambiguous()) out.push_back(p.latency().count());
+  for (std::size_t i = 0; i < match.pairs.size(); ++i)
+    if (in_statistics(i)) out.push_back(match.pairs[i].latency().count());
   return out;
 }
 
@@ -24,13 +29,17 @@ ScenarioResult analyse(ScenarioInput input, const pairing::MatchOptions& match_o
   result.match = pairing::match(input.cause.t_ns, input.effect.t_ns, input.clock, match_options);
   result.input = std::move(input);
   result.include_ambiguous = include_ambiguous;
+  summarize(result, summary_options);
+  return result;
+}
+
+void summarize(ScenarioResult& result, const stats::SummaryOptions& summary_options) {
   const auto latencies = result.latencies_ns();
   std::vector<std::int64_t> ids;
   ids.reserve(latencies.size());
-  for (const auto& p : result.match.pairs)
-    if (include_ambiguous || !p.ambiguous()) ids.push_back(result.cause_seq(p));
+  for (std::size_t i = 0; i < result.match.pairs.size(); ++i)
+    if (result.in_statistics(i)) ids.push_back(result.cause_seq(result.match.pairs[i]));
   result.summary = stats::summarize(latencies, ids, summary_options);
-  return result;
 }
 
 }  // namespace m2mlat::analysis

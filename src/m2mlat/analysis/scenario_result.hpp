@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "m2mlat/analysis/selection.hpp"
+#include "m2mlat/analysis/uncertainty.hpp"
 #include "m2mlat/pairing/matcher.hpp"
 #include "m2mlat/stats/summary.hpp"
 
@@ -19,6 +20,12 @@ struct ScenarioResult {
   stats::Summary summary;
   bool include_ambiguous = false;
   std::size_t ambiguous_pairs() const;
+  // One per match.pairs entry when the boards' clock samples are known (analysis/uncertainty.hpp),
+  // else empty. With refuse_gated, pairs flagged by the sync gate leave the summary.
+  std::vector<SampleUncertainty> uncertainty;
+  bool refuse_gated = false;
+  // Whether match.pairs[i] is one of the pairs the summary is over.
+  bool in_statistics(std::size_t i) const;
 
   std::vector<std::int64_t> latencies_ns() const;  // of the pairs the summary is over
   std::int64_t cause_seq(const pairing::Pair& p) const {
@@ -28,6 +35,9 @@ struct ScenarioResult {
     return input.effect.seq[static_cast<std::size_t>(p.effect_index)];
   }
 };
+
+// (Re)computes result.summary over the pairs in_statistics.
+void summarize(ScenarioResult& result, const stats::SummaryOptions& summary_options);
 
 // Pairs the input and summarises the latencies of the pairs that are not ambiguous (or of all pairs).
 ScenarioResult analyse(ScenarioInput input, const pairing::MatchOptions& match_options,

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <optional>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/store/event_writer.hpp"
@@ -43,16 +44,27 @@ Recorder::Channel& Recorder::channel(const std::string& name) {
   return channels_.back();
 }
 
+std::int64_t Recorder::begin(const store::Session& session) {
+  auto copy = session;
+  copy.start = realtime_now();
+  copy.end.reset();
+  return store_.begin_session(copy);
+}
+
 RecordCounters Recorder::run(int stop_fd, const std::function<std::string()>& stop_name) {
-  auto session = options_.session;
-  session.start = realtime_now();
-  session.end.reset();
   RecordCounters counters;
-  counters.session_id = store_.begin_session(session);
   store::WriterOptions writer_options;
   writer_options.max_batch = std::max<std::size_t>(options_.batch, 1);
   writer_options.max_age = options_.commit_interval;
-  store::EventWriter writer(store_, counters.session_id, writer_options);
+  // The writer of the open session; empty while none is open (agent only).
+  std::optional<store::EventWriter> writer;
+  SessionControl* const control = options_.control;
+  if (options_.start_session || control == nullptr) {
+    counters.session_id = begin(options_.session);
+    writer.emplace(store_, counters.session_id, writer_options);
+  }
+  std::int64_t last_committed = store_.last_seq();
+  std::int64_t ended_session = counters.session_id;  // reported once run() returns
 
   const auto started = monotonic_now();
   auto last_progress = started;
@@ -63,16 +75,58 @@ RecordCounters Recorder::run(int stop_fd, const std::function<std::string()>& st
       copy.suppressed = c.gate.suppressed();
       counters.channels.push_back(copy);
     }
-    counters.last_committed_seq = writer.last_committed_seq();
+    if (writer) last_committed = std::max(last_committed, writer->last_committed_seq());
+    counters.last_committed_seq = last_committed;
+  };
+  const auto report_progress = [&] {
+    last_progress = monotonic_now();
+    snapshot();
+    if (options_.on_progress) options_.on_progress(counters);
+  };
+  // Commits the open session's batch and ends it; returns it as stored.
+  const auto end_open = [&]() -> std::optional<store::Session> {
+    if (!writer) return std::nullopt;
+    writer->flush();
+    last_committed = std::max(last_committed, writer->last_committed_seq());
+    writer.reset();
+    store_.end_session(counters.session_id, realtime_now());
+    ended_session = counters.session_id;
+    auto ended = store_.session(counters.session_id);
+    counters.session_id = 0;
+    return ended;
+  };
+  const auto clock_samples = [&] {
+    if (!writer || !options_.before_commit) return;
+    std::vector<store::ClockSample> samples;
+    options_.before_commit(counters.session_id, samples);
+    for (const auto& sample : samples) writer->add(sample);
+  };
+  const auto serve_requests = [&] {
+    while (auto request = control->next()) {
+      SessionControl::Outcome outcome;
+      outcome.ended = end_open();
+      if (request->begin) {
+        counters.session_id = begin(*request->begin);
+        writer.emplace(store_, counters.session_id, writer_options);
+        outcome.begun = store_.session(counters.session_id);
+      }
+      control->complete(request->ticket, std::move(outcome));
+      report_progress();
+    }
   };
 
   ReadResult batch;
   bool limit_reached = false;
   const auto take = [&] {
+    if (!writer) {
+      // No session: nothing can be stored (a loss needs a session too); count what passes by.
+      counters.dropped += batch.events.size();
+      return;
+    }
     const auto detected = realtime_now();
     for (const auto& gap : batch.gaps) {
       store::Loss loss{counters.session_id, gap.channel, detected, gap.first_missing, gap.count, gap.kind};
-      writer.add(loss);
+      writer->add(loss);
       if (gap.channel.empty())
         counters.node_lost += gap.count;
       else
@@ -82,11 +136,19 @@ RecordCounters Recorder::run(int stop_fd, const std::function<std::string()>& st
       if (limit_reached) break;
       auto& c = channel(event.channel);
       if (!c.gate.admit(event.time)) continue;
-      writer.add(event);
+      writer->add(event);
       ++c.counters.events;
       c.counters.last = event.time;
       ++counters.events;
       if (options_.max_events > 0 && counters.events >= options_.max_events) limit_reached = true;
+    }
+  };
+  const auto notify_commit = [&] {
+    if (!writer) return;
+    const auto seq = writer->last_committed_seq();
+    if (seq > last_committed) {
+      last_committed = seq;
+      if (options_.on_commit) options_.on_commit(seq);
     }
   };
 
@@ -102,20 +164,24 @@ RecordCounters Recorder::run(int stop_fd, const std::function<std::string()>& st
         }
         timeout = std::min(timeout, left);
       }
-      pollfd fds[2] = {{stop_fd, POLLIN, 0}, {source_.fd(), POLLIN, 0}};
+      pollfd fds[3] = {
+          {stop_fd, POLLIN, 0}, {source_.fd(), POLLIN, 0}, {control ? control->fd() : -1, POLLIN, 0}};
       const int timeout_ms =
           static_cast<int>(std::max<std::int64_t>(0, (timeout.count() + 999'999) / 1'000'000));
-      if (::poll(fds, 2, timeout_ms) < 0 && errno != EINTR)
+      if (::poll(fds, 3, timeout_ms) < 0 && errno != EINTR)
         throw core::Error(core::ErrorKind::io, fmt::format("poll: {}", std::strerror(errno)));
       if (stop_fd >= 0 && (fds[0].revents & POLLIN) != 0) {
         counters.stop_reason = stop_name ? stop_name() : "stop";
         if (counters.stop_reason.empty()) counters.stop_reason = "stop";
         break;
       }
+      if (control != nullptr && (fds[2].revents & POLLIN) != 0) serve_requests();
+      clock_samples();
       batch.clear();
       source_.read(batch, options_.read_batch);
       take();
-      writer.poll();
+      if (writer) writer->poll();
+      notify_commit();
       if (limit_reached) {
         counters.stop_reason = "count";
         break;
@@ -124,12 +190,8 @@ RecordCounters Recorder::run(int stop_fd, const std::function<std::string()>& st
         counters.stop_reason = "source finished";
         break;
       }
-      const auto now = monotonic_now();
-      if (options_.on_progress && now - last_progress >= options_.progress_interval) {
-        last_progress = now;
-        snapshot();
-        options_.on_progress(counters);
-      }
+      if (options_.on_progress && monotonic_now() - last_progress >= options_.progress_interval)
+        report_progress();
     }
 
     // What the kernel buffered before the stop was acknowledged by nobody yet: keep it too.
@@ -142,19 +204,22 @@ RecordCounters Recorder::run(int stop_fd, const std::function<std::string()>& st
         if (limit_reached) break;
       }
     }
+    clock_samples();
   } catch (...) {
     // A source that fails (a device gone, a read error): keep what was read and close the session,
     // then report the failure.
+    if (control != nullptr) control->close();
     try {
-      writer.flush();
-      store_.end_session(counters.session_id, realtime_now());
+      end_open();
     } catch (...) {  // NOLINT(bugprone-empty-catch): the first failure is the one to report
     }
     throw;
   }
-  writer.flush();
-  store_.end_session(counters.session_id, realtime_now());
+  if (control != nullptr) control->close();
+  end_open();
+  counters.session_id = ended_session;
   snapshot();
+  if (options_.on_commit) options_.on_commit(last_committed);
   if (options_.on_progress) options_.on_progress(counters);
   return counters;
 }

@@ -2,6 +2,8 @@
 // every gap the source reports stored as a store::Loss. It waits on the source's descriptor and on a
 // stop descriptor (StopSignal's signalfd in the CLI, anything readable in tests), commits by batch
 // size and age, and on stop drains what the kernel still buffers, commits it, and ends the session.
+// With a SessionControl (the agent) sessions are begun and ended while it runs; between a stop and
+// the next begin the edges it reads are counted as dropped and not stored.
 #pragma once
 
 #include <chrono>
@@ -13,6 +15,7 @@
 #include <vector>
 
 #include "m2mlat/capture/refractory_gate.hpp"
+#include "m2mlat/capture/session_control.hpp"
 #include "m2mlat/capture/source.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/store/records.hpp"
@@ -29,10 +32,11 @@ struct ChannelCounters {
 };
 
 struct RecordCounters {
-  std::int64_t session_id = 0;
+  std::int64_t session_id = 0;            // the open session (the last one once run() returned); 0: none
   std::vector<ChannelCounters> channels;  // in the source's channel order
   std::uint64_t node_lost = 0;            // losses not tied to a channel (kmsg records)
   std::uint64_t events = 0;               // stored, all channels
+  std::uint64_t dropped = 0;              // read while no session was open: not stored
   std::int64_t last_committed_seq = 0;    // the store's acknowledged point
   std::string stop_reason;                // "SIGINT", "count", "duration", "source finished", "stop"
 };
@@ -48,6 +52,16 @@ struct RecorderOptions {
   // Called at most every progress_interval and once at the end (live counters).
   std::function<void(const RecordCounters&)> on_progress;
   core::Duration progress_interval = std::chrono::milliseconds(250);
+
+  // Session control from other threads (nullptr: one session, from start to stop). The recorder
+  // carries requests out between batches and closes the control when it stops.
+  SessionControl* control = nullptr;
+  bool start_session = true;  // false: begin with no session open (only with a control)
+  // Called once per loop turn (so before every commit) with the open session's id: may append clock
+  // samples for that session, which go into the same batch as the events. Not called without a session.
+  std::function<void(std::int64_t session_id, std::vector<store::ClockSample>&)> before_commit;
+  // Called after a loop turn that committed, with the store's new acknowledged seq (to wake readers).
+  std::function<void(std::int64_t last_committed_seq)> on_commit;
 };
 
 class Recorder {
@@ -63,6 +77,7 @@ class Recorder {
     RefractoryGate gate;
   };
   Channel& channel(const std::string& name);
+  std::int64_t begin(const store::Session& session);
 
   store::Store& store_;
   Source& source_;

@@ -54,6 +54,24 @@ void StatsFlags::add_to(CLI::App& sub) {
   group->add_option("--seed", seed, "Seed of the bootstrap (same seed, same intervals)")
       ->capture_default_str();
   group->add_option("--level", level, "Confidence level of the intervals")->capture_default_str();
+  group->add_option("--sync-gate", sync_gate,
+                    "Flag latency samples whose clock error bound (both boards) exceeds this, e.g. 5ms");
+  group->add_flag("--sync-gate-refuse", sync_gate_refuse,
+                  "Leave the samples flagged by --sync-gate out of the statistics");
+  group
+      ->add_option("--kernel-error", kernel_error,
+                   "Bound on the two boards' timestamping asymmetry, added to each sample's max error")
+      ->capture_default_str();
+}
+
+analysis::UncertaintyOptions StatsFlags::uncertainty_options() const {
+  analysis::UncertaintyOptions o;
+  if (!sync_gate.empty()) o.sync_gate = duration_flag("--sync-gate", sync_gate);
+  if (sync_gate_refuse && sync_gate.empty())
+    throw core::Error(core::ErrorKind::usage, "--sync-gate-refuse needs --sync-gate");
+  o.gate_refuse = sync_gate_refuse;
+  o.kernel_max = duration_flag("--kernel-error", kernel_error);
+  return o;
 }
 
 stats::SummaryOptions StatsFlags::options() const {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "m2mlat/analysis/selection.hpp"
+#include "m2mlat/analysis/uncertainty.hpp"
 #include "m2mlat/pairing/matcher.hpp"
 #include "m2mlat/stats/summary.hpp"
 
@@ -30,8 +31,13 @@ struct StatsFlags {
   std::size_t bootstrap = 2000;  // resamples; 0 = no confidence intervals
   std::uint64_t seed = 1;
   double level = 0.95;
+  // Per-sample uncertainty from the boards' clock samples (analysis/uncertainty.hpp).
+  std::string sync_gate;             // flag samples whose clock bound exceeds this; empty = no gate
+  bool sync_gate_refuse = false;     // and leave them out of the statistics
+  std::string kernel_error = "0us";  // bound on the two boards' timestamping asymmetry
   void add_to(CLI::App& sub);
   stats::SummaryOptions options() const;
+  analysis::UncertaintyOptions uncertainty_options() const;  // throws core::Error(usage) naming the flag
 };
 
 struct SelectionFlags {

@@ -41,6 +41,10 @@ int run_export(const ExportCommand& c) {
     formats::PairExportOptions options;
     options.cause = results[0].input.cause_ref;
     options.effect = results[0].input.effect_ref;
+    analysis::UncertaintyColumns columns;
+    analysis::append_columns(columns, results[0].uncertainty, results[0].match.pairs.size());
+    if (!results[0].uncertainty.empty())
+      options.uncertainty_ns = columns.max_error_ns, options.est_error_ns = columns.est_error_ns;
     formats::export_pairs(c.out, formats::parse_format(c.format.empty() ? "pairs-csv" : c.format),
                           results[0].match.pairs, options);
     return 0;

@@ -64,8 +64,16 @@ Runner attach_pair(CLI::App& sub) {
     if (!c->out.empty()) {
       const auto format = formats::parse_format(c->out_format);
       std::vector<pairing::Pair> all;
-      for (const auto& r : results) all.insert(all.end(), r.match.pairs.begin(), r.match.pairs.end());
+      analysis::UncertaintyColumns columns;
+      bool any_clock = false;
+      for (const auto& r : results) {
+        all.insert(all.end(), r.match.pairs.begin(), r.match.pairs.end());
+        analysis::append_columns(columns, r.uncertainty, r.match.pairs.size());
+        any_clock |= !r.uncertainty.empty();
+      }
       formats::PairExportOptions options;
+      if (any_clock)
+        options.uncertainty_ns = columns.max_error_ns, options.est_error_ns = columns.est_error_ns;
       if (!results.empty())
         options.cause = results.front().input.cause_ref, options.effect = results.front().input.effect_ref;
       if (results.size() > 1) warn("several scenarios are written to one pairs file, one after another");

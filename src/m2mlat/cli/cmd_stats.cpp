@@ -92,6 +92,7 @@ Runner attach_stats(CLI::App& sub) {
     for (const auto& [path, sync] : sync_files) fmt::print("{}\n", sync_text(path, sync, c->stats.options()));
     if (results.empty()) return 0;
     fmt::print("{}\n{}", report::pairing_table(results), report::scenario_table(results));
+    if (const auto u = report::uncertainty_table(results); !u.empty()) fmt::print("\n{}", u);
     if (c->detail)
       for (const auto& r : results) fmt::print("\n{}", report::scenario_detail(r));
     return 0;

@@ -15,8 +15,16 @@ Runner attach_merge(CLI::App& sub);
 Runner attach_export(CLI::App& sub);
 Runner attach_record(CLI::App& sub);
 Runner attach_report(CLI::App& sub);
+Runner attach_agent(CLI::App& sub);
 Runner attach_pulse(CLI::App& sub);
 Runner attach_doctor(CLI::App& sub);
+Runner attach_collect(CLI::App& sub);
+Runner attach_watch(CLI::App& sub);
+Runner attach_clock(CLI::App& sub);
+Runner attach_setup(CLI::App& sub);
+Runner attach_schedtest(CLI::App& sub);
+Runner attach_synctest(CLI::App& sub);
+Runner attach_budget(CLI::App& sub);
 
 namespace {
 constexpr std::array kCommands{
@@ -30,6 +38,14 @@ constexpr std::array kCommands{
     Command{"record", "Record one node's edges (GPIO, kernel log or simulated) into a store", &attach_record},
     Command{"pulse", "Toggle an output line on a fixed schedule for the synchronisation test", &attach_pulse},
     Command{"doctor", "Check this board for capture and say what to fix", &attach_doctor},
+    Command{"collect", "Pull every agent into one campaign store, live and exactly once", &attach_collect},
+    Command{"watch", "Live statistics and dashboard of a store another process is filling", &attach_watch},
+    Command{"clock", "Show this board's clock synchronisation state (kernel, chrony, PTP); --watch", &attach_clock},
+    Command{"setup", "Prepare this board (gpio, irq, chrony, agent, board); --dry-run", &attach_setup},
+    Command{"schedtest", "Scheduling test: cyclictest wake-up latency on the capture core", &attach_schedtest},
+    Command{"synctest", "Measure the boards' clock offset from a pulse both recorded (stats, ADEV/TDEV/MTIE)", &attach_synctest},
+    Command{"budget", "The error budget of a latency sample: sync, kernel, circuit and calibration terms", &attach_budget},
+    Command{"agent", "Record one node and serve its events over the agent HTTP API (docs/api.md)", &attach_agent},
     Command{"report", "Statistics, comparisons and figures (text, Markdown, CSV, JSON, HTML, pgfplots)", &attach_report},
     Command{"help", "List the subcommands with a line on each", &attach_help},
 };

@@ -59,7 +59,8 @@ analysis::ScenarioResult as_given(std::string scenario, const formats::PairedImp
 // read only those (8 bytes an edge, no events built) when the file has one pin and no other channel
 // was asked for. nullopt: take the general path.
 std::optional<analysis::SideInput> lean_side(const std::string& path, std::optional<formats::Format> format,
-                                             const std::string& node, const std::optional<core::ChannelRef>& want) {
+                                             const std::string& node,
+                                             const std::optional<core::ChannelRef>& want) {
   if (!format) {
     std::ifstream in(path, std::ios::binary);
     std::string head(64 * 1024, '\0');
@@ -106,6 +107,7 @@ std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags,
   const auto selection = selection_flags.selection();
   const auto match_options = match_flags.options();
   const auto summary_options = stats_flags.options();
+  const auto uncertainty_options = stats_flags.uncertainty_options();
   const auto format = format_of(flags);
   formats::ImportOptions import_options;
 
@@ -121,15 +123,18 @@ std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags,
     auto effect = lean_side(flags.effect_file, format, "effect", selection.effect);
     const auto scenario = std::filesystem::path(flags.cause_file).stem().string();
     if (cause && effect) {
-      results.push_back(analysis::analyse(analysis::from_timestamps(scenario, std::move(*cause), std::move(*effect)),
-                                          match_options, summary_options, match_flags.include_ambiguous));
+      results.push_back(
+          analysis::analyse(analysis::from_timestamps(scenario, std::move(*cause), std::move(*effect)),
+                            match_options, summary_options, match_flags.include_ambiguous));
     } else {
       import_options.node = "cause";
-      const auto causes = events_of(formats::import_file(flags.cause_file, format, import_options), flags.cause_file);
+      const auto causes =
+          events_of(formats::import_file(flags.cause_file, format, import_options), flags.cause_file);
       import_options.node = "effect";
-      const auto effects = events_of(formats::import_file(flags.effect_file, format, import_options), flags.effect_file);
-      results.push_back(analysis::analyse(analysis::from_events(scenario, causes, effects, selection), match_options,
-                                          summary_options, match_flags.include_ambiguous));
+      const auto effects =
+          events_of(formats::import_file(flags.effect_file, format, import_options), flags.effect_file);
+      results.push_back(analysis::analyse(analysis::from_events(scenario, causes, effects, selection),
+                                          match_options, summary_options, match_flags.include_ambiguous));
     }
   }
   for (const auto& path : flags.inputs) {
@@ -140,9 +145,11 @@ std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags,
       options.read_only = true;
       const auto store = store::Store::open(path, options);
       const auto names = flags.scenarios.empty() ? analysis::scenarios(store) : flags.scenarios;
-      for (const auto& name : names)
+      for (const auto& name : names) {
         results.push_back(analysis::analyse(analysis::load_scenario(store, name, selection), match_options,
                                             summary_options, match_flags.include_ambiguous));
+        analysis::attach_uncertainty(results.back(), store, uncertainty_options, summary_options);
+      }
       continue;
     }
     const auto scenario = std::filesystem::path(path).stem().string();

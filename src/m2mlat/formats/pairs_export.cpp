@@ -19,6 +19,7 @@ void check_options(std::span<const pairing::Pair> pairs, const PairExportOptions
                         fmt::format("pair export: {} {} for {} pairs", size, what, pairs.size()));
   };
   check_size(options.uncertainty_ns.size(), "uncertainty values");
+  check_size(options.est_error_ns.size(), "estimated errors");
   // The names must read back: the same rule as for events.
   core::Event probe;
   probe.node = options.cause.node;
@@ -43,6 +44,7 @@ void write_pairs_csv(std::ostream& out, std::span<const pairing::Pair> pairs,
       << "cause_node,cause_channel,effect_node,effect_channel,clock,cause_time_ns,effect_time_ns,latency_ns,"
          "latency_ms";
   if (with_uncertainty) buffer << ",uncertainty_ns";
+  if (!options.est_error_ns.empty()) buffer << ",est_error_ns";
   if (with_flags) buffer << ",flags";
   buffer << '\n';
   // The four names are the same on every row: quote them once.
@@ -67,6 +69,10 @@ void write_pairs_csv(std::ostream& out, std::span<const pairing::Pair> pairs,
     if (with_uncertainty) {
       buffer << ',';
       if (options.uncertainty_ns[i]) buffer.integer(*options.uncertainty_ns[i]);
+    }
+    if (!options.est_error_ns.empty()) {
+      buffer << ',';
+      if (options.est_error_ns[i]) buffer.integer(*options.est_error_ns[i]);
     }
     if (with_flags) {
       buffer << ',';
@@ -112,6 +118,13 @@ void write_pairs_jsonl(std::ostream& out, std::span<const pairing::Pair> pairs,
       text.append(",\"uncertainty_ns\":");
       if (options.uncertainty_ns[i])
         buffer.integer(*options.uncertainty_ns[i]);
+      else
+        text.append("null");
+    }
+    if (!options.est_error_ns.empty()) {
+      text.append(",\"est_error_ns\":");
+      if (options.est_error_ns[i])
+        buffer.integer(*options.est_error_ns[i]);
       else
         text.append("null");
     }

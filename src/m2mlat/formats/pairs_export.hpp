@@ -8,11 +8,11 @@
 //
 // (one line each in the file). Times are integer ns on `clock`; latency_ns = effect_time_ns -
 // cause_time_ns exactly, and latency_ms is the same value as exact decimal text (core::format_ms:
-// always 6 decimals). Two optional columns follow: uncertainty_ns when the caller gives it (a bound
-// on the latency's error from both boards' clock state, integer ns; empty / null when unknown) and
-// flags (Pair::flags, decimal; written unless switched off). In JSON
-// Lines each pair is one object with the same members and "format":"m2mlat-pairs/1"; latency_ms is
-// written as a JSON number with the exact decimal text.
+// always 6 decimals). Optional columns follow: uncertainty_ns when the caller gives it (a bound
+// on the latency's error from both boards' clock state, integer ns; empty / null when unknown),
+// est_error_ns likewise (a 1-sigma estimate of that error), and flags (Pair::flags, decimal; written unless
+// switched off). In JSON Lines each pair is one object with the same members and "format":"m2mlat-pairs/1";
+// latency_ms is written as a JSON number with the exact decimal text.
 //
 // For comparison with the reference rig's scripts, see write_rig_paired_csv in rig_paired.hpp.
 #pragma once
@@ -35,6 +35,9 @@ struct PairExportOptions {
   core::ChannelRef effect{"vehicle", "wheel"};  // where the effect edges were measured
   // Empty: no uncertainty_ns column. Otherwise one entry per pair (nullopt = unknown), ns.
   std::span<const std::optional<std::int64_t>> uncertainty_ns;
+  // Empty: no est_error_ns column (written after uncertainty_ns). Otherwise one per pair: a 1-sigma
+  // estimate of the latency's error (analysis/uncertainty.hpp), ns; nullopt = unknown.
+  std::span<const std::optional<std::int64_t>> est_error_ns;
   // Write the flags column (Pair::flags, pairing::PairFlag bits, e.g. 1 = ambiguous burst).
   bool flags = true;
 };

@@ -14,52 +14,87 @@ namespace m2mlat::pairing {
 namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+constexpr std::int64_t kAllBounces = std::numeric_limits<std::int64_t>::max();  // see match()
 
-// The kept (non-bounce) edges of one side, as timestamps plus their input indices.
+// Gives a vector's memory back now. (`v = {}` would not: it picks the initializer_list assignment,
+// which clears the vector but keeps its capacity.)
+template <typename Vector>
+void free_now(Vector& v) {
+  Vector().swap(v);
+}
+
+// The kept (non-bounce) edges of one side: the input itself when the refractory filter removed
+// nothing, else a compact copy (8 bytes an edge). `bounces` maps kept positions back to input
+// indices (KeptIndex), so that no table of input indices is kept.
 struct Kept {
-  std::vector<std::int64_t> ns;
-  std::vector<std::int64_t> input_index;
-};
+  std::vector<std::int64_t> bounces;  // ascending input indices
+  std::vector<std::int64_t> copy;     // the kept timestamps when there were bounces
+  std::span<const std::int64_t> ns;   // the kept timestamps (ns): `copy` or the input
 
-Kept kept_side(std::span<const std::int64_t> times, const RefractoryResult& filtered) {
-  Kept side;
-  side.ns.reserve(filtered.kept.size());
-  side.input_index = filtered.kept;
-  for (auto index : filtered.kept) side.ns.push_back(times[static_cast<std::size_t>(index)]);
-  return side;
-}
-
-// For cause i, its candidate effects are [lo[i], hi[i]): those with latency in [min, max].
-struct Windows {
-  std::vector<std::uint32_t> lo, hi;
-};
-
-Windows latency_windows(const std::vector<std::int64_t>& causes, const std::vector<std::int64_t>& effects,
-                        std::int64_t min_ns, std::int64_t max_ns) {
-  Windows w;
-  w.lo.resize(causes.size());
-  w.hi.resize(causes.size());
-  std::size_t lo = 0, hi = 0;
-  for (std::size_t i = 0; i < causes.size(); ++i) {
-    while (lo < effects.size() && effects[lo] - causes[i] < min_ns) ++lo;
-    if (hi < lo) hi = lo;
-    while (hi < effects.size() && effects[hi] - causes[i] <= max_ns) ++hi;
-    w.lo[i] = static_cast<std::uint32_t>(lo);
-    w.hi[i] = static_cast<std::uint32_t>(hi);
+  Kept(std::span<const std::int64_t> times, core::Duration refractory)
+      : bounces(refractory_bounces(times, refractory)) {
+    if (bounces.empty()) {
+      ns = times;
+      return;
+    }
+    copy.reserve(times.size() - bounces.size());
+    std::size_t b = 0;
+    for (std::size_t i = 0; i < times.size(); ++i) {
+      if (b < bounces.size() && bounces[b] == static_cast<std::int64_t>(i))
+        ++b;
+      else
+        copy.push_back(times[i]);
+    }
+    ns = copy;
   }
-  return w;
-}
+  Kept(const Kept&) = delete;  // `ns` may point into `copy`
+  Kept& operator=(const Kept&) = delete;
+
+  void release() {
+    free_now(copy);
+    ns = {};
+  }
+};
+
+// For cause i, its candidate effects are [lo, hi): those with latency in [min, max]. Both ends only
+// move forward as i grows, so each pass walks them along instead of storing them (8 bytes a cause).
+class Window {
+ public:
+  Window(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects, std::int64_t min_ns,
+         std::int64_t max_ns)
+      : causes_(causes), effects_(effects), min_ns_(min_ns), max_ns_(max_ns) {}
+  // Moves to cause i; i must not decrease from one call to the next.
+  void at(std::size_t i) {
+    while (lo < effects_.size() && effects_[lo] - causes_[i] < min_ns_) ++lo;
+    if (hi < lo) hi = lo;
+    while (hi < effects_.size() && effects_[hi] - causes_[i] <= max_ns_) ++hi;
+  }
+  std::uint32_t lo = 0, hi = 0;
+
+ private:
+  std::span<const std::int64_t> causes_, effects_;
+  std::int64_t min_ns_, max_ns_;
+};
+
+// What every pass needs: the two sides' kept timestamps and the latency window.
+struct Sides {
+  std::span<const std::int64_t> causes, effects;
+  std::int64_t min_ns, max_ns;
+  Window window() const { return Window(causes, effects, min_ns, max_ns); }
+};
 
 // Global reference latency: the centre of the densest 20 ms-wide bin of all candidate latencies.
 // True pairs pile up around the typical latency; wrong candidates spread over the whole window.
-std::int64_t global_reference(const std::vector<std::int64_t>& causes,
-                              const std::vector<std::int64_t>& effects, const Windows& w, std::int64_t min_ns,
-                              std::int64_t max_ns) {
+std::int64_t global_reference(const Sides& sides) {
   constexpr std::int64_t kBin = 20'000'000;  // ns
+  const auto& [causes, effects, min_ns, max_ns] = sides;
   std::vector<std::int64_t> counts(static_cast<std::size_t>((max_ns - min_ns) / kBin + 3), 0);
-  for (std::size_t i = 0; i < causes.size(); ++i)
-    for (auto j = w.lo[i]; j < w.hi[i]; ++j)
+  Window w = sides.window();
+  for (std::size_t i = 0; i < causes.size(); ++i) {
+    w.at(i);
+    for (auto j = w.lo; j < w.hi; ++j)
       ++counts[static_cast<std::size_t>((effects[j] - causes[i] - min_ns) / kBin) + 1];
+  }
   // Smooth over the neighbouring bins so that a spread-out peak wins over a lucky spike.
   std::size_t best_bin = 1;
   std::int64_t best_count = -1;
@@ -70,6 +105,13 @@ std::int64_t global_reference(const std::vector<std::int64_t>& causes,
   return min_ns + static_cast<std::int64_t>(best_bin - 1) * kBin + kBin / 2;
 }
 
+// Candidates of an alignment pass, in cause order: the effect index and the predecessor candidate
+// (8 bytes each), with the first candidate of every cause. Reserved once for every window's size and
+// reused by the second pass, so that its pages are touched once.
+struct Candidates {
+  std::vector<std::uint32_t> effect, pred, row_start;
+};
+
 // One alignment pass. reference(i) is the expected latency of cause i (ns). A candidate (i, j) is
 // allowed if |latency - reference(i)| < tolerance and then fits by tolerance - |latency - reference(i)|.
 // A chain's value is (pairs, total fit) compared lexicographically when `most_pairs_first`, else
@@ -78,111 +120,132 @@ std::int64_t global_reference(const std::vector<std::int64_t>& causes,
 // G(i, j) = value(i, j) + max(0, max{ G(i', j') : i' < i, j' < j }) is the best value of an ordered
 // chain of pairs ending in (i, j). Causes are processed in order; for effects we keep best[j] = max
 // over the causes so far of G(., j). Because candidate windows only move forward, effects left behind
-// by the window are folded into one `frozen` maximum, so each cause costs O(its window).
+// by the window are folded into one `frozen` maximum, so each cause costs O(its window), and best[]
+// only needs the effects inside the current window: it is a ring of the widest window's size
+// (a power of two), not one entry per effect.
 template <typename Reference>
-std::vector<std::uint32_t> align(const std::vector<std::int64_t>& causes,
-                                 const std::vector<std::int64_t>& effects, const Windows& w,
-                                 std::int64_t tolerance_ns, bool most_pairs_first, Reference reference) {
-  struct Best {                      // 16 bytes: one per effect
+std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, std::int64_t tolerance_ns,
+                                 bool most_pairs_first, Reference reference) {
+  struct Best {                       // 16 bytes
     std::int64_t fit = 0;             // sum of (tolerance - deviation), ns
     std::uint32_t pairs = 0;          // counted only when most_pairs_first (fewer than 2^32 causes)
     std::uint32_t candidate = kNone;  // the chain's last candidate, or kNone for the empty chain
     bool operator>(const Best& o) const { return pairs != o.pairs ? pairs > o.pairs : fit > o.fit; }
   };
+  const auto& [causes, effects, min_ns, max_ns] = sides;
   const std::uint32_t pair_count = most_pairs_first ? 1 : 0;
-  // Candidates, in cause order: the effect index and the predecessor candidate (8 bytes each),
-  // reserved for every window's size so that the vectors never grow past what is needed.
-  std::vector<std::uint32_t> cand_effect, cand_pred;
-  std::size_t window_total = 0;
-  for (std::size_t i = 0; i < causes.size(); ++i) window_total += w.hi[i] - w.lo[i];
-  cand_effect.reserve(window_total);
-  cand_pred.reserve(window_total);
-  std::vector<std::uint32_t> row_start(causes.size() + 1, 0);
-  std::vector<Best> best(effects.size());
-  Best frozen;  // best over effects [0, folded)
+  std::size_t window_total = 0, widest = 1;
+  {
+    Window w = sides.window();
+    for (std::size_t i = 0; i < causes.size(); ++i) {
+      w.at(i);
+      window_total += w.hi - w.lo;
+      widest = std::max<std::size_t>(widest, w.hi - w.lo);
+    }
+  }
+  cand.effect.clear();
+  cand.pred.clear();
+  cand.effect.reserve(window_total);
+  cand.pred.reserve(window_total);
+  cand.row_start.assign(causes.size() + 1, 0);
+  std::size_t ring_size = 1;
+  while (ring_size < widest) ring_size *= 2;
+  const std::size_t mask = ring_size - 1;
+  std::vector<Best> best(ring_size);  // best[j & mask] for the effects j in [folded, window end)
+  Best frozen;                        // best over effects [0, folded)
   std::size_t folded = 0;
   std::vector<std::pair<std::uint32_t, Best>> row;  // this cause's chain ends, applied after the row
+  row.reserve(widest);
 
+  Window w = sides.window();
   for (std::size_t i = 0; i < causes.size(); ++i) {
-    row_start[i] = static_cast<std::uint32_t>(cand_effect.size());
-    for (; folded < w.lo[i]; ++folded)
-      if (best[folded] > frozen) frozen = best[folded];
+    w.at(i);
+    cand.row_start[i] = static_cast<std::uint32_t>(cand.effect.size());
+    for (; folded < w.lo; ++folded) {
+      Best& slot = best[folded & mask];
+      if (slot > frozen) frozen = slot;
+      slot = Best{};  // the slot now serves effect folded + ring_size
+    }
     const std::int64_t ref = reference(i);
     Best running = frozen;  // max over effects < j, from causes < i
     row.clear();
-    for (auto j = w.lo[i]; j < w.hi[i]; ++j) {
+    for (auto j = w.lo; j < w.hi; ++j) {
       const std::int64_t latency = effects[j] - causes[i];
       const std::int64_t deviation = latency > ref ? latency - ref : ref - latency;
       if (deviation < tolerance_ns) {
-        if (cand_effect.size() >= kNone)
+        if (cand.effect.size() >= kNone)
           throw core::Error(core::ErrorKind::usage, "too many candidate pairs: narrow the latency window");
-        const auto id = static_cast<std::uint32_t>(cand_effect.size());
-        cand_effect.push_back(j);
-        cand_pred.push_back(running.candidate);
+        const auto id = static_cast<std::uint32_t>(cand.effect.size());
+        cand.effect.push_back(j);
+        cand.pred.push_back(running.candidate);
         row.emplace_back(j, Best{running.fit + (tolerance_ns - deviation), running.pairs + pair_count, id});
       }
-      if (best[j] > running) running = best[j];
+      if (best[j & mask] > running) running = best[j & mask];
     }
     for (const auto& [j, chain] : row)
-      if (chain > best[j]) best[j] = chain;
+      if (chain > best[j & mask]) best[j & mask] = chain;
   }
-  row_start[causes.size()] = static_cast<std::uint32_t>(cand_effect.size());
+  cand.row_start[causes.size()] = static_cast<std::uint32_t>(cand.effect.size());
 
+  // Effects past the last window were never written: their slots hold the empty chain.
   Best overall = frozen;
-  for (std::size_t j = folded; j < effects.size(); ++j)
-    if (best[j] > overall) overall = best[j];
+  for (std::size_t j = folded; j < std::min<std::size_t>(effects.size(), folded + ring_size); ++j)
+    if (best[j & mask] > overall) overall = best[j & mask];
 
   // Walk the chain back; candidates are numbered in cause order, so the row pointer only moves down.
   std::vector<std::uint32_t> match(causes.size(), kNone);
   std::size_t i = causes.size();
-  for (auto c = overall.candidate; c != kNone; c = cand_pred[c]) {
-    while (row_start[i] > c) --i;
-    match[i] = cand_effect[c];
+  for (auto c = overall.candidate; c != kNone; c = cand.pred[c]) {
+    while (cand.row_start[i] > c) --i;
+    match[i] = cand.effect[c];
   }
   return match;
 }
 
 // Running median of the matched latencies over `k` pairs either side, assigned to every cause (causes
-// without a pass-1 pair take the value of the nearest pair before them, or the first pair).
-std::vector<std::int64_t> local_reference(const std::vector<std::int64_t>& causes,
-                                          const std::vector<std::int64_t>& effects,
+// without a pass-1 pair take the value of the nearest pair before them, or the first pair). The pairs
+// are walked in `match` itself by three cursors (the pair whose median is taken, the pair entering
+// the window, the pair leaving it), so nothing but the result is allocated per cause or pair.
+std::vector<std::int64_t> local_reference(std::span<const std::int64_t> causes,
+                                          std::span<const std::int64_t> effects,
                                           const std::vector<std::uint32_t>& match, int k,
                                           std::int64_t fallback) {
-  std::vector<std::size_t> pair_cause;
-  std::vector<std::int64_t> latency;
-  for (std::size_t i = 0; i < causes.size(); ++i)
-    if (match[i] != kNone) {
-      pair_cause.push_back(i);
-      latency.push_back(effects[match[i]] - causes[i]);
-    }
   std::vector<std::int64_t> reference(causes.size(), fallback);
-  if (latency.empty()) return reference;
+  const auto n = static_cast<std::ptrdiff_t>(
+      std::count_if(match.begin(), match.end(), [](std::uint32_t j) { return j != kNone; }));
+  if (n == 0) return reference;
+  const auto next_pair = [&](std::size_t from) {  // the first matched cause >= from, or the end
+    while (from < match.size() && match[from] == kNone) ++from;
+    return from;
+  };
+  const auto latency = [&](std::size_t i) { return effects[match[i]] - causes[i]; };
   // The window [p - k, p + k] slides one pair at a time: keep it sorted, remove the pair that
   // leaves and insert the one that enters (binary search + a short move), instead of re-selecting.
-  std::vector<std::int64_t> median(latency.size()), window;
-  const auto n = static_cast<std::ptrdiff_t>(latency.size());
-  std::ptrdiff_t first = 0, last = 0;  // the window holds latency[first, last)
+  std::vector<std::int64_t> window;
+  window.reserve(2 * static_cast<std::size_t>(k) + 1);
+  std::ptrdiff_t first = 0, last = 0;  // the window holds pairs [first, last)
+  std::size_t entering = next_pair(0), leaving = entering, current = entering;  // their causes
+  std::size_t filled = 0;                                                       // reference[0, filled) set
   for (std::ptrdiff_t p = 0; p < n; ++p) {
-    const auto want_first = std::max<std::ptrdiff_t>(0, p - k), want_last = std::min<std::ptrdiff_t>(n, p + k + 1);
-    for (; last < want_last; ++last) {
-      const auto value = latency[static_cast<std::size_t>(last)];
+    const auto want_first = std::max<std::ptrdiff_t>(0, p - k),
+               want_last = std::min<std::ptrdiff_t>(n, p + k + 1);
+    for (; last < want_last; ++last, entering = next_pair(entering + 1)) {
+      const auto value = latency(entering);
       window.insert(std::upper_bound(window.begin(), window.end(), value), value);
     }
-    for (; first < want_first; ++first)
-      window.erase(std::lower_bound(window.begin(), window.end(), latency[static_cast<std::size_t>(first)]));
-    median[static_cast<std::size_t>(p)] = window[window.size() / 2];
-  }
-  std::size_t p = 0;
-  for (std::size_t i = 0; i < causes.size(); ++i) {
-    while (p + 1 < pair_cause.size() && pair_cause[p + 1] <= i) ++p;
-    reference[i] = median[p];
+    for (; first < want_first; ++first, leaving = next_pair(leaving + 1))
+      window.erase(std::lower_bound(window.begin(), window.end(), latency(leaving)));
+    const std::int64_t median = window[window.size() / 2];
+    const std::size_t next = next_pair(current + 1);  // the cause of pair p + 1, or the end
+    for (; filled < next; ++filled) reference[filled] = median;
+    current = next;
   }
   return reference;
 }
 
 // Bursts: runs of kept edges on one side closer than `gap` to the previous one. Returns the burst
 // number of every edge.
-std::vector<std::uint32_t> bursts(const std::vector<std::int64_t>& times, std::int64_t gap_ns) {
+std::vector<std::uint32_t> bursts(std::span<const std::int64_t> times, std::int64_t gap_ns) {
   std::vector<std::uint32_t> id(times.size(), 0);
   for (std::size_t k = 1; k < times.size(); ++k)
     id[k] = id[k - 1] + (times[k] - times[k - 1] >= gap_ns ? 1 : 0);
@@ -198,8 +261,7 @@ std::vector<std::uint32_t> bursts(const std::vector<std::int64_t>& times, std::i
 //    that ratio over all bursts by more than a factor kPatternFactor. The vehicle's wheel replays the
 //    operator's motion at a similar speed, so both sides show the same pattern of magnet passes;
 //    passes missed on BOTH sides at different magnets leave the counts equal but break the pattern.
-std::vector<bool> ambiguous_pairs(const std::vector<std::int64_t>& causes,
-                                  const std::vector<std::int64_t>& effects,
+std::vector<bool> ambiguous_pairs(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
                                   const std::vector<std::uint32_t>& matched, std::int64_t gap_ns) {
   constexpr double kPatternFactor = 1.5;
   const auto cause_burst = bursts(causes, gap_ns), effect_burst = bursts(effects, gap_ns);
@@ -287,64 +349,93 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   check_sorted(cause_ns, "cause");
   check_sorted(effect_ns, "effect");
 
-  const auto cause_filter = refractory_filter(cause_ns, options.refractory);
-  const auto effect_filter = refractory_filter(effect_ns, options.refractory);
-  const Kept causes = kept_side(cause_ns, cause_filter);
-  const Kept effects = kept_side(effect_ns, effect_filter);
-  const std::int64_t min_ns = options.min_latency.count(), max_ns = options.max_latency.count();
-  const Windows windows = latency_windows(causes.ns, effects.ns, min_ns, max_ns);
+  Kept causes(cause_ns, options.refractory);
+  Kept effects(effect_ns, options.refractory);
+  const Sides sides{causes.ns, effects.ns, options.min_latency.count(), options.max_latency.count()};
+  const std::int64_t min_ns = sides.min_ns, max_ns = sides.max_ns;
 
   // Pass 1: one global reference; every candidate in the window is allowed, and the best fit wins
   // (not the most pairs, so a missing edge cannot shift a chain of pairs to gain one).
-  const std::int64_t global = global_reference(causes.ns, effects.ns, windows, min_ns, max_ns);
+  const std::int64_t global = global_reference(sides);
   const std::int64_t wide = (max_ns - min_ns) + 1;
-  auto match1 = align(causes.ns, effects.ns, windows, wide, false, [&](std::size_t) { return global; });
+  Candidates candidates;
+  auto match1 = align(sides, candidates, wide, false, [&](std::size_t) { return global; });
   // Pass 2: the local reference; within the tolerance, the most pairs, then the best fit.
   auto reference = local_reference(causes.ns, effects.ns, match1, options.reference_neighbours, global);
-  match1 = {};
-  const auto matched = align(causes.ns, effects.ns, windows, options.tolerance.count(), true,
-                             [&](std::size_t i) { return reference[i]; });
-  reference = {};
+  free_now(match1);
+  const auto matched =
+      align(sides, candidates, options.tolerance.count(), true, [&](std::size_t i) { return reference[i]; });
+  free_now(reference);
+  candidates = Candidates();
 
   MatchResult result;
   result.clock = clock;
   result.cause_count = static_cast<std::int64_t>(cause_ns.size());
   result.effect_count = static_cast<std::int64_t>(effect_ns.size());
-  std::vector<bool> effect_used(effects.ns.size(), false);
   const auto ambiguous = ambiguous_pairs(causes.ns, effects.ns, matched, options.burst_gap.count());
-  result.pairs.reserve(static_cast<std::size_t>(
-      std::count_if(matched.begin(), matched.end(), [](std::uint32_t j) { return j != kNone; })));
+
+  // Reasons for everything left over, first: they need the kept timestamps, which can then go
+  // before the pairs are built (the pairs' times come from the input).
+  std::vector<bool> effect_used(effects.ns.size(), false);
+  std::size_t pair_count = 0;
+  for (const auto j : matched)
+    if (j != kNone) effect_used[j] = true, ++pair_count;
+  // Each side's unpaired kept edges come in input order, and so do its bounces: merging the two
+  // gives the list sorted by side, then index, without a sort.
+  result.unmatched.reserve(causes.ns.size() + effects.ns.size() - 2 * pair_count + causes.bounces.size() +
+                           effects.bounces.size());
+  std::size_t bounce = 0;  // the next bounce of the side being listed
+  // Lists the side's bounces before input index `below`, then (unless it is kAllBounces) the edge itself.
+  auto add = [&](Side side, std::int64_t below, UnmatchedReason reason, std::span<const std::int64_t> times,
+                 const std::vector<std::int64_t>& bounces) {
+    const auto time_of = [&](std::int64_t index) {
+      return core::TimePoint::from_ns(clock, times[static_cast<std::size_t>(index)]);
+    };
+    for (; bounce < bounces.size() && bounces[bounce] < below; ++bounce)
+      result.unmatched.push_back(
+          Unmatched{side, bounces[bounce], time_of(bounces[bounce]), UnmatchedReason::bounce});
+    if (below != kAllBounces) result.unmatched.push_back(Unmatched{side, below, time_of(below), reason});
+  };
+  {
+    KeptIndex cause_index(causes.bounces);
+    Window w = sides.window();
+    for (std::size_t i = 0; i < matched.size(); ++i) {
+      if (matched[i] != kNone) continue;
+      w.at(i);
+      add(Side::cause, cause_index(i),
+          w.lo == w.hi ? UnmatchedReason::no_candidate : UnmatchedReason::outmatched, cause_ns,
+          causes.bounces);
+    }
+    add(Side::cause, kAllBounces, UnmatchedReason::bounce, cause_ns, causes.bounces);
+  }
+  bounce = 0;
+  {
+    KeptIndex effect_index(effects.bounces);
+    for (std::size_t j = 0; j < effects.ns.size(); ++j) {
+      if (effect_used[j]) continue;
+      // A cause in [effect - max, effect - min] would have had this effect as a candidate.
+      const auto first = std::lower_bound(causes.ns.begin(), causes.ns.end(), effects.ns[j] - max_ns);
+      const bool candidate = first != causes.ns.end() && *first <= effects.ns[j] - min_ns;
+      add(Side::effect, effect_index(j),
+          candidate ? UnmatchedReason::outmatched : UnmatchedReason::no_candidate, effect_ns,
+          effects.bounces);
+    }
+    add(Side::effect, kAllBounces, UnmatchedReason::bounce, effect_ns, effects.bounces);
+  }
+  free_now(effect_used);
+  causes.release();
+  effects.release();
+
+  // The pairs (56 bytes each, the largest part of the result), in cause order and so in effect order.
+  result.pairs.reserve(pair_count);
+  KeptIndex cause_index(causes.bounces), effect_index(effects.bounces);
   for (std::size_t i = 0; i < matched.size(); ++i) {
     if (matched[i] == kNone) continue;
-    const auto j = matched[i];
-    effect_used[j] = true;
-    result.pairs.push_back(
-        Pair{causes.input_index[i], effects.input_index[j], core::TimePoint::from_ns(clock, causes.ns[i]),
-             core::TimePoint::from_ns(clock, effects.ns[j]), ambiguous[i] ? kPairAmbiguous : 0u});
+    const auto c = cause_index(i), e = effect_index(matched[i]);
+    result.pairs.push_back(Pair{c, e, core::TimePoint::from_ns(clock, cause_ns[static_cast<std::size_t>(c)]),
+                                core::TimePoint::from_ns(clock, effect_ns[static_cast<std::size_t>(e)]),
+                                ambiguous[i] ? kPairAmbiguous : 0u});
   }
-
-  // Reasons for everything left over, in input order per side.
-  auto add = [&](Side side, std::int64_t index, std::span<const std::int64_t> times, UnmatchedReason reason) {
-    result.unmatched.push_back(Unmatched{
-        side, index, core::TimePoint::from_ns(clock, times[static_cast<std::size_t>(index)]), reason});
-  };
-  for (std::size_t i = 0; i < matched.size(); ++i)
-    if (matched[i] == kNone)
-      add(Side::cause, causes.input_index[i], cause_ns,
-          windows.lo[i] == windows.hi[i] ? UnmatchedReason::no_candidate : UnmatchedReason::outmatched);
-  for (auto index : cause_filter.bounces) add(Side::cause, index, cause_ns, UnmatchedReason::bounce);
-  for (std::size_t j = 0; j < effects.ns.size(); ++j) {
-    if (effect_used[j]) continue;
-    // A cause in [effect - max, effect - min] would have had this effect as a candidate.
-    const auto first = std::lower_bound(causes.ns.begin(), causes.ns.end(), effects.ns[j] - max_ns);
-    const bool candidate = first != causes.ns.end() && *first <= effects.ns[j] - min_ns;
-    add(Side::effect, effects.input_index[j], effect_ns,
-        candidate ? UnmatchedReason::outmatched : UnmatchedReason::no_candidate);
-  }
-  for (auto index : effect_filter.bounces) add(Side::effect, index, effect_ns, UnmatchedReason::bounce);
-  std::sort(result.unmatched.begin(), result.unmatched.end(), [](const Unmatched& a, const Unmatched& b) {
-    return a.side != b.side ? a.side < b.side : a.index < b.index;
-  });
   return result;
 }
 

@@ -20,4 +20,25 @@ struct RefractoryResult {
 // The period is measured from the last KEPT edge, so a long burst of bounces cannot extend itself.
 RefractoryResult refractory_filter(std::span<const std::int64_t> times_ns, core::Duration period);
 
+// The same rule, returning only the bounces (ascending input indices): every other edge is kept.
+// The matcher's form: on 10^7 edges it saves the 80 MB list of kept indices.
+std::vector<std::int64_t> refractory_bounces(std::span<const std::int64_t> times_ns, core::Duration period);
+
+// Input index of each kept edge, for kept positions visited in increasing order: the k-th kept edge
+// is input edge k + (the number of bounces before it). O(1) amortised per step, no table.
+class KeptIndex {
+ public:
+  explicit KeptIndex(std::span<const std::int64_t> bounces) : bounces_(bounces) {}
+  // `kept_position` must not decrease from one call to the next.
+  std::int64_t operator()(std::size_t kept_position) {
+    auto index = static_cast<std::int64_t>(kept_position + skipped_);
+    while (skipped_ < bounces_.size() && bounces_[skipped_] <= index) ++skipped_, ++index;
+    return index;
+  }
+
+ private:
+  std::span<const std::int64_t> bounces_;
+  std::size_t skipped_ = 0;
+};
+
 }  // namespace m2mlat::pairing

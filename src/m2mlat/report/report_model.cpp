@@ -109,6 +109,11 @@ void attach_store_data(ScenarioReport& s, const store::Store& store) {
     const auto bc = clock_bound_at(*cause, p.cause_time.ns());
     const auto be = clock_bound_at(*effect, p.effect_time.ns());
     s.uncertainty_ns[i] = *bc + *be;
+    // The analysis' own per-sample bound (neighbouring samples, kernel term) when it made one.
+    if (i < s.result.uncertainty.size())
+      s.uncertainty_ns[i] = s.result.uncertainty[i].bounded()
+                                ? std::optional(s.result.uncertainty[i].max_error_ns)
+                                : std::nullopt;
     if (s.result.include_ambiguous || !p.ambiguous()) {
       cause_bounds.push_back(*bc);
       effect_bounds.push_back(*be);

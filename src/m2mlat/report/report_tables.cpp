@@ -65,7 +65,8 @@ std::string report_text(const Report& report) {
                  ms(s.median_uncertainty_ms()), ms(s.max_uncertainty_ms()), ms(s.cause_clock_ms),
                  ms(s.effect_clock_ms)});
     }
-    out += "\nmeasurement uncertainty per latency (sum of both boards' clock error bounds)\n" + t.render();
+    out +=
+        "\nmeasurement uncertainty per latency (both boards' clock bounds + --kernel-error)\n" + t.render();
   }
   if (!report.comparisons.empty()) {
     out += "\ncomparisons (subject - baseline; ratios subject / baseline)\n" +

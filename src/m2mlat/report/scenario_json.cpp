@@ -70,14 +70,34 @@ nlohmann::json pairing_json(const analysis::ScenarioResult& r) {
           {"unmatched", unmatched}};
 }
 
+nlohmann::json uncertainty_json(const analysis::UncertaintySummary& s) {
+  return {{"samples", s.samples},
+          {"with_clock", s.known},
+          {"bounded", s.bounded},
+          {"median_max_err_ms", number(s.median_max_ms)},
+          {"p95_max_err_ms", number(s.p95_max_ms)},
+          {"worst_max_err_ms", number(s.worst_max_ms)},
+          {"median_est_err_ms", number(s.median_est_ms)},
+          {"unsynchronised", s.unsynchronised},
+          {"clock_step", s.clock_step},
+          {"gated", s.gated},
+          {"refused", s.refused},
+          {"flagged", s.flagged},
+          {"share_flagged", number(s.share_flagged())}};
+}
+
 nlohmann::json scenario_json(const analysis::ScenarioResult& r) {
-  return {{"scenario", r.input.scenario},
-          {"cause", core::to_string(r.input.cause_ref)},
-          {"effect", core::to_string(r.input.effect_ref)},
-          {"clock", core::to_string(r.input.clock)},
-          {"sample_id", r.input.id_kind},
-          {"pairing", pairing_json(r)},
-          {"latency", summary_json(r.summary)}};
+  nlohmann::json j{{"scenario", r.input.scenario},
+                   {"cause", core::to_string(r.input.cause_ref)},
+                   {"effect", core::to_string(r.input.effect_ref)},
+                   {"clock", core::to_string(r.input.clock)},
+                   {"sample_id", r.input.id_kind},
+                   {"pairing", pairing_json(r)},
+                   {"latency", summary_json(r.summary)}};
+  if (!r.uncertainty.empty())
+    j["sample_uncertainty"] =
+        uncertainty_json(analysis::summarize_uncertainty(r.uncertainty, r.refuse_gated));
+  return j;
 }
 
 nlohmann::json stats_document(std::span<const analysis::ScenarioResult> results) {

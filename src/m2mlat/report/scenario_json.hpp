@@ -15,6 +15,9 @@ inline constexpr const char* kStatsFormat = "m2mlat-stats/1";
 nlohmann::json summary_json(const stats::Summary& summary);
 nlohmann::json pairing_json(const analysis::ScenarioResult& result);   // counts and unmatched by reason
 nlohmann::json scenario_json(const analysis::ScenarioResult& result);  // both of the above + names
+// The per-sample uncertainty summary (analysis/uncertainty.hpp); scenario_json adds it as
+// "sample_uncertainty" when the scenario's boards had clock samples.
+nlohmann::json uncertainty_json(const analysis::UncertaintySummary& summary);
 // {"format": "m2mlat-stats/1", "scenarios": [...]}
 nlohmann::json stats_document(std::span<const analysis::ScenarioResult> results);
 

@@ -74,6 +74,24 @@ std::string pairing_table(std::span<const analysis::ScenarioResult> results) {
   return table.render();
 }
 
+std::string uncertainty_table(std::span<const analysis::ScenarioResult> results) {
+  Table table({"scenario", "with clock", "median max_err", "P95 max_err", "worst max_err", "median est_err",
+               "flagged", "step", "unsync", "gated", "refused"});
+  bool any = false;
+  for (const auto& r : results) {
+    if (r.uncertainty.empty()) continue;
+    any = true;
+    const auto u = analysis::summarize_uncertainty(r.uncertainty, r.refuse_gated);
+    table.add_row({r.input.scenario, fmt::format("{}/{}", u.known, u.samples), ms_text(u.median_max_ms, 3),
+                   ms_text(u.p95_max_ms, 3), ms_text(u.worst_max_ms, 3), ms_text(u.median_est_ms, 3),
+                   percent_text(u.share_flagged()), std::to_string(u.clock_step),
+                   std::to_string(u.unsynchronised), std::to_string(u.gated), std::to_string(u.refused)});
+  }
+  if (!any) return {};
+  return "per-sample uncertainty (ms; max_err = both clocks' bounds + kernel term, est_err = 1 sigma)\n" +
+         table.render();
+}
+
 std::string scenario_detail(const analysis::ScenarioResult& r) {
   const auto& s = r.summary;
   std::string out =

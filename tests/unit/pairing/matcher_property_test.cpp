@@ -129,3 +129,37 @@ TEST(MatcherProperty, Deterministic) {
   EXPECT_EQ(a.pairs, b.pairs);
   EXPECT_EQ(a.unmatched, b.unmatched);
 }
+
+// Every input edge ends up exactly once in a pair or in the unmatched list, under its own input
+// index and with its own timestamp, whatever the bounces removed before pairing.
+TEST(MatcherProperty, EveryEdgeOnceWithItsInputIndexAndTime) {
+  for (const auto& wheel : kWheels) {
+    const auto run = sim::simulate(config_for(
+        "static_5g", 11, {wheel.front(), "sensor.bounce_probability=0.3", "sensor.miss_probability=0.05"}));
+    std::vector<std::int64_t> c, e;
+    for (const auto& ev : run.cause_events) c.push_back(ev.time.ns());
+    for (const auto& ev : run.effect_events) e.push_back(ev.time.ns());
+    const auto result = pairing::match(c, e, core::Clock::realtime);
+    std::vector<int> seen_c(c.size(), 0), seen_e(e.size(), 0);
+    std::int64_t bounces = 0;
+    for (const auto& p : result.pairs) {
+      ASSERT_LT(static_cast<std::size_t>(p.cause_index), c.size());
+      ASSERT_LT(static_cast<std::size_t>(p.effect_index), e.size());
+      EXPECT_EQ(p.cause_time.ns(), c[static_cast<std::size_t>(p.cause_index)]);
+      EXPECT_EQ(p.effect_time.ns(), e[static_cast<std::size_t>(p.effect_index)]);
+      ++seen_c[static_cast<std::size_t>(p.cause_index)];
+      ++seen_e[static_cast<std::size_t>(p.effect_index)];
+    }
+    for (const auto& u : result.unmatched) {
+      const auto& times = u.side == pairing::Side::cause ? c : e;
+      auto& seen = u.side == pairing::Side::cause ? seen_c : seen_e;
+      ASSERT_LT(static_cast<std::size_t>(u.index), times.size());
+      EXPECT_EQ(u.time.ns(), times[static_cast<std::size_t>(u.index)]);
+      ++seen[static_cast<std::size_t>(u.index)];
+      bounces += u.reason == pairing::UnmatchedReason::bounce;
+    }
+    EXPECT_GT(bounces, 0) << wheel.front();
+    for (const int n : seen_c) EXPECT_EQ(n, 1);
+    for (const int n : seen_e) EXPECT_EQ(n, 1);
+  }
+}

@@ -27,6 +27,24 @@ TEST(Refractory, KeepsFirstEdgeOfEachBurst) {
   EXPECT_EQ(r.bounces, (std::vector<std::int64_t>{1, 2}));
 }
 
+TEST(Refractory, BouncesAloneAndKeptIndex) {
+  // Bounces at the start, in a run, and at the end; a period of 0 keeps everything.
+  const std::vector<std::int64_t> t{0,        1 * kMs,  2 * kMs,  20 * kMs, 40 * kMs,
+                                    45 * kMs, 46 * kMs, 80 * kMs, 81 * kMs};
+  const auto bounces = pairing::refractory_bounces(t, std::chrono::milliseconds(10));
+  EXPECT_EQ(bounces, (std::vector<std::int64_t>{1, 2, 5, 6, 8}));
+  EXPECT_EQ(bounces, pairing::refractory_filter(t, std::chrono::milliseconds(10)).bounces);
+  EXPECT_TRUE(pairing::refractory_bounces(t, std::chrono::milliseconds(0)).empty());
+  const std::vector<std::int64_t> kept{0, 3, 4, 7};
+  pairing::KeptIndex all(bounces);
+  for (std::size_t k = 0; k < kept.size(); ++k) EXPECT_EQ(all(k), kept[k]) << k;
+  pairing::KeptIndex skipping(bounces);  // positions may be skipped, as for the unmatched ones
+  EXPECT_EQ(skipping(1), 3);
+  EXPECT_EQ(skipping(3), 7);
+  pairing::KeptIndex none({});
+  EXPECT_EQ(none(5), 5);
+}
+
 TEST(Matcher, SingleMagnetClean) {
   const std::vector<std::int64_t> c{0, 2500 * kMs, 5100 * kMs};
   const std::vector<std::int64_t> e{800 * kMs, 3350 * kMs, 5850 * kMs};

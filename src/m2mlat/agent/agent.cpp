@@ -1,0 +1,139 @@
+// The recorder thread, the live snapshot and the session requests.
+#include "m2mlat/agent/agent.hpp"
+
+#include <fmt/format.h>
+#include <poll.h>
+
+#include <cerrno>
+#include <exception>
+#include <thread>
+
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/store/store.hpp"
+
+namespace m2mlat::agent {
+
+Agent::Agent(AgentOptions options, capture::Source& source) : options_(std::move(options)), source_(source) {
+  options_.server.store_path = options_.store_path;
+  server_ = std::make_unique<net::AgentServer>(options_.server, *this);  // checks the address rule
+}
+
+Agent::~Agent() { server_->stop(); }
+
+void Agent::start() {
+  // The store must exist before the server's threads open it read-only.
+  { auto store = store::Store::open(options_.store_path, options_.store_options); }
+  server_->start();
+}
+
+int Agent::port() const { return server_->port(); }
+std::string Agent::address() const { return server_->address(); }
+bool Agent::tls() const { return server_->tls(); }
+
+void Agent::on_progress(const capture::RecordCounters& counters) {
+  std::lock_guard lock(mutex_);
+  counters_ = counters;
+}
+
+void Agent::before_commit(std::int64_t session_id, std::vector<store::ClockSample>& samples) {
+  if (options_.recorder.before_commit) options_.recorder.before_commit(session_id, samples);
+  if (samples.empty()) return;
+  std::lock_guard lock(mutex_);
+  clock_ = samples.back();
+}
+
+capture::RecordCounters Agent::run(int stop_fd, const std::function<std::string()>& stop_name) {
+  auto store = store::Store::open(options_.store_path, options_.store_options);
+  auto recorder_options = options_.recorder;
+  recorder_options.control = &control_;
+  recorder_options.start_session = false;
+  recorder_options.on_progress = [this](const capture::RecordCounters& c) { on_progress(c); };
+  recorder_options.on_commit = [this](std::int64_t seq) { server_->notify_commit(seq); };
+  recorder_options.before_commit = [this](std::int64_t id, std::vector<store::ClockSample>& samples) {
+    before_commit(id, samples);
+  };
+  capture::Recorder recorder(store, source_, recorder_options);
+
+  capture::RecordCounters result;
+  std::exception_ptr failure;
+  {
+    std::lock_guard lock(mutex_);
+    started_ns_ = capture::realtime_now().ns();
+  }
+  std::thread thread([&] {
+    try {
+      result = recorder.run(stop_fd, stop_name);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+  });
+  // The first session, through the same path as the API's.
+  try {
+    begin_session({options_.recorder.session.label, options_.recorder.session.scenario});
+  } catch (
+      const std::exception&) {  // NOLINT(bugprone-empty-catch): the recorder stopped first; run() reports why
+  }
+  thread.join();
+  {
+    std::lock_guard lock(mutex_);
+    open_.reset();
+    counters_ = result;
+  }
+  // A finished source (a simulated run's end): the data stays available until we are told to stop.
+  if (!failure && result.stop_reason == "source finished" && stop_fd >= 0) {
+    pollfd fd{stop_fd, POLLIN, 0};
+    while (::poll(&fd, 1, -1) < 0 && errno == EINTR) {
+    }
+    if (stop_name) stop_name();
+  }
+  server_->stop();
+  if (failure) std::rethrow_exception(failure);
+  return result;
+}
+
+net::Status Agent::live_status() {
+  net::Status s;
+  s.node = options_.recorder.session.node;
+  s.role = options_.recorder.session.role;
+  std::lock_guard lock(mutex_);
+  s.session = open_;
+  for (const auto& c : counters_.channels) {
+    s.channels.push_back({c.channel, c.events, c.suppressed, c.lost,
+                          c.last ? std::optional<std::int64_t>(c.last->ns()) : std::nullopt});
+    s.lost += c.lost;
+  }
+  if (s.channels.empty())
+    for (const auto& name : source_.channels()) s.channels.push_back({name, 0, 0, 0, std::nullopt});
+  s.lost += counters_.node_lost;
+  s.events = counters_.events;
+  s.dropped = counters_.dropped;
+  s.clock = clock_;
+  s.started_ns = started_ns_;
+  return s;
+}
+
+store::Session Agent::begin_session(const net::SessionRequest& request) {
+  std::lock_guard serial(request_mutex_);
+  auto next = options_.recorder.session;
+  next.label = request.label;
+  next.scenario = request.scenario;
+  const auto ticket = control_.request_begin(next);
+  const auto outcome = control_.wait(ticket, options_.server.session_timeout);
+  if (!outcome || !outcome->begun)
+    throw net::RequestError(503, "the recorder is not running: no session begun");
+  std::lock_guard lock(mutex_);
+  open_ = outcome->begun;
+  return *outcome->begun;
+}
+
+std::optional<store::Session> Agent::stop_session() {
+  std::lock_guard serial(request_mutex_);
+  const auto ticket = control_.request_stop();
+  const auto outcome = control_.wait(ticket, options_.server.session_timeout);
+  if (!outcome) throw net::RequestError(503, "the recorder is not running");
+  std::lock_guard lock(mutex_);
+  open_.reset();
+  return outcome->ended;
+}
+
+}  // namespace m2mlat::agent

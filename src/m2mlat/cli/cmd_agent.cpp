@@ -1,0 +1,116 @@
+// `m2mlat agent`: one node's recorder with the agent HTTP API (docs/api.md). Takes the options of
+// `m2mlat record` (a TOML configuration or flags; the sim source is always paced and, unless
+// --sim-set manoeuvres=N says otherwise, practically endless) plus where to listen, the bearer token and TLS.
+// Prints `listening HOST:PORT` on stdout once the port is bound (--listen 127.0.0.1:0 picks a free
+// one; --port-file also writes the port), and stops cleanly on SIGINT/SIGTERM, committing what it has.
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <fstream>
+#include <memory>
+
+#include "m2mlat/agent/agent.hpp"
+#include "m2mlat/capture/stop_signal.hpp"
+#include "m2mlat/cli/command.hpp"
+#include "m2mlat/cli/output.hpp"
+#include "m2mlat/cli/record_setup.hpp"
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/net/auth.hpp"
+
+namespace m2mlat::cli {
+
+namespace {
+
+struct AgentCommand {
+  RecordFlags record;
+  std::string listen = "127.0.0.1:8470";
+  std::string token_file, tls_cert, tls_key, port_file;
+  std::size_t max_connections = 16;
+};
+
+// "HOST:PORT" or "[V6]:PORT" -> host, port.
+std::pair<std::string, int> split_listen(const std::string& text) {
+  const auto colon = text.rfind(':');
+  const auto bad = [&] {
+    return core::Error(core::ErrorKind::usage,
+                       fmt::format("--listen '{}': use HOST:PORT, e.g. 127.0.0.1:8470 or [::1]:0", text));
+  };
+  if (colon == std::string::npos || colon == 0) throw bad();
+  auto host = text.substr(0, colon);
+  if (host.front() == '[') {
+    if (host.back() != ']' || host.size() < 3) throw bad();
+    host = host.substr(1, host.size() - 2);
+  } else if (host.find(':') != std::string::npos) {
+    throw bad();  // an IPv6 address needs brackets
+  }
+  const auto port_text = text.substr(colon + 1);
+  if (port_text.empty() || port_text.size() > 5 ||
+      port_text.find_first_not_of("0123456789") != std::string::npos)
+    throw bad();
+  const int port = std::stoi(port_text);
+  if (port > 65535) throw bad();
+  return {host, port};
+}
+
+int run_agent(AgentCommand& c) {
+  auto& flags = c.record;
+  flags.sim_paced = true;  // an agent is live: the simulated rig runs in real time
+  flags.sim_set.insert(flags.sim_set.begin(), "manoeuvres=1000000000");  // years of manoeuvres
+  auto setup = prepare_record(flags);
+  if (!flags.quiet)
+    for (const auto& line : setup.source->describe()) fmt::print(stderr, "m2mlat: {}\n", line);
+
+  agent::AgentOptions options;
+  options.store_path = flags.store_path;
+  options.store_options = setup.store_options;
+  options.recorder = setup.options;
+  const auto [host, port] = split_listen(c.listen);
+  options.server.host = host;
+  options.server.port = port;
+  options.server.token = net::load_token(c.token_file.empty() ? std::nullopt : std::optional(c.token_file));
+  options.server.tls_cert = c.tls_cert;
+  options.server.tls_key = c.tls_key;
+  options.server.threads = c.max_connections;
+
+  capture::StopSignal stop;  // before any thread starts, so that every thread blocks the signals
+  agent::Agent agent(options, *setup.source);
+  agent.start();
+  if (!c.port_file.empty()) {
+    std::ofstream out(c.port_file);
+    out << agent.port() << '\n';
+    if (!out) throw core::Error(core::ErrorKind::io, fmt::format("{}: cannot write the port", c.port_file));
+  }
+  fmt::print("listening {}\n", agent.address());
+  std::fflush(stdout);
+  if (!flags.quiet)
+    fmt::print(stderr, "m2mlat: agent of node {} on {}://{}{}\n", setup.node, agent.tls() ? "https" : "http",
+               agent.address(), options.server.token ? " (bearer token required)" : "");
+  apply_rt(setup, flags.quiet);
+  const auto counters = agent.run(stop.fd(), [&] { return stop.take(); });
+  for (const auto& note : setup.source->notes()) warn(note);
+  if (!flags.quiet)
+    fmt::print(stderr, "m2mlat: {}: {} events stored, {} dropped, last seq {}, stopped by {}\n",
+               flags.store_path, counters.events, counters.dropped, counters.last_committed_seq,
+               counters.stop_reason);
+  return 0;
+}
+
+}  // namespace
+
+Runner attach_agent(CLI::App& sub) {
+  auto c = std::make_shared<AgentCommand>();
+  add_record_options(sub, c->record);
+  sub.add_option("--listen", c->listen, "HOST:PORT to serve the API on (port 0: any free one)")
+      ->capture_default_str();
+  sub.add_option("--token-file", c->token_file,
+                 "File holding the bearer token (else env M2MLAT_TOKEN); needed off loopback");
+  sub.add_option("--tls-cert", c->tls_cert, "PEM certificate: serve HTTPS");
+  sub.add_option("--tls-key", c->tls_key, "PEM private key of --tls-cert");
+  sub.add_option("--port-file", c->port_file, "Write the bound port to this file");
+  sub.add_option("--max-connections", c->max_connections, "Connections served at once (worker threads)")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{256}))
+      ->capture_default_str();
+  return [c] { return run_agent(*c); };
+}
+
+}  // namespace m2mlat::cli

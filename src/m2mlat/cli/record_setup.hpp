@@ -1,0 +1,73 @@
+// The options `m2mlat record` and `m2mlat agent` share, and what they make of them: a node's
+// capture source (gpio, kmsg or the simulated rig), its recorder options and store options, from a
+// TOML configuration (capture/record_config.hpp) and flags (a flag given overrides the file). One
+// place so that an agent captures exactly as a recorder would.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "m2mlat/capture/channel.hpp"
+#include "m2mlat/capture/gpio_device.hpp"
+#include "m2mlat/capture/recorder.hpp"
+#include "m2mlat/capture/source.hpp"
+#include "m2mlat/store/records.hpp"
+
+namespace m2mlat::cli {
+
+struct RecordFlags {
+  std::string store_path, node, role, scenario, label, config_path, source;
+  std::vector<std::string> channels;
+  std::string edges = "falling", bias = "as-is", clock = "realtime", refractory = "0", debounce = "0";
+  bool active_low = false;
+  std::uint64_t count = 0;
+  std::string duration;
+  std::int64_t batch = 512;
+  std::string commit_interval = "100ms", durability = "normal";
+  int rt_priority = 0, cpu = -1, irq_cpu = -1;
+  bool mlock = false, quiet = false, json = false;
+  std::string kmsg = "/dev/kmsg", sim_preset = "static_wifi";
+  bool sim_paced = false;
+  std::uint64_t sim_seed = 1;
+  std::vector<std::string> sim_set;  // "key=value" overrides of the simulated rig (sim/overrides.hpp)
+  std::uint32_t event_buffer_size = capture::kMaxEventBufferSize;
+  // Which of the flags above were given (a flag overrides the file; a file's channel key overrides
+  // the flag's default).
+  std::map<std::string, CLI::Option*> options;
+  bool given(const std::string& name) const { return options.at(name)->count() > 0; }
+};
+
+// Registers the shared options on `sub`, writing into `flags` (which must outlive parsing).
+void add_record_options(CLI::App& sub, RecordFlags& flags);
+
+// What the flags and the configuration file make: everything but the store and the loop.
+struct RecordSetup {
+  std::string node;
+  core::Role role = core::Role::observer;
+  std::string source_kind;  // gpio | kmsg | sim
+  std::vector<capture::ChannelSpec> channels;
+  std::unique_ptr<capture::GpioDevices> devices;  // the gpio source's devices (must outlive it)
+  std::unique_ptr<capture::Source> source;
+  std::vector<std::string> consumers;  // the gpio source's interrupt consumer names
+  capture::RecorderOptions options;    // session (node, role, label, scenario, config), batching, limits
+  store::Options store_options;
+  int rt_priority = 0, cpu = -1, irq_cpu = -1;
+  bool mlock = false;
+};
+
+// Reads the configuration file, merges the flags and opens the source (so that a wrong line or a
+// missing permission fails before the store is touched). Throws core::Error(usage) for bad flags.
+RecordSetup prepare_record(const RecordFlags& flags);
+
+// Applies the real-time settings (memory lock, CPU, FIFO priority, IRQ affinity), each reported;
+// a refusal is a warning, not a failure.
+void apply_rt(const RecordSetup& setup, bool quiet);
+
+// The live counters line on stderr.
+void print_counters(const capture::RecordCounters& counters);
+
+}  // namespace m2mlat::cli

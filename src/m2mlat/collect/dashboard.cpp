@@ -1,0 +1,262 @@
+// The dashboard's HTTP server and the JSON of its snapshot.
+#include "m2mlat/collect/dashboard.hpp"
+
+#include <fmt/format.h>
+#include <httplib.h>
+
+#include <charconv>
+#include <cmath>
+
+#include "m2mlat/collect/web_assets.hpp"
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/net/auth.hpp"
+
+namespace m2mlat::collect {
+
+namespace {
+
+// A statistic in ms, or null where it is undefined (NaN: no samples).
+nlohmann::json ms_or_null(double ms) { return std::isnan(ms) ? nlohmann::json(nullptr) : nlohmann::json(ms); }
+
+nlohmann::json sample_json(const LiveSample& s) {
+  return {{"t_ns", s.cause_ns}, {"latency_ns", s.latency_ns}, {"ambiguous", s.ambiguous}};
+}
+
+nlohmann::json summary_json(const LiveSummary& s) {
+  const auto& st = s.summary;
+  return {{"state", to_string(s.state)},
+          {"message", s.message},
+          {"scenario", s.scenario},
+          {"cause", s.cause_ref.node.empty() ? "" : core::to_string(s.cause_ref)},
+          {"effect", s.effect_ref.node.empty() ? "" : core::to_string(s.effect_ref)},
+          {"clock", core::to_string(s.clock)},
+          {"cause_events", s.cause_events},
+          {"effect_events", s.effect_events},
+          {"pairs", s.pairs},
+          {"ambiguous", s.ambiguous},
+          {"samples", st.n},
+          {"cause_unmatched", s.cause_unmatched},
+          {"effect_unmatched", s.effect_unmatched},
+          {"bounces", s.bounces},
+          {"last", s.last ? sample_json(*s.last) : nlohmann::json(nullptr)},
+          {"median_ms", ms_or_null(st.median_ms)},
+          {"q1_ms", ms_or_null(st.q1_ms)},
+          {"q3_ms", ms_or_null(st.q3_ms)},
+          {"iqr_ms", ms_or_null(st.iqr_ms)},
+          {"p95_ms", ms_or_null(st.p95_ms)},
+          {"mean_ms", ms_or_null(st.mean_ms)},
+          {"min_ns", st.min ? nlohmann::json(st.min->ns) : nlohmann::json(nullptr)},
+          {"max_ns", st.max ? nlohmann::json(st.max->ns) : nlohmann::json(nullptr)},
+          {"store_last_seq", s.store_last_seq},
+          {"update_cost_ns", s.update_cost_ns},
+          {"pairings", s.pairings}};
+}
+
+nlohmann::json node_json(const NodeHealth& n) {
+  return {{"node", n.node},
+          {"url", n.url},
+          {"role", core::to_string(n.role)},
+          {"state", to_string(n.state)},
+          {"last_contact_ns", n.last_contact_ns},
+          {"events_per_s", n.events_per_s},
+          {"events", n.events},
+          {"lost", n.lost},
+          {"cursor_seq", n.cursor_seq},
+          {"agent_last_seq", n.agent_last_seq},
+          {"has_clock", n.has_clock},
+          {"clock_offset_ns", n.clock_offset_ns},
+          {"clock_max_error_ns", n.clock_max_error_ns},
+          {"synchronised", n.synchronised},
+          {"last_error", n.last_error}};
+}
+
+constexpr const char* kSecurityPolicy =
+    "default-src 'none'; script-src 'self'; style-src 'self'; connect-src 'self'; img-src 'self'; "
+    "base-uri 'none'; form-action 'none'; frame-ancestors 'none'";
+
+void error_body(httplib::Response& res, int status, const std::string& message) {
+  res.status = status;
+  res.set_content(nlohmann::json{{"error", {{"status", status}, {"message", message}}}}.dump(),
+                  "application/json");
+}
+
+}  // namespace
+
+nlohmann::json snapshot_json(const LiveSummary& summary, const std::vector<NodeHealth>& nodes,
+                             std::int64_t now_ns) {
+  nlohmann::json doc{{"format", kLiveFormat}, {"now_ns", now_ns}, {"summary", summary_json(summary)}};
+  auto& n = doc["nodes"] = nlohmann::json::array();
+  for (const auto& node : nodes) n.push_back(node_json(node));
+  auto& r = doc["recent"] = nlohmann::json::array();
+  for (const auto& s : summary.recent) r.push_back(sample_json(s));
+  auto& h = doc["histogram"];
+  h["width_ns"] =
+      summary.histogram.empty() ? 0 : summary.histogram.front().upper_ns - summary.histogram.front().lower_ns;
+  h["bins"] = nlohmann::json::array();
+  for (const auto& b : summary.histogram) h["bins"].push_back({{"lower_ns", b.lower_ns}, {"count", b.count}});
+  return doc;
+}
+
+void parse_listen_address(std::string_view text, DashboardOptions& options) {
+  auto bad = [&](std::string_view why) {
+    throw core::Error(
+        core::ErrorKind::usage,
+        fmt::format("--dashboard '{}': {} (expected ADDR:PORT, ADDR or :PORT, e.g. 127.0.0.1:8480 "
+                    "or :0 for any free port)",
+                    text, why));
+  };
+  std::string_view host = text, port_text;
+  if (!text.empty() && text.front() == '[') {  // [v6]:port or [v6]
+    const auto close = text.find(']');
+    if (close == std::string_view::npos) bad("no ']' after the IPv6 address");
+    host = text.substr(1, close - 1);
+    const auto rest = text.substr(close + 1);
+    if (!rest.empty() && rest.front() != ':') bad("expected ':' after ']'");
+    if (!rest.empty()) port_text = rest.substr(1);
+  } else if (const auto colon = text.find(':'); colon != std::string_view::npos) {
+    if (text.find(':', colon + 1) != std::string_view::npos) bad("an IPv6 address goes in brackets");
+    host = text.substr(0, colon);
+    port_text = text.substr(colon + 1);
+    if (port_text.empty()) bad("no port after ':'");
+  }
+  int port = 8480;
+  if (!port_text.empty()) {
+    const auto [end, ec] = std::from_chars(port_text.data(), port_text.data() + port_text.size(), port);
+    if (ec != std::errc{} || end != port_text.data() + port_text.size() || port < 0 || port > 65535)
+      bad("the port is not a number from 0 to 65535");
+  }
+  options.host = host.empty() ? "127.0.0.1" : std::string(host);
+  options.port = port;
+}
+
+Dashboard::Dashboard(DashboardOptions options)
+    : options_(std::move(options)), server_(std::make_unique<httplib::Server>()) {
+  if (!net::is_loopback(options_.host) && options_.token.empty())
+    throw core::Error(
+        core::ErrorKind::usage,
+        fmt::format("the dashboard on {} (not a loopback address) needs a token: give --token-file "
+                    "or set M2MLAT_TOKEN",
+                    options_.host));
+  auto& svr = *server_;
+  svr.set_read_timeout(std::chrono::seconds(5));
+  svr.set_write_timeout(std::chrono::seconds(5));
+  svr.set_payload_max_length(64 * 1024);
+  svr.set_keep_alive_max_count(100);
+  // Streams each hold a worker; leave some for the page and /api/live.
+  const auto workers = options_.max_streams + 4;
+  svr.new_task_queue = [workers] { return new httplib::ThreadPool(workers); };
+  svr.set_default_headers({{"Cache-Control", "no-store"},
+                           {"X-Content-Type-Options", "nosniff"},
+                           {"Content-Security-Policy", kSecurityPolicy},
+                           {"Referrer-Policy", "no-referrer"}});
+
+  const bool need_token = !options_.token.empty();
+  svr.set_pre_routing_handler([this, need_token](const httplib::Request& req, httplib::Response& res) {
+    using R = httplib::Server::HandlerResponse;
+    if (req.method != "GET" && req.method != "HEAD") {
+      res.set_header("Allow", "GET, HEAD");
+      error_body(res, 405, fmt::format("{} is not allowed: the dashboard only reads", req.method));
+      return R::Handled;
+    }
+    if (!need_token || req.path.rfind("/api/", 0) != 0) return R::Unhandled;
+    std::string given;
+    const auto auth = req.get_header_value("Authorization");
+    if (auth.rfind("Bearer ", 0) == 0)
+      given = auth.substr(7);
+    else if (req.has_param("token"))
+      given = req.get_param_value("token");
+    if (net::tokens_equal(given, options_.token)) return R::Unhandled;
+    res.set_header("WWW-Authenticate", "Bearer realm=\"m2mlat\"");
+    error_body(res, 401, "a valid bearer token is required (Authorization header or ?token=)");
+    return R::Handled;
+  });
+
+  svr.Get("/api/live", [this](const httplib::Request&, httplib::Response& res) {
+    std::lock_guard lock(mutex_);
+    res.set_content(snapshot_, "application/json");
+  });
+
+  svr.Get("/api/live/stream", [this](const httplib::Request&, httplib::Response& res) {
+    {
+      std::lock_guard lock(mutex_);
+      if (streams_ >= options_.max_streams || stopping_) {
+        error_body(res, 503, fmt::format("too many event streams (at most {})", options_.max_streams));
+        return;
+      }
+      ++streams_;
+    }
+    // 0: nothing sent yet, so the newest snapshot goes out at once.
+    auto sent = std::make_shared<std::uint64_t>(0);
+    res.set_header("X-Accel-Buffering", "no");
+    res.set_chunked_content_provider(
+        "text/event-stream",
+        [this, sent](std::size_t, httplib::DataSink& sink) {
+          std::unique_lock lock(mutex_);
+          const bool fresh = changed_.wait_for(
+              lock, options_.ping_interval, [&] { return stopping_ || (version_ > 0 && version_ != *sent); });
+          if (stopping_) return false;
+          std::string message;
+          if (fresh) {
+            message = fmt::format("id: {}\nevent: snapshot\ndata: {}\n\n", version_, snapshot_);
+            *sent = version_;
+          } else {
+            message = ": ping\n\n";
+          }
+          lock.unlock();
+          return sink.is_writable() && sink.write(message.data(), message.size());
+        },
+        [this](bool) {
+          std::lock_guard lock(mutex_);
+          --streams_;
+        });
+  });
+
+  svr.Get(R"(/[A-Za-z0-9_.-]*)", [](const httplib::Request& req, httplib::Response& res) {
+    const auto* asset = find_web_asset(req.path);
+    if (!asset) return error_body(res, 404, fmt::format("no such page: {}", req.path));
+    res.set_content(asset->bytes.data(), asset->bytes.size(), std::string(asset->content_type));
+  });
+  svr.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+    if (res.body.empty()) error_body(res, res.status, fmt::format("{} {}", res.status, req.path));
+  });
+
+  if (options_.port == 0) {
+    port_ = svr.bind_to_any_port(options_.host);
+  } else {
+    port_ = svr.bind_to_port(options_.host, options_.port) ? options_.port : -1;
+  }
+  if (port_ <= 0)
+    throw core::Error(core::ErrorKind::io,
+                      fmt::format("the dashboard cannot listen on {}:{}", options_.host, options_.port));
+  thread_ = std::thread([this] { server_->listen_after_bind(); });
+}
+
+Dashboard::~Dashboard() { stop(); }
+
+std::string Dashboard::url() const {
+  const bool v6 = options_.host.find(':') != std::string::npos;
+  return fmt::format("http://{}{}{}:{}/", v6 ? "[" : "", options_.host, v6 ? "]" : "", port_);
+}
+
+void Dashboard::publish(const nlohmann::json& snapshot) {
+  auto text = snapshot.dump();
+  {
+    std::lock_guard lock(mutex_);
+    snapshot_ = std::move(text);
+    ++version_;
+  }
+  changed_.notify_all();
+}
+
+void Dashboard::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    if (stopping_ && !thread_.joinable()) return;
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  server_->stop();
+  if (thread_.joinable()) thread_.join();
+}
+
+}  // namespace m2mlat::collect

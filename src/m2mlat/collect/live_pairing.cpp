@@ -1,0 +1,170 @@
+// Live pairing: re-reads the current scenario and pairs it as `m2mlat stats` does.
+#include "m2mlat/collect/live_pairing.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <filesystem>
+
+#include "m2mlat/analysis/scenario_result.hpp"
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/store/store.hpp"
+
+namespace m2mlat::collect {
+
+std::string_view to_string(LiveState state) {
+  switch (state) {
+    case LiveState::waiting: return "waiting";
+    case LiveState::ok: return "ok";
+    case LiveState::error: return "error";
+  }
+  return "?";
+}
+
+namespace {
+
+// floor(a / b) for b > 0, also for negative a (latencies may be negative with min_latency < 0).
+std::int64_t floor_div(std::int64_t a, std::int64_t b) {
+  const auto q = a / b;
+  return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+
+std::size_t count_unmatched(const pairing::MatchResult& m, pairing::Side side, bool bounces) {
+  return static_cast<std::size_t>(std::count_if(m.unmatched.begin(), m.unmatched.end(), [&](const auto& u) {
+    return u.side == side && (u.reason == pairing::UnmatchedReason::bounce) == bounces;
+  }));
+}
+
+}  // namespace
+
+std::vector<HistogramBin> histogram(const std::vector<std::int64_t>& latencies_ns, std::size_t max_bins) {
+  std::vector<HistogramBin> bins;
+  if (latencies_ns.empty() || max_bins == 0) return bins;
+  const auto [lo_it, hi_it] = std::minmax_element(latencies_ns.begin(), latencies_ns.end());
+  const std::int64_t lo = *lo_it, hi = *hi_it;
+  // Widths 1, 2, 5, 10, 20, 50 ... ns: the first whose aligned bins number at most max_bins.
+  std::int64_t width = 1;
+  constexpr std::array kSteps{1, 2, 5};
+  for (std::int64_t decade = 1;; decade *= 10) {
+    bool found = false;
+    for (auto step : kSteps) {
+      width = decade * step;
+      const auto first = floor_div(lo, width), last = floor_div(hi, width);
+      if (static_cast<std::uint64_t>(last - first) + 1 <= max_bins) {
+        found = true;
+        break;
+      }
+    }
+    if (found || decade > std::int64_t{100'000'000'000'000'000}) break;
+  }
+  const auto first = floor_div(lo, width), last = floor_div(hi, width);
+  bins.reserve(static_cast<std::size_t>(last - first + 1));
+  for (auto k = first; k <= last; ++k) bins.push_back({k * width, (k + 1) * width, 0});
+  for (auto v : latencies_ns) ++bins[static_cast<std::size_t>(floor_div(v, width) - first)].count;
+  return bins;
+}
+
+struct LivePairing::Opened {
+  store::Store store;
+};
+
+LivePairing::LivePairing(std::string store_path, LiveOptions options)
+    : store_path_(std::move(store_path)), options_(std::move(options)) {
+  // The bootstrap resamples thousands of times: far too slow to repeat every update.
+  options_.summary.bootstrap.reset();
+  summary_.message = "no store yet";
+}
+
+LivePairing::~LivePairing() = default;
+
+const LiveSummary& LivePairing::update() {
+  try {
+    if (!opened_) {
+      if (!std::filesystem::exists(store_path_)) {
+        summary_.state = LiveState::waiting;
+        summary_.message = fmt::format("{}: no store yet", store_path_);
+        return summary_;
+      }
+      store::Options o;
+      o.read_only = true;
+      opened_ = std::make_unique<Opened>(Opened{store::Store::open(store_path_, o)});
+    }
+    const auto last_seq = opened_->store.last_seq();
+    const auto sessions = opened_->store.sessions().size();
+    const std::pair now{last_seq, sessions};
+    if (seen_ && *seen_ == now) return summary_;
+    seen_ = now;
+    repair();
+  } catch (const core::Error& e) {
+    // A store being created by another thread may briefly be unreadable: try again next time.
+    summary_.state = e.kind() == core::ErrorKind::data ? LiveState::error : LiveState::waiting;
+    summary_.message = e.what();
+    if (summary_.state == LiveState::waiting) opened_.reset();
+  } catch (const std::exception& e) {
+    // Anything else (out of memory) must not end the coordinator from the pairing thread.
+    summary_.state = LiveState::error;
+    summary_.message = e.what();
+  }
+  return summary_;
+}
+
+void LivePairing::repair() {
+  const auto started = std::chrono::steady_clock::now();
+  const auto& store = opened_->store;
+  LiveSummary s;
+  s.store_last_seq = seen_->first;
+  s.pairings = summary_.pairings + 1;
+  s.scenario = options_.scenario;
+  if (s.scenario.empty()) {
+    const auto sessions = store.sessions();
+    if (sessions.empty()) {
+      s.message = "no session yet";
+      summary_ = std::move(s);
+      return;
+    }
+    s.scenario = sessions.back().scenario;  // in id order: the newest session's
+  }
+  analysis::ScenarioResult r;
+  try {
+    r = analysis::analyse(analysis::load_scenario(store, s.scenario, options_.selection), options_.match,
+                          options_.summary, options_.include_ambiguous);
+  } catch (const core::Error& e) {
+    // Until both agents have sent their session, a side is missing: that is waiting, not an error.
+    const std::string what = e.what();
+    const bool missing_side = what.find("has no ") != std::string::npos;
+    s.state = missing_side ? LiveState::waiting : LiveState::error;
+    s.message = what;
+    summary_ = std::move(s);
+    return;
+  }
+  s.state = LiveState::ok;
+  s.cause_ref = r.input.cause_ref;
+  s.effect_ref = r.input.effect_ref;
+  s.clock = r.input.clock;
+  s.cause_events = r.match.cause_count;
+  s.effect_events = r.match.effect_count;
+  s.pairs = r.match.pairs.size();
+  s.ambiguous = r.ambiguous_pairs();
+  s.cause_unmatched = count_unmatched(r.match, pairing::Side::cause, false);
+  s.effect_unmatched = count_unmatched(r.match, pairing::Side::effect, false);
+  s.bounces = count_unmatched(r.match, pairing::Side::cause, true) +
+              count_unmatched(r.match, pairing::Side::effect, true);
+  s.summary = std::move(r.summary);
+  const auto& pairs = r.match.pairs;
+  const auto keep = std::min(pairs.size(), options_.recent_samples);
+  s.recent.reserve(keep);
+  for (auto k = pairs.size() - keep; k < pairs.size(); ++k)
+    s.recent.push_back({pairs[k].cause_time.ns(), pairs[k].latency().count(), pairs[k].ambiguous()});
+  if (!pairs.empty())
+    s.last =
+        LiveSample{pairs.back().cause_time.ns(), pairs.back().latency().count(), pairs.back().ambiguous()};
+  s.histogram = histogram(r.latencies_ns(), options_.max_histogram_bins);
+  s.update_cost_ns =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - started)
+          .count();
+  summary_ = std::move(s);
+}
+
+}  // namespace m2mlat::collect

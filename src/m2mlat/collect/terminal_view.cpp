@@ -1,0 +1,102 @@
+// The coordinator's live block on the terminal.
+#include "m2mlat/collect/terminal_view.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace m2mlat::collect {
+
+namespace {
+
+std::string ms(double value_ms) { return std::isnan(value_ms) ? "-" : fmt::format("{:.1f} ms", value_ms); }
+
+std::string ns_as_ms(std::int64_t ns, int decimals) {
+  return fmt::format("{:.{}f} ms", static_cast<double>(ns) / 1e6, decimals);
+}
+
+std::string contact_age(std::int64_t last_contact_ns, std::int64_t now_ns) {
+  if (last_contact_ns == 0) return "never";
+  const auto age_ns = now_ns - last_contact_ns;
+  if (age_ns < 0) return "just now";
+  return fmt::format("{:.1f} s ago", static_cast<double>(age_ns) / 1e9);
+}
+
+}  // namespace
+
+std::vector<std::string> render_block(const LiveSummary& s, const std::vector<NodeHealth>& nodes,
+                                      std::int64_t now_ns) {
+  std::vector<std::string> lines;
+  if (s.state == LiveState::ok) {
+    lines.push_back(
+        fmt::format("{}: {} -> {}", s.scenario, core::to_string(s.cause_ref), core::to_string(s.effect_ref)));
+    const auto& st = s.summary;
+    lines.push_back(
+        fmt::format("samples {}  last {}  median {}  IQR {}  (pairs {}, {} ambiguous; unmatched {} cause, {} "
+                    "effect; {} bounces)",
+                    st.n, s.last ? ns_as_ms(s.last->latency_ns, 1) : "-", ms(st.median_ms), ms(st.iqr_ms),
+                    s.pairs, s.ambiguous, s.cause_unmatched, s.effect_unmatched, s.bounces));
+  } else {
+    lines.push_back(
+        fmt::format("{}{}: {}", to_string(s.state), s.scenario.empty() ? "" : " " + s.scenario, s.message));
+    lines.push_back("samples 0");
+  }
+  if (nodes.empty()) return lines;  // e.g. `m2mlat watch`: no agents to show
+  lines.push_back(fmt::format("{:<12} {:<8} {:<12} {:>9} {:>9} {:>6} {:>13} {:>11} {:>13}", "node", "role",
+                              "state", "events/s", "events", "lost", "clock offset", "max error",
+                              "last contact"));
+  for (const auto& n : nodes) {
+    const auto name = n.node.empty() ? n.url : n.node;
+    std::string offset = "-", max_error = "-";
+    if (n.has_clock) {
+      offset = fmt::format("{:+.3f} ms", static_cast<double>(n.clock_offset_ns) / 1e6);
+      max_error = ns_as_ms(n.clock_max_error_ns, 3);
+    }
+    std::string state(to_string(n.state));
+    if (n.has_clock && !n.synchronised) state += ",unsync";
+    auto line = fmt::format("{:<12} {:<8} {:<12} {:>9.1f} {:>9} {:>6} {:>13} {:>11} {:>13}", name,
+                            core::to_string(n.role), state, n.events_per_s, n.events, n.lost, offset,
+                            max_error, contact_age(n.last_contact_ns, now_ns));
+    if (!n.last_error.empty()) line += "  " + n.last_error;
+    lines.push_back(std::move(line));
+  }
+  return lines;
+}
+
+TerminalView::TerminalView(std::FILE* out, bool tty, std::chrono::nanoseconds plain_interval)
+    : out_(out), tty_(tty), plain_interval_(plain_interval) {}
+
+bool TerminalView::show(const LiveSummary& summary, const std::vector<NodeHealth>& nodes,
+                        std::int64_t now_ns) {
+  if (!tty_) {
+    if (last_plain_ns_ != 0 && now_ns - last_plain_ns_ < plain_interval_.count()) return false;
+    last_plain_ns_ = now_ns;
+  }
+  draw(render_block(summary, nodes, now_ns));
+  return true;
+}
+
+void TerminalView::finish(const LiveSummary& summary, const std::vector<NodeHealth>& nodes,
+                          std::int64_t now_ns) {
+  draw(render_block(summary, nodes, now_ns));
+  drawn_lines_ = 0;  // the final block stays; anything printed later goes below it
+}
+
+void TerminalView::draw(const std::vector<std::string>& lines) {
+  std::string text;
+  if (tty_) {
+    // Back to the first line of the previous block (CPL), then each line cleared to its end (EL),
+    // then everything below cleared (ED) in case the block got shorter.
+    if (drawn_lines_ > 0) text += fmt::format("\x1b[{}F", drawn_lines_);
+    for (const auto& line : lines) text += line + "\x1b[K\n";
+    text += "\x1b[J";
+    drawn_lines_ = lines.size();
+  } else {
+    for (const auto& line : lines) text += line + "\n";
+    text += "\n";  // a blank line between blocks
+  }
+  std::fwrite(text.data(), 1, text.size(), out_);
+  std::fflush(out_);
+}
+
+}  // namespace m2mlat::collect

@@ -1,0 +1,453 @@
+// Routes, the pre-routing gate, JSON errors, the SSE loop, and per-thread read-only stores.
+#include "m2mlat/net/server.hpp"
+
+#include <fmt/format.h>
+#include <httplib.h>
+#include <time.h>
+
+#include <array>
+#include <atomic>
+#include <condition_variable>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/core/version.hpp"
+#include "m2mlat/net/auth.hpp"
+#include "m2mlat/net/metrics.hpp"
+#include "m2mlat/store/store.hpp"
+
+namespace m2mlat::net {
+
+namespace {
+
+constexpr const char* kJson = "application/json";
+constexpr const char* kNdjson = "application/x-ndjson";
+// A POST body up to this many times the limit is read and discarded before the 413 (see gate()).
+constexpr std::uint64_t kDrainFactor = 64;
+
+// The API's paths and the methods each takes (HEAD goes with GET).
+struct Route {
+  std::string_view path;
+  bool get;
+  bool post;
+};
+constexpr std::array kRoutes{
+    Route{"/v1/status", true, false},
+    Route{"/v1/events", true, false},
+    Route{"/v1/events/stream", true, false},
+    Route{"/v1/sessions", true, true},
+    Route{"/v1/sessions/current/stop", false, true},
+    Route{"/v1/clock-samples", true, false},
+    Route{"/v1/losses", true, false},
+    Route{"/metrics", true, false},
+};
+
+std::string_view reason(int status) {
+  switch (status) {
+    case 400: return "bad request";
+    case 401: return "a bearer token is required";
+    case 404: return "no such path";
+    case 405: return "method not allowed";
+    case 408: return "request timeout";
+    case 409: return "conflict";
+    case 413: return "request body too large";
+    case 414: return "request line too long";
+    case 415: return "unsupported media type";
+    case 431: return "too many or too large header fields";
+    case 500: return "internal error";
+    case 503: return "service unavailable";
+    default: return status >= 500 ? "server error" : "client error";
+  }
+}
+
+void fail(httplib::Response& res, int status, std::string_view message) {
+  res.status = status;
+  res.set_content(error_body(status, message), kJson);
+}
+
+std::optional<std::string_view> param(const httplib::Request& req, const char* name) {
+  const auto count = req.get_param_value_count(name);
+  if (count == 0) return std::nullopt;
+  if (count > 1) throw RequestError(400, fmt::format("{} given {} times", name, count));
+  const auto it = req.params.find(name);
+  return std::string_view(it->second);
+}
+
+std::int64_t realtime_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+}
+
+template <typename Items>
+std::string ndjson(const Items& items) {
+  std::string out;
+  for (const auto& item : items) {
+    out += to_json(item).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    out += '\n';
+  }
+  return out;
+}
+
+}  // namespace
+
+struct AgentServer::Impl {
+  ServerOptions options;
+  AgentBackend& backend;
+  std::unique_ptr<httplib::Server> server;
+  std::thread thread;
+  int port = 0;
+  bool tls = false;
+
+  std::mutex stores_mutex;
+  std::map<std::thread::id, std::unique_ptr<store::Store>> stores;  // one per worker thread
+
+  std::mutex commit_mutex;
+  std::condition_variable commit_cv;
+  std::int64_t committed = 0;  // the latest seq notify_commit() gave
+  std::atomic<bool> stopping{false};
+  std::atomic<bool> listen_returned{false};
+  std::map<std::string, httplib::Server::Handler> post_handlers;  // by path
+
+  Impl(ServerOptions o, AgentBackend& b) : options(std::move(o)), backend(b) {}
+
+  // This thread's own read-only store, opened on first use.
+  store::Store& reader() {
+    std::lock_guard lock(stores_mutex);
+    auto& slot = stores[std::this_thread::get_id()];
+    if (!slot) {
+      store::Options read_only;
+      read_only.read_only = true;
+      slot = std::make_unique<store::Store>(store::Store::open(options.store_path, read_only));
+    }
+    return *slot;
+  }
+
+  // The gate every request passes before routing.
+  httplib::Server::HandlerResponse gate(const httplib::Request& req, httplib::Response& res) {
+    if (req.headers.size() > options.max_headers) {
+      fail(res, 431, fmt::format("{} header fields; at most {}", req.headers.size(), options.max_headers));
+      res.set_header("Connection", "close");
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    // Bodies: never larger than the limit, and none on GET/HEAD (httplib would not read it, and its
+    // bytes would be taken for the next request on the connection). A POST body a little over the limit
+    // (up to kDrainFactor times) is left to httplib, which reads and discards it before its 413: closing
+    // with the body unread would make the kernel reset the connection, and the client would see that
+    // instead of the answer.
+    if (req.has_header("Content-Length") || req.has_header("Transfer-Encoding")) {
+      const auto length = req.get_header_value("Content-Length");
+      const bool get = req.method == "GET" || req.method == "HEAD";
+      const std::uint64_t bytes = length.size() > 18 ? UINT64_MAX : std::stoull("0" + length);
+      const bool too_large = bytes > options.max_body &&
+                             (get || req.method != "POST" || bytes > kDrainFactor * options.max_body);
+      if (too_large || (get && (req.has_header("Transfer-Encoding") || (!length.empty() && length != "0")))) {
+        fail(res, too_large ? 413 : 400,
+             too_large ? fmt::format("request body larger than {} bytes", options.max_body)
+                       : "GET takes no body");
+        res.set_header("Connection", "close");
+        return httplib::Server::HandlerResponse::Handled;
+      }
+    }
+    if (options.token) {
+      bool ok = false;
+      if (req.get_header_value_count("Authorization") == 1) {
+        const std::string header = req.get_header_value("Authorization");  // parse_bearer views into it
+        if (const auto token = parse_bearer(header)) ok = tokens_equal(*token, *options.token);
+      }
+      if (!ok) {
+        fail(res, 401, "a valid 'Authorization: Bearer <token>' header is required");
+        res.set_header("WWW-Authenticate", "Bearer realm=\"m2mlat\"");
+        return httplib::Server::HandlerResponse::Handled;
+      }
+    }
+    const Route* route = nullptr;
+    for (const auto& r : kRoutes)
+      if (r.path == req.path) route = &r;
+    if (route == nullptr) {
+      fail(res, 404, "no such path (see docs/api.md)");
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    const bool get = req.method == "GET" || req.method == "HEAD";
+    if ((get && !route->get) || (req.method == "POST" && !route->post) || (!get && req.method != "POST")) {
+      const std::string allow = route->get && route->post ? "GET, HEAD, POST"
+                                : route->get              ? "GET, HEAD"
+                                                          : "POST";
+      fail(res, 405, fmt::format("{} takes {}", route->path, allow));
+      res.set_header("Allow", allow);
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    // A POST without Content-Length or chunked encoding has no body: answer it here, because httplib
+    // would read to the end of the connection (a keep-alive client never ends it) and time out.
+    if (req.method == "POST" && !req.has_header("Content-Length") && !req.has_header("Transfer-Encoding")) {
+      post_handlers.at(std::string(route->path))(req, res);
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    return httplib::Server::HandlerResponse::Unhandled;
+  }
+
+  // Runs a handler, turning refusals and failures into JSON errors.
+  template <typename Handler>
+  static httplib::Server::Handler wrap(Handler handler) {
+    return [handler](const httplib::Request& req, httplib::Response& res) {
+      try {
+        handler(req, res);
+      } catch (const RequestError& e) {
+        fail(res, e.status(), e.what());
+      } catch (const std::exception& e) {
+        fail(res, 500, e.what());
+      }
+    };
+  }
+
+  Status status() {
+    auto s = backend.live_status();
+    auto& store = reader();
+    s.api = std::string(kApiName);
+    s.software_version = core::kVersion;
+    s.store_id = store.store_id();
+    s.last_seq = store.last_seq();
+    s.now_ns = realtime_ns();
+    return s;
+  }
+
+  void events(const httplib::Request& req, httplib::Response& res) {
+    const auto after = parse_after(param(req, "after"));
+    const auto limit = parse_limit(param(req, "limit"));
+    auto& store = reader();
+    // The header first, then the page cut at it: a client never sees an event beyond the seq it is told.
+    const auto last = store.last_seq();
+    auto page = store.events_after(after, limit);
+    while (!page.empty() && page.back().seq > last) page.pop_back();
+    res.set_header(std::string(kLastSeqHeader), std::to_string(last));
+    res.set_content(ndjson(page), kNdjson);
+  }
+
+  void stream(const httplib::Request& req, httplib::Response& res) {
+    auto cursor = parse_after(param(req, "after"));
+    if (req.has_header("Last-Event-ID")) {
+      if (req.get_header_value_count("Last-Event-ID") > 1)
+        throw RequestError(400, "Last-Event-ID given twice");
+      cursor = parse_after(req.get_header_value("Last-Event-ID"), "Last-Event-ID");
+    }
+    res.set_header("Cache-Control", "no-cache");
+    res.set_header(std::string(kLastSeqHeader), std::to_string(reader().last_seq()));
+    auto next = std::make_shared<std::int64_t>(cursor);
+    auto last_write = std::make_shared<core::Duration>(monotonic());
+    res.set_chunked_content_provider("text/event-stream",
+                                     [this, next, last_write](std::size_t, httplib::DataSink& sink) {
+                                       return stream_step(*next, *last_write, sink);
+                                     });
+  }
+
+  static core::Duration monotonic() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return core::Duration{std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec};
+  }
+
+  // One step of an SSE stream: the events after `next` if any, else wait for a commit (or the poll
+  // interval) and send a ping when idle for ping_interval. False ends the stream.
+  bool stream_step(std::int64_t& next, core::Duration& last_write, httplib::DataSink& sink) {
+    auto& store = reader();
+    while (!stopping) {
+      const auto page = store.events_after(next, 1000);
+      if (!page.empty()) {
+        std::string out;
+        for (const auto& e : page) {
+          out += fmt::format("id: {}\nevent: event\ndata: {}\n\n", e.seq,
+                             to_json(e).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+        }
+        next = page.back().seq;
+        last_write = monotonic();
+        return sink.write(out.data(), out.size());
+      }
+      if (monotonic() - last_write >= options.ping_interval) {
+        last_write = monotonic();
+        static constexpr std::string_view ping = ": ping\n\n";
+        return sink.write(ping.data(), ping.size());
+      }
+      std::unique_lock lock(commit_mutex);
+      const auto seen = committed;
+      commit_cv.wait_for(lock, options.poll_interval, [&] { return committed != seen || stopping; });
+    }
+    return false;
+  }
+
+  void post_session(const httplib::Request& req, httplib::Response& res) {
+    // The body is parsed as JSON whatever Content-Type says (curl -d sends a form type).
+    const auto request = parse_session_request(req.body);
+    const auto session = backend.begin_session(request);
+    res.status = 201;
+    res.set_content(nlohmann::json{{"session", to_json(session)}}.dump(
+                        -1, ' ', false, nlohmann::json::error_handler_t::replace),
+                    kJson);
+  }
+
+  void stop_session(httplib::Response& res) {
+    const auto ended = backend.stop_session();
+    if (!ended) throw RequestError(409, "no session is open");
+    res.set_content(nlohmann::json{{"session", to_json(*ended)}}.dump(
+                        -1, ' ', false, nlohmann::json::error_handler_t::replace),
+                    kJson);
+  }
+
+  template <typename Items>
+  void id_page(const httplib::Request& req, httplib::Response& res,
+               Items (store::Store::*read)(std::int64_t, std::size_t) const) {
+    const auto after = parse_after(param(req, "after"));
+    const auto limit = parse_limit(param(req, "limit"));
+    res.set_content(ndjson((reader().*read)(after, limit)), kNdjson);
+  }
+
+  void routes() {
+    auto& s = *server;
+    s.Get("/v1/status", wrap([this](const httplib::Request&, httplib::Response& res) {
+            res.set_content(to_json(status()).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
+                            kJson);
+          }));
+    s.Get("/v1/events",
+          wrap([this](const httplib::Request& req, httplib::Response& res) { events(req, res); }));
+    s.Get("/v1/events/stream",
+          wrap([this](const httplib::Request& req, httplib::Response& res) { stream(req, res); }));
+    s.Get("/v1/sessions", wrap([this](const httplib::Request&, httplib::Response& res) {
+            nlohmann::json list = nlohmann::json::array();
+            for (const auto& session : reader().sessions()) list.push_back(to_json(session));
+            res.set_content(nlohmann::json{{"sessions", list}}.dump(-1, ' ', false,
+                                                                    nlohmann::json::error_handler_t::replace),
+                            kJson);
+          }));
+    post_handlers["/v1/sessions"] =
+        wrap([this](const httplib::Request& req, httplib::Response& res) { post_session(req, res); });
+    post_handlers["/v1/sessions/current/stop"] =
+        wrap([this](const httplib::Request&, httplib::Response& res) { stop_session(res); });
+    for (const auto& [path, handler] : post_handlers) s.Post(path, handler);
+    s.Get("/v1/clock-samples", wrap([this](const httplib::Request& req, httplib::Response& res) {
+            id_page(req, res, &store::Store::clock_samples_after);
+          }));
+    s.Get("/v1/losses", wrap([this](const httplib::Request& req, httplib::Response& res) {
+            id_page(req, res, &store::Store::losses_after);
+          }));
+    s.Get("/metrics", wrap([this](const httplib::Request&, httplib::Response& res) {
+            res.set_content(render_metrics(status()), std::string(kMetricsContentType).c_str());
+          }));
+  }
+
+  void configure() {
+    if (!options.tls_cert.empty()) {
+      auto ssl = std::make_unique<httplib::SSLServer>(options.tls_cert.c_str(), options.tls_key.c_str());
+      if (!ssl->is_valid())
+        throw core::Error(core::ErrorKind::usage,
+                          fmt::format("--tls-cert {} / --tls-key {}: cannot load the certificate and key",
+                                      options.tls_cert, options.tls_key));
+      server = std::move(ssl);
+      tls = true;
+    } else {
+      server = std::make_unique<httplib::Server>();
+    }
+    auto& s = *server;
+    const auto threads = std::max<std::size_t>(options.threads, 1);
+    s.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+    s.set_payload_max_length(options.max_body);
+    s.set_read_timeout(std::chrono::duration_cast<std::chrono::microseconds>(options.read_timeout));
+    s.set_write_timeout(std::chrono::duration_cast<std::chrono::microseconds>(options.write_timeout));
+    s.set_keep_alive_timeout(5);
+    s.set_keep_alive_max_count(100);
+    s.set_default_headers({{std::string(kApiHeader), "1"}});
+    // SO_REUSEADDR only: httplib's default adds SO_REUSEPORT, which would let another process of the
+    // same user bind the agent's port too and take some of its connections.
+    s.set_socket_options([](socket_t sock) {
+      int yes = 1;
+      ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    });
+    s.set_pre_routing_handler(
+        [this](const httplib::Request& req, httplib::Response& res) { return gate(req, res); });
+    // Errors httplib makes itself (400 malformed request, 413, 414, ...) get the same JSON body.
+    s.set_error_handler(
+        httplib::Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {
+          if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+          fail(res, res.status, reason(res.status));
+          return httplib::Server::HandlerResponse::Handled;
+        }));
+    s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
+      fail(res, 500, "internal error");
+    });
+    routes();
+  }
+};
+
+AgentServer::AgentServer(ServerOptions options, AgentBackend& backend)
+    : impl_(std::make_unique<Impl>(std::move(options), backend)) {
+  auto& o = impl_->options;
+  if (o.host.size() >= 2 && o.host.front() == '[' && o.host.back() == ']')
+    o.host = o.host.substr(1, o.host.size() - 2);
+  if (o.token) check_token(*o.token, "the token");
+  if (!o.token && !is_loopback(o.host))
+    throw core::Error(core::ErrorKind::usage,
+                      fmt::format("listening on {} (not a loopback address) needs a bearer token: give "
+                                  "--token-file FILE or set M2MLAT_TOKEN",
+                                  o.host));
+  if (o.tls_cert.empty() != o.tls_key.empty())
+    throw core::Error(core::ErrorKind::usage, "TLS needs both --tls-cert and --tls-key");
+  if (o.port < 0 || o.port > 65535)
+    throw core::Error(core::ErrorKind::usage, fmt::format("port {}: use 0 to 65535", o.port));
+}
+
+AgentServer::~AgentServer() { stop(); }
+
+void AgentServer::start() {
+  auto& i = *impl_;
+  i.configure();
+  if (i.options.port == 0) {
+    i.port = i.server->bind_to_any_port(i.options.host);
+    if (i.port < 0) i.port = 0;
+  } else if (i.server->bind_to_port(i.options.host, i.options.port)) {
+    i.port = i.options.port;
+  }
+  if (i.port == 0)
+    throw core::Error(core::ErrorKind::io,
+                      fmt::format("cannot listen on {} port {} (in use, or not an address of this machine)",
+                                  i.options.host, i.options.port));
+  i.thread = std::thread([&i] {
+    i.server->listen_after_bind();
+    i.listen_returned = true;
+  });
+  // httplib's stop() does nothing until the listening loop runs: wait for it, so that a stop right
+  // after start cannot be lost (and leave join() waiting forever).
+  while (!i.server->is_running() && !i.listen_returned)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+}
+
+void AgentServer::stop() {
+  auto& i = *impl_;
+  if (!i.server) return;
+  {
+    std::lock_guard lock(i.commit_mutex);
+    i.stopping = true;
+  }
+  i.commit_cv.notify_all();
+  i.server->stop();
+  if (i.thread.joinable()) i.thread.join();
+}
+
+int AgentServer::port() const { return impl_->port; }
+
+bool AgentServer::tls() const { return impl_->tls; }
+
+std::string AgentServer::address() const {
+  const auto& host = impl_->options.host;
+  if (host.find(':') != std::string::npos) return fmt::format("[{}]:{}", host, impl_->port);
+  return fmt::format("{}:{}", host, impl_->port);
+}
+
+void AgentServer::notify_commit(std::int64_t seq) {
+  {
+    std::lock_guard lock(impl_->commit_mutex);
+    impl_->committed = seq;
+  }
+  impl_->commit_cv.notify_all();
+}
+
+}  // namespace m2mlat::net

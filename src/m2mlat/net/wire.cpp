@@ -1,0 +1,308 @@
+// Encoding and decoding of the agent API's JSON (wire.hpp). Decoding checks every field's presence,
+// type and range and names the field in its error, so a coordinator can say which agent sent what.
+#include "m2mlat/net/wire.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <limits>
+
+#include "m2mlat/core/error.hpp"
+
+namespace m2mlat::net {
+
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void refuse(std::string_view where, std::string_view field, std::string_view problem) {
+  throw core::Error(core::ErrorKind::data, fmt::format("{}: field '{}': {}", where, field, problem));
+}
+
+const json& member(const json& j, std::string_view where, std::string_view field) {
+  if (!j.is_object()) refuse(where, field, "the value is not a JSON object");
+  const auto it = j.find(std::string(field));
+  if (it == j.end()) refuse(where, field, "missing");
+  return *it;
+}
+
+std::int64_t get_int(const json& j, std::string_view where, std::string_view field,
+                     std::int64_t min = std::numeric_limits<std::int64_t>::min()) {
+  const auto& v = member(j, where, field);
+  std::int64_t value = 0;
+  if (v.is_number_unsigned()) {
+    const auto u = v.get<std::uint64_t>();
+    if (u > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+      refuse(where, field, "out of range (int64)");
+    value = static_cast<std::int64_t>(u);
+  } else if (v.is_number_integer()) {
+    value = v.get<std::int64_t>();
+  } else {
+    refuse(where, field, "not an integer");
+  }
+  if (value < min) refuse(where, field, fmt::format("{} is below the least allowed value {}", value, min));
+  return value;
+}
+
+std::uint64_t get_uint(const json& j, std::string_view where, std::string_view field, std::uint64_t min = 0) {
+  const auto& v = member(j, where, field);
+  if (v.is_number_unsigned()) {
+    const auto value = v.get<std::uint64_t>();
+    if (value < min) refuse(where, field, fmt::format("{} is below the least allowed value {}", value, min));
+    return value;
+  }
+  if (v.is_number_integer()) refuse(where, field, "negative");
+  refuse(where, field, "not an integer");
+}
+
+std::optional<std::int64_t> get_optional_int(const json& j, std::string_view where, std::string_view field) {
+  if (member(j, where, field).is_null()) return std::nullopt;
+  return get_int(j, where, field);
+}
+
+std::string get_string(const json& j, std::string_view where, std::string_view field,
+                       bool non_empty = false) {
+  const auto& v = member(j, where, field);
+  if (!v.is_string()) refuse(where, field, "not a string");
+  auto text = v.get<std::string>();
+  if (non_empty && text.empty()) refuse(where, field, "empty");
+  return text;
+}
+
+bool get_bool(const json& j, std::string_view where, std::string_view field) {
+  const auto& v = member(j, where, field);
+  if (!v.is_boolean()) refuse(where, field, "not true or false");
+  return v.get<bool>();
+}
+
+// A JSON object carried as text in the store (config_json, detail_json).
+std::string get_object_text(const json& j, std::string_view where, std::string_view field) {
+  const auto& v = member(j, where, field);
+  if (!v.is_object()) refuse(where, field, "not a JSON object");
+  return v.dump();
+}
+
+json object_from_text(const std::string& text) {
+  auto parsed = json::parse(text, nullptr, false);
+  return parsed.is_discarded() ? json::object() : parsed;
+}
+
+// Parses an enumerated name with `parse` (which throws core::Error(usage)), refusing other text.
+template <typename Parse>
+auto get_name(const json& j, std::string_view where, std::string_view field, Parse parse) {
+  const auto text = get_string(j, where, field);
+  try {
+    const auto value = parse(text);
+    if (to_string(value) != text) refuse(where, field, fmt::format("'{}' is not a canonical name", text));
+    return value;
+  } catch (const core::Error& e) {
+    if (e.kind() == core::ErrorKind::data) throw;
+    refuse(where, field, fmt::format("'{}': unknown", text));
+  }
+}
+
+core::Clock get_clock(const json& j, std::string_view where) {
+  return get_name(j, where, "clock", [](std::string_view t) { return core::parse_clock(t); });
+}
+
+json sample_fields(const store::ClockSample& s) {
+  return {{"session", s.session_id},
+          {"clock", core::to_string(s.time.clock())},
+          {"t_ns", s.time.ns()},
+          {"source", s.source},
+          {"offset_ns", s.offset_ns},
+          {"max_error_ns", s.max_error_ns},
+          {"est_error_ns", s.est_error_ns},
+          {"synchronised", s.synchronised},
+          {"detail", object_from_text(s.detail_json)}};
+}
+
+store::ClockSample sample_from(const json& j, std::string_view where) {
+  store::ClockSample s;
+  s.session_id = get_int(j, where, "session", 1);
+  s.time = core::TimePoint::from_ns(get_clock(j, where), get_int(j, where, "t_ns"));
+  s.source = get_string(j, where, "source", true);
+  if (!std::all_of(s.source.begin(), s.source.end(),
+                   [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_'; }))
+    refuse(where, "source", fmt::format("'{}': only lower-case letters, digits and '_'", s.source));
+  s.offset_ns = get_int(j, where, "offset_ns");
+  s.max_error_ns = get_int(j, where, "max_error_ns", 0);
+  s.est_error_ns = get_int(j, where, "est_error_ns", 0);
+  s.synchronised = get_bool(j, where, "synchronised");
+  s.detail_json = get_object_text(j, where, "detail");
+  return s;
+}
+
+std::string nested(std::string_view where, std::string_view field) {
+  return fmt::format("{} {}", where, field);
+}
+
+}  // namespace
+
+json to_json(const store::Session& s) {
+  return {{"id", s.id},
+          {"label", s.label},
+          {"scenario", s.scenario},
+          {"node", s.node},
+          {"role", core::to_string(s.role)},
+          {"start_ns", s.start.ns()},
+          {"end_ns", s.end ? json(s.end->ns()) : json(nullptr)},
+          {"clock", core::to_string(s.start.clock())},
+          {"config", object_from_text(s.config_json)},
+          {"software_version", s.software_version}};
+}
+
+json to_json(const store::StoredEvent& e) {
+  return {{"seq", e.seq},
+          {"session", e.session_id},
+          {"channel", e.event.channel},
+          {"edge", core::to_string(e.event.edge)},
+          {"clock", core::to_string(e.event.time.clock())},
+          {"t_ns", e.event.time.ns()},
+          {"seqno", e.event.seqno},
+          {"line_seqno", e.event.line_seqno},
+          {"flags", e.event.flags}};
+}
+
+json to_json(const store::StoredClockSample& s) {
+  auto j = sample_fields(s.sample);
+  j["id"] = s.id;
+  return j;
+}
+
+json to_json(const store::StoredLoss& l) {
+  return {{"id", l.id},
+          {"session", l.loss.session_id},
+          {"channel", l.loss.channel},
+          {"clock", core::to_string(l.loss.detected_at.clock())},
+          {"t_ns", l.loss.detected_at.ns()},
+          {"first_missing", l.loss.first_missing},
+          {"count", l.loss.count},
+          {"kind", l.loss.kind}};
+}
+
+json to_json(const Status& s) {
+  json channels = json::array();
+  for (const auto& c : s.channels)
+    channels.push_back({{"name", c.name},
+                        {"events", c.events},
+                        {"suppressed", c.suppressed},
+                        {"lost", c.lost},
+                        {"last_ns", c.last_ns ? json(*c.last_ns) : json(nullptr)}});
+  return {{"api", s.api},
+          {"software_version", s.software_version},
+          {"node", s.node},
+          {"role", core::to_string(s.role)},
+          {"store_id", s.store_id},
+          {"session", s.session ? to_json(*s.session) : json(nullptr)},
+          {"channels", channels},
+          {"events", s.events},
+          {"lost", s.lost},
+          {"dropped", s.dropped},
+          {"last_seq", s.last_seq},
+          {"clock", s.clock ? sample_fields(*s.clock) : json(nullptr)},
+          {"started_ns", s.started_ns},
+          {"now_ns", s.now_ns}};
+}
+
+store::Session session_from_json(const json& j, std::string_view where) {
+  store::Session s;
+  s.id = get_int(j, where, "id", 1);
+  s.label = get_string(j, where, "label");
+  s.scenario = get_string(j, where, "scenario");
+  s.node = get_string(j, where, "node", true);
+  s.role = get_name(j, where, "role", [](std::string_view t) { return core::parse_role(t); });
+  const auto clock = get_clock(j, where);
+  s.start = core::TimePoint::from_ns(clock, get_int(j, where, "start_ns"));
+  if (const auto end = get_optional_int(j, where, "end_ns")) {
+    if (*end < s.start.ns()) refuse(where, "end_ns", "before start_ns");
+    s.end = core::TimePoint::from_ns(clock, *end);
+  }
+  s.config_json = get_object_text(j, where, "config");
+  s.software_version = get_string(j, where, "software_version");
+  return s;
+}
+
+store::StoredEvent event_from_json(const json& j, std::string_view where, const std::string& node,
+                                   core::Role role) {
+  (void)role;  // the role is the session's; an event carries none of its own
+  store::StoredEvent e;
+  e.seq = get_int(j, where, "seq", 1);
+  e.session_id = get_int(j, where, "session", 1);
+  e.event.node = node;
+  e.event.channel = get_string(j, where, "channel", true);
+  e.event.edge = get_name(j, where, "edge", [](std::string_view t) { return core::parse_edge(t); });
+  e.event.time = core::TimePoint::from_ns(get_clock(j, where), get_int(j, where, "t_ns"));
+  e.event.seqno = get_uint(j, where, "seqno");
+  e.event.line_seqno = get_uint(j, where, "line_seqno");
+  const auto flags = get_uint(j, where, "flags");
+  if (flags > std::numeric_limits<std::uint32_t>::max()) refuse(where, "flags", "out of range (uint32)");
+  e.event.flags = static_cast<std::uint32_t>(flags);
+  return e;
+}
+
+store::StoredClockSample clock_sample_from_json(const json& j, std::string_view where) {
+  store::StoredClockSample s;
+  s.id = get_int(j, where, "id", 1);
+  s.sample = sample_from(j, where);
+  return s;
+}
+
+store::StoredLoss loss_from_json(const json& j, std::string_view where) {
+  store::StoredLoss l;
+  l.id = get_int(j, where, "id", 1);
+  l.loss.session_id = get_int(j, where, "session", 1);
+  l.loss.channel = get_string(j, where, "channel");
+  l.loss.detected_at = core::TimePoint::from_ns(get_clock(j, where), get_int(j, where, "t_ns"));
+  l.loss.first_missing = get_uint(j, where, "first_missing");
+  l.loss.count = get_uint(j, where, "count", 1);
+  l.loss.kind = get_string(j, where, "kind");
+  if (std::find(std::begin(store::kLossKinds), std::end(store::kLossKinds), l.loss.kind) ==
+      std::end(store::kLossKinds))
+    refuse(where, "kind", fmt::format("'{}': unknown", l.loss.kind));
+  return l;
+}
+
+Status status_from_json(const json& j, std::string_view where) {
+  Status s;
+  s.api = get_string(j, where, "api");
+  if (s.api != kApiName) refuse(where, "api", fmt::format("'{}': this build speaks {}", s.api, kApiName));
+  s.software_version = get_string(j, where, "software_version");
+  s.node = get_string(j, where, "node", true);
+  s.role = get_name(j, where, "role", [](std::string_view t) { return core::parse_role(t); });
+  s.store_id = get_string(j, where, "store_id");
+  if (s.store_id.size() != 32 || !std::all_of(s.store_id.begin(), s.store_id.end(), [](char c) {
+        return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
+      }))
+    refuse(where, "store_id", "not 32 lower-case hex digits");
+  if (!member(j, where, "session").is_null())
+    s.session = session_from_json(j.at("session"), nested(where, "session"));
+  const auto& channels = member(j, where, "channels");
+  if (!channels.is_array()) refuse(where, "channels", "not an array");
+  for (std::size_t i = 0; i < channels.size(); ++i) {
+    const auto at = fmt::format("{} channels[{}]", where, i);
+    ChannelStatus c;
+    c.name = get_string(channels[i], at, "name", true);
+    c.events = get_uint(channels[i], at, "events");
+    c.suppressed = get_uint(channels[i], at, "suppressed");
+    c.lost = get_uint(channels[i], at, "lost");
+    c.last_ns = get_optional_int(channels[i], at, "last_ns");
+    s.channels.push_back(std::move(c));
+  }
+  s.events = get_uint(j, where, "events");
+  s.lost = get_uint(j, where, "lost");
+  s.dropped = get_uint(j, where, "dropped");
+  s.last_seq = get_int(j, where, "last_seq", 0);
+  if (!member(j, where, "clock").is_null()) s.clock = sample_from(j.at("clock"), nested(where, "clock"));
+  s.started_ns = get_int(j, where, "started_ns");
+  s.now_ns = get_int(j, where, "now_ns");
+  return s;
+}
+
+std::string error_body(int status, std::string_view message) {
+  // The message may quote request bytes: replace what is not UTF-8 rather than fail.
+  return json{{"error", {{"status", status}, {"message", std::string(message)}}}}.dump(
+      -1, ' ', false, json::error_handler_t::replace);
+}
+
+}  // namespace m2mlat::net

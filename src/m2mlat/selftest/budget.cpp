@@ -1,0 +1,107 @@
+// Error budget arithmetic (terms in budget.hpp).
+#include "m2mlat/selftest/budget.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/stats/quantile.hpp"
+
+namespace m2mlat::selftest {
+
+Budget make_budget(std::vector<BudgetTerm> terms) {
+  Budget b;
+  double squares = 0;
+  for (const auto& t : terms) {
+    if (t.value_ns < 0)
+      throw core::Error(core::ErrorKind::usage, fmt::format("error budget: term '{}' is negative", t.name));
+    b.total_ns += t.value_ns;
+    squares += static_cast<double>(t.value_ns) * static_cast<double>(t.value_ns);
+  }
+  b.rss_ns = std::sqrt(squares);
+  b.terms = std::move(terms);
+  return b;
+}
+
+BudgetTerm kernel_term(core::Duration worst_a, core::Duration worst_b, std::string source) {
+  if (worst_a.count() < 0 || worst_b.count() < 0)
+    throw core::Error(core::ErrorKind::usage, "error budget: scheduling latencies must not be negative");
+  return {"kernel", std::max(worst_a, worst_b).count(), std::move(source)};
+}
+
+BudgetTerm calibration_term(double misalignment_deg, double rate_deg_s, std::string source) {
+  if (!(rate_deg_s > 0))
+    throw core::Error(core::ErrorKind::usage, "error budget: the steering rate must be positive (deg/s)");
+  if (!(misalignment_deg >= 0))
+    throw core::Error(core::ErrorKind::usage, "error budget: the misalignment must not be negative (deg)");
+  return {"calibration", std::llround(misalignment_deg / rate_deg_s * 1e9), std::move(source)};
+}
+
+std::optional<RateEstimate> steering_rate(std::span<const std::int64_t> edges_ns, double magnet_angle_deg,
+                                          core::Duration max_gap, core::Duration min_gap) {
+  if (!(magnet_angle_deg > 0))
+    throw core::Error(core::ErrorKind::usage,
+                      "error budget: the angle between magnets must be positive (deg)");
+  std::vector<double> rates;
+  for (std::size_t i = 1; i < edges_ns.size(); ++i) {
+    const std::int64_t dt = edges_ns[i] - edges_ns[i - 1];
+    if (dt < min_gap.count() || dt > max_gap.count() || dt <= 0) continue;
+    rates.push_back(magnet_angle_deg / (static_cast<double>(dt) * 1e-9));
+  }
+  if (rates.empty()) return std::nullopt;
+  std::sort(rates.begin(), rates.end());
+  return RateEstimate{stats::quantile(std::span<const double>(rates), 0.5),
+                      stats::quantile(std::span<const double>(rates), 0.05), rates.size()};
+}
+
+BudgetTerm sync_term_from_synctest(const nlohmann::json& doc, const std::string& statistic,
+                                   const std::string& name) {
+  auto fail = [&](const std::string& what) { core::throw_data_error({name, 0}, what); };
+  if (!doc.is_object() || doc.value("format", "") != "m2mlat-synctest/1")
+    fail("not an m2mlat-synctest/1 document (write one with `m2mlat synctest --json`)");
+  const auto abs = doc.find("abs_offset");
+  if (abs == doc.end() || !abs->is_object()) fail("field 'abs_offset' missing");
+  double value = 0;
+  std::string what;
+  if (statistic == "mean_abs") {
+    if (!abs->contains("mean_ns") || !(*abs)["mean_ns"].is_number())
+      fail("field 'abs_offset.mean_ns' missing");
+    value = (*abs)["mean_ns"].get<double>();
+    what = "mean |offset|";
+  } else if (statistic == "max_abs") {
+    if (!abs->contains("max_ns") || !(*abs)["max_ns"].is_number()) fail("field 'abs_offset.max_ns' missing");
+    value = (*abs)["max_ns"].get<double>();
+    what = "max |offset|";
+  } else if (statistic == "p95_abs") {
+    bool found = false;
+    for (const auto& p : abs->value("percentiles", nlohmann::json::array()))
+      if (p.value("percent", -1.0) == 95.0 && p["ns"].is_number()) {
+        value = p["ns"].get<double>();
+        found = true;
+      }
+    if (!found) fail("no 95th percentile in 'abs_offset.percentiles'");
+    what = "P95 |offset|";
+  } else {
+    throw core::Error(core::ErrorKind::usage,
+                      fmt::format("unknown sync statistic '{}' (mean_abs, p95_abs or max_abs)", statistic));
+  }
+  return {"sync", std::llround(value), fmt::format("synctest {}: {}", name, what)};
+}
+
+nlohmann::json budget_json(const Budget& budget) {
+  nlohmann::json j{{"format", kBudgetFormat}, {"terms", nlohmann::json::array()}};
+  for (const auto& t : budget.terms)
+    j["terms"].push_back({{"name", t.name},
+                          {"ns", t.value_ns},
+                          {"ms", static_cast<double>(t.value_ns) / 1e6},
+                          {"source", t.source}});
+  j["total_ns"] = budget.total_ns;
+  j["total_ms"] = static_cast<double>(budget.total_ns) / 1e6;
+  j["rss_ns"] = budget.rss_ns;
+  j["rss_ms"] = budget.rss_ns / 1e6;
+  return j;
+}
+
+}  // namespace m2mlat::selftest

@@ -1,0 +1,70 @@
+// The error budget: how far a measured latency can be from the true one, term by term.
+//
+//   E_sync     the two boards' clock disagreement: from a synchronisation test (synctest.hpp: by
+//              default its mean |offset|, as the reference study quoted it; or P95 / max |offset|),
+//              or the daemons' live bounds in a store, or a given value
+//   E_kernel   the timestamping asymmetry: each board stamps an edge 0 .. L late (L its scheduling /
+//              interrupt latency from cyclictest or the schedtest), so the difference of the two
+//              delays lies in [-L_A, L_B] and its worst magnitude is max(L_A, L_B)
+//   E_circuit  the sensor and input circuit (Hall switch A3144: about 2 us output switching time)
+//   E_calib    where on each wheel the sensor fires: a misalignment of d degrees at a steering rate
+//              of w deg/s is d / w seconds. The rate is given, or measured in a store from a wheel
+//              with several magnets: the known angle between neighbouring magnets divided by the
+//              time between their consecutive edges (the median over all such edge pairs)
+//
+// total_ns is the worst case, the plain sum of the terms; rss_ns their root sum of squares (the
+// typical size if the terms are independent).
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "m2mlat/core/time.hpp"
+
+namespace m2mlat::selftest {
+
+inline constexpr std::string_view kBudgetFormat = "m2mlat-budget/1";
+inline constexpr std::int64_t kA3144SwitchingNs = 2'000;  // A3144 output rise/fall time, about 2 us
+
+struct BudgetTerm {
+  std::string name;  // "sync", "kernel", "circuit", "calibration"
+  std::int64_t value_ns = 0;
+  std::string source;  // where the value came from, e.g. "synctest co.json: mean |offset|"
+};
+
+struct Budget {
+  std::vector<BudgetTerm> terms;
+  std::int64_t total_ns = 0;  // sum
+  double rss_ns = 0;          // root sum of squares
+};
+
+Budget make_budget(std::vector<BudgetTerm> terms);
+
+// E_kernel from the two boards' worst scheduling latencies (ns): max(a, b).
+BudgetTerm kernel_term(core::Duration worst_a, core::Duration worst_b, std::string source);
+// E_calib = misalignment / rate, rounded to ns. Throws core::Error(usage) unless rate > 0 and
+// misalignment >= 0.
+BudgetTerm calibration_term(double misalignment_deg, double rate_deg_s, std::string source);
+// The wheel's rate from consecutive edges of one channel (sorted ns): the angle between magnets
+// divided by each interval shorter than `max_gap` (longer ones are between manoeuvres); the median
+// rate, deg/s. nullopt when no interval qualifies.
+struct RateEstimate {
+  double median_deg_s = 0;
+  double p5_deg_s = 0;  // a slow manoeuvre: the calibration error is larger
+  std::size_t intervals = 0;
+};
+std::optional<RateEstimate> steering_rate(std::span<const std::int64_t> edges_ns, double magnet_angle_deg,
+                                          core::Duration max_gap, core::Duration min_gap);
+
+// E_sync from a synctest JSON document (selftest::synctest_json): `statistic` is "mean_abs",
+// "p95_abs" or "max_abs". Throws core::Error(data) naming `name` when a field is missing.
+BudgetTerm sync_term_from_synctest(const nlohmann::json& doc, const std::string& statistic,
+                                   const std::string& name);
+
+nlohmann::json budget_json(const Budget& budget);
+
+}  // namespace m2mlat::selftest

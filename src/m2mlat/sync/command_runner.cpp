@@ -1,0 +1,140 @@
+// ProcessRunner: posix_spawnp with the child's stdout and stderr on pipes, read with poll() until
+// both close or the deadline passes. No shell is involved, so arguments need no quoting.
+#include "m2mlat/sync/command_runner.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <cstring>
+
+extern char** environ;
+
+namespace m2mlat::sync {
+
+namespace {
+
+std::int64_t monotonic_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+}
+
+// Closes a descriptor once.
+struct Fd {
+  int fd = -1;
+  ~Fd() { reset(); }
+  void reset() {
+    if (fd >= 0) ::close(fd);
+    fd = -1;
+  }
+};
+
+}  // namespace
+
+std::string command_line(const std::vector<std::string>& argv) {
+  std::string out;
+  for (const auto& arg : argv) {
+    if (!out.empty()) out += ' ';
+    if (arg.empty() || arg.find_first_of(" \t'\"") != std::string::npos)
+      out += "'" + arg + "'";
+    else
+      out += arg;
+  }
+  return out;
+}
+
+CommandResult ProcessRunner::run(const std::vector<std::string>& argv, core::Duration timeout) {
+  CommandResult result;
+  if (argv.empty()) {
+    result.err = "no command";
+    return result;
+  }
+  std::array<int, 2> out_pipe{-1, -1};
+  std::array<int, 2> err_pipe{-1, -1};
+  if (::pipe2(out_pipe.data(), O_CLOEXEC) != 0) {
+    result.err = std::string("pipe: ") + std::strerror(errno);
+    return result;
+  }
+  Fd out_read{out_pipe[0]}, out_write{out_pipe[1]};
+  if (::pipe2(err_pipe.data(), O_CLOEXEC) != 0) {
+    result.err = std::string("pipe: ") + std::strerror(errno);
+    return result;
+  }
+  Fd err_read{err_pipe[0]}, err_write{err_pipe[1]};
+
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_adddup2(&actions, out_write.fd, 1);
+  posix_spawn_file_actions_adddup2(&actions, err_write.fd, 2);
+
+  std::vector<char*> args;
+  args.reserve(argv.size() + 1);
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+
+  pid_t pid = -1;
+  const int rc = ::posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  out_write.reset();
+  err_write.reset();
+  if (rc != 0) {
+    result.err = argv[0] + ": " + std::strerror(rc);
+    return result;
+  }
+  result.started = true;
+
+  const std::int64_t deadline = monotonic_ns() + timeout.count();
+  std::array<char, 4096> buffer{};
+  while (out_read.fd >= 0 || err_read.fd >= 0) {
+    const std::int64_t left_ns = deadline - monotonic_ns();
+    if (left_ns <= 0) {
+      result.timed_out = true;
+      break;
+    }
+    std::array<pollfd, 2> fds{pollfd{out_read.fd, POLLIN, 0}, pollfd{err_read.fd, POLLIN, 0}};
+    const int n = ::poll(fds.data(), fds.size(), static_cast<int>(left_ns / 1'000'000 + 1));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    for (std::size_t i = 0; i < fds.size(); ++i) {
+      if (fds[i].fd < 0 || fds[i].revents == 0) continue;
+      Fd& fd = i == 0 ? out_read : err_read;
+      std::string& sink = i == 0 ? result.out : result.err;
+      const ssize_t got = ::read(fd.fd, buffer.data(), buffer.size());
+      if (got > 0)
+        sink.append(buffer.data(), static_cast<std::size_t>(got));
+      else if (got == 0 || errno != EINTR)
+        fd.reset();
+    }
+  }
+  // Both pipes closed (or the deadline passed): wait for the exit, still within the deadline.
+  int status = 0;
+  while (!result.timed_out) {
+    const pid_t done = ::waitpid(pid, &status, WNOHANG);
+    if (done == pid || (done < 0 && errno != EINTR)) break;
+    if (monotonic_ns() >= deadline) {
+      result.timed_out = true;
+      break;
+    }
+    const timespec pause{0, 1'000'000};  // 1 ms
+    ::nanosleep(&pause, nullptr);
+  }
+  if (result.timed_out) {
+    ::kill(pid, SIGKILL);
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+  }
+  if (!result.timed_out && WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
+  return result;
+}
+
+}  // namespace m2mlat::sync

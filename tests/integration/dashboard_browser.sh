@@ -1,0 +1,153 @@
+# The dashboard in a real browser: two simulated boards record in real time into one store,
+# `m2mlat watch --dashboard 127.0.0.1:0` serves the live view, and Debian's headless Chromium
+# (driven over the DevTools protocol by cdp_page.py) keeps the page open for some seconds. The page
+# must run without any console error, uncaught exception or failed load; its sample count must grow
+# while it stays open (the event stream updates it without a reload); and the final numbers of
+# `watch` must be those of `m2mlat stats` on the finished store. Skipped (exit 0 with a note) where
+# Chromium is not installed.
+HERE=$(cd "$(dirname "$0")" && pwd)  # before lib.bash changes into the temporary folder
+source "$HERE/lib.bash"
+CHROMIUM=${CHROMIUM:-/usr/bin/chromium}
+if [ ! -x "$CHROMIUM" ]; then
+  echo "SKIP: no $CHROMIUM (apt-get install chromium)"
+  exit 0
+fi
+
+recorders=()
+watcher=""
+cleanup() {
+  for pid in "${recorders[@]}" $watcher; do kill "$pid" 2>/dev/null || true; done
+  for pid in "${recorders[@]}" $watcher; do wait "$pid" 2>/dev/null || true; done
+  rm -rf "$WORK"
+}
+# dashboard_url LOG: waits for the "dashboard URL" line a live view prints on stderr.
+dashboard_url() {
+  local url=""
+  for _ in $(seq 100); do
+    url=$(sed -n 's/^dashboard \(http:[^ ]*\)$/\1/p' "$1")
+    [ -n "$url" ] && break
+    sleep 0.1
+  done
+  [ -n "$url" ] || { cat "$1" >&2; fail "no 'dashboard URL' line in $1"; }
+  echo "$url"
+}
+trap cleanup EXIT
+
+# Both boards replay the same simulated rig in real time (a manoeuvre every 1.5 to 4 s).
+for side in "operator cause" "vehicle effect"; do
+  read -r node role <<< "$side"
+  "$M2MLAT" record --source sim --sim-paced --sim-preset static_wifi --node "$node" --role "$role" \
+    --scenario browser --store store.db --batch 1 --commit-interval 50ms --duration 90s --quiet \
+    > "record-$node.txt" 2>&1 &
+  recorders+=($!)
+done
+"$M2MLAT" watch store.db --dashboard 127.0.0.1:0 --refresh 200ms --duration 90s > watch.txt 2> watch.err &
+watcher=$!
+
+url=$(dashboard_url watch.err)
+
+# The API and the page's files answer with their types; wait for the first pairs.
+$PY - "$url" <<'PY'
+import json, sys, time, urllib.request
+url = sys.argv[1]
+for path, kind in [("", "text/html"), ("dashboard.js", "text/javascript"), ("dashboard.css", "text/css"),
+                   ("favicon.svg", "image/svg+xml"), ("api/live", "application/json")]:
+    with urllib.request.urlopen(url + path, timeout=5) as r:
+        assert r.headers["Content-Type"].startswith(kind), (path, r.headers["Content-Type"])
+deadline = time.monotonic() + 30
+while time.monotonic() < deadline:
+    with urllib.request.urlopen(url + "api/live", timeout=5) as r:
+        snap = json.load(r)
+    if snap["summary"]["samples"] >= 2:
+        break
+    time.sleep(0.2)
+else:
+    sys.exit(f"no samples after 30 s: {snap['summary']}")
+PY
+
+# One page load, read twice: after 3 s and after 10 s more, without reloading.
+read_page='[document.getElementById("samples").textContent, document.getElementById("connection").textContent,
+  document.querySelectorAll("#strip circle.point").length, document.querySelectorAll("#histogram rect.bar").length,
+  document.getElementById("median").textContent, document.getElementById("scenario").textContent]'
+"$PY" "$HERE/cdp_page.py" "$CHROMIUM" "$url" "$WORK/profile" "3=$read_page" "10=$read_page" > page.json \
+  || fail "chromium could not load $url"
+$PY - page.json <<'PY'
+import json, re, sys
+page = json.load(open(sys.argv[1]))
+assert not page["errors"], "console errors: %s" % page["errors"]
+first, second = page["values"]
+for v in (first, second):
+    samples, connection, points, bars, median, scenario = v
+    assert connection == "live", v            # the event stream is open
+    assert points >= 2 and bars >= 1, v        # both charts drawn
+    assert re.fullmatch(r"\d+\.\d ms", median), v
+    assert scenario == "browser: operator/wheel \u2192 vehicle/wheel", v
+assert int(second[0]) > int(first[0]), "the sample count did not grow: %s then %s" % (first[0], second[0])
+print("dashboard page: %s then %s samples, no console errors" % (first[0], second[0]))
+PY
+
+# Stop the boards, then the watcher: its final block is `m2mlat stats` of the finished store.
+for pid in "${recorders[@]}"; do kill -TERM "$pid"; wait "$pid" || true; done
+recorders=()
+kill -TERM "$watcher"
+wait "$watcher" || fail "m2mlat watch did not end cleanly on SIGTERM"
+watcher=""
+"$M2MLAT" stats store.db --bootstrap 0 --json > stats.json
+$PY - watch.txt stats.json <<'PY'
+import json, re, sys
+text = open(sys.argv[1]).read()
+last = re.findall(r"samples (\d+)  last [\d.]+ ms  median ([\d.]+) ms  IQR ([\d.]+) ms", text)[-1]
+s = json.load(open(sys.argv[2]))["scenarios"][0]
+assert s["scenario"] == "browser", s["scenario"]
+lat = s["latency"]
+assert int(last[0]) == lat["n"], (last, lat["n"])
+assert last[1] == "%.1f" % lat["median_ms"] and last[2] == "%.1f" % lat["iqr_ms"], (last, lat)
+print("final block = m2mlat stats: %s samples, median %s ms" % (last[0], last[1]))
+PY
+
+# The real coordinator with two simulated agents (the live view wired into `m2mlat collect`).
+if ! "$M2MLAT" collect --help | grep -q -- '--dashboard'; then
+  echo "note: m2mlat collect has no --dashboard yet: its part is skipped"
+  echo "1 passed, 0 failed"
+  exit 0
+fi
+for side in "operator cause" "vehicle effect"; do
+  read -r node role <<< "$side"
+  "$M2MLAT" agent --source sim --seed 5 --role "$role" --node "$node" --store "agent-$node.db" \
+    --scenario agents --listen 127.0.0.1:0 > "agent-$node.log" 2>&1 &
+  recorders+=($!)
+done
+ports=()
+for node in operator vehicle; do
+  for _ in $(seq 100); do
+    port=$(sed -n 's/^listening 127\.0\.0\.1:\([0-9]*\)$/\1/p' "agent-$node.log")
+    [ -n "$port" ] && break
+    sleep 0.1
+  done
+  [ -n "$port" ] || { cat "agent-$node.log" >&2; fail "agent $node did not start"; }
+  ports+=("$port")
+done
+"$M2MLAT" collect --agent "http://127.0.0.1:${ports[0]}" --agent "http://127.0.0.1:${ports[1]}" \
+  --store campaign.db --dashboard 127.0.0.1:0 --duration 90s > collect.txt 2> collect.err &
+watcher=$!
+url=$(dashboard_url collect.err)
+read_agents='[document.getElementById("samples").textContent, document.querySelector("#nodes tbody").innerText,
+  document.getElementById("agents").hidden]'
+"$PY" "$HERE/cdp_page.py" "$CHROMIUM" "$url" "$WORK/profile2" "4=$read_agents" "8=$read_agents" > collect.json \
+  || fail "chromium could not load $url"
+$PY - collect.json <<'PY'
+import json, sys
+page = json.load(open(sys.argv[1]))
+assert not page["errors"], "console errors: %s" % page["errors"]
+(n1, rows1, hidden1), (n2, rows2, hidden2) = page["values"]
+assert not hidden2, "the agents' table is hidden"
+rows = [r.split("\t") for r in rows2.strip().split("\n")]
+assert [r[:3] for r in rows] == [["operator", "cause", "ok"], ["vehicle", "effect", "ok"]], rows
+n1 = int(n1) if n1.isdigit() else 0
+assert int(n2) > n1, "the sample count did not grow: %s then %s" % (n1, n2)
+print("collect dashboard: %s then %s samples, agents %s" % (n1, n2, [r[:3] for r in rows]))
+PY
+kill -TERM "$watcher"
+wait "$watcher" || fail "m2mlat collect did not end cleanly on SIGTERM"
+watcher=""
+echo "1 passed, 0 failed"

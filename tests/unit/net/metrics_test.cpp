@@ -1,0 +1,60 @@
+// The Prometheus text: one HELP/TYPE per family, the samples of the status, escaped labels, exact
+// seconds.
+#include "m2mlat/net/metrics.hpp"
+
+#include <gtest/gtest.h>
+
+namespace m2mlat::net {
+namespace {
+
+Status status() {
+  Status s;
+  s.node = "veh\"icle";
+  s.channels = {{"wheel", 10, 2, 1, std::nullopt}, {"a\\b\nc", 3, 0, 0, std::nullopt}};
+  s.lost = 1;
+  s.dropped = 4;
+  s.last_seq = 13;
+  s.started_ns = 1'780'304'400'000'000'001;
+  return s;
+}
+
+TEST(Metrics, SamplesOfTheStatus) {
+  const auto text = render_metrics(status());
+  const std::string node = R"(node="veh\"icle")";
+  EXPECT_NE(text.find("# TYPE m2mlat_events_total counter\n"), std::string::npos);
+  EXPECT_NE(text.find("m2mlat_up{" + node + "} 1\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("m2mlat_events_total{" + node + R"(,channel="wheel"} 10)"), std::string::npos) << text;
+  EXPECT_NE(text.find("m2mlat_events_total{" + node + R"(,channel="a\\b\nc"} 3)"), std::string::npos) << text;
+  EXPECT_NE(text.find("m2mlat_suppressed_total{" + node + R"(,channel="wheel"} 2)"), std::string::npos);
+  EXPECT_NE(text.find("m2mlat_lost_total{" + node + "} 1\n"), std::string::npos);
+  EXPECT_NE(text.find("m2mlat_dropped_total{" + node + "} 4\n"), std::string::npos);
+  EXPECT_NE(text.find("m2mlat_last_seq{" + node + "} 13\n"), std::string::npos);
+  EXPECT_NE(text.find("m2mlat_session_open{" + node + "} 0\n"), std::string::npos);
+  EXPECT_NE(text.find("m2mlat_start_time_seconds{" + node + "} 1780304400.000000001\n"), std::string::npos);
+  EXPECT_EQ(text.find("m2mlat_clock_offset_seconds"), std::string::npos);  // no sample yet
+  // Every line is a comment or `name{labels} value`, and each family is announced once.
+  std::size_t helps = 0;
+  for (std::size_t at = 0; (at = text.find("# HELP ", at)) != std::string::npos; ++at) ++helps;
+  EXPECT_EQ(helps, 8u);
+  EXPECT_EQ(text.back(), '\n');
+}
+
+TEST(Metrics, ClockFamiliesWithASample) {
+  auto s = status();
+  store::ClockSample c;
+  c.source = "chrony";
+  c.offset_ns = -1500;
+  c.max_error_ns = 2'000'000;
+  c.synchronised = true;
+  s.clock = c;
+  const auto text = render_metrics(s);
+  EXPECT_NE(text.find(R"(m2mlat_clock_offset_seconds{node="veh\"icle",source="chrony"} -0.000001500)"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find(R"(m2mlat_clock_max_error_seconds{node="veh\"icle",source="chrony"} 0.002000000)"),
+            std::string::npos);
+  EXPECT_NE(text.find(R"(m2mlat_clock_synchronised{node="veh\"icle",source="chrony"} 1)"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace m2mlat::net

@@ -1,0 +1,210 @@
+// The wire format: every type survives encode -> decode unchanged, and every field's absence, wrong
+// type and out-of-range value is refused with an error naming `where` and the field.
+#include "m2mlat/net/wire.hpp"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "m2mlat/core/error.hpp"
+
+namespace m2mlat::net {
+namespace {
+
+using nlohmann::json;
+
+store::Session session() {
+  store::Session s;
+  s.id = 7;
+  s.label = "run-3";
+  s.scenario = "urban";
+  s.node = "vehicle";
+  s.role = core::Role::effect;
+  s.config_json = R"({"source":"sim","x":[1,2]})";
+  s.start = core::TimePoint::from_ns(core::Clock::realtime, 1'780'304'400'123'456'789);
+  s.end = core::TimePoint::from_ns(core::Clock::realtime, 1'780'304'500'000'000'001);
+  s.software_version = "0.1.0";
+  return s;
+}
+
+store::StoredEvent event() {
+  store::StoredEvent e;
+  e.seq = 12;
+  e.session_id = 7;
+  e.event.node = "vehicle";
+  e.event.channel = "wheel";
+  e.event.edge = core::Edge::rising;
+  e.event.time = core::TimePoint::from_ns(core::Clock::realtime, std::numeric_limits<std::int64_t>::max());
+  e.event.seqno = 41;
+  e.event.line_seqno = 40;
+  e.event.flags = core::kFlagSimulated | core::kFlagAfterClockStep;
+  return e;
+}
+
+store::StoredClockSample sample() {
+  store::StoredClockSample s;
+  s.id = 3;
+  s.sample.session_id = 7;
+  s.sample.time = core::TimePoint::from_ns(core::Clock::realtime, 1'780'304'400'000'000'000);
+  s.sample.source = "chrony";
+  s.sample.offset_ns = -1234;
+  s.sample.max_error_ns = 50'000;
+  s.sample.est_error_ns = 800;
+  s.sample.synchronised = true;
+  s.sample.detail_json = R"({"stratum":2})";
+  return s;
+}
+
+store::StoredLoss loss() {
+  store::StoredLoss l;
+  l.id = 4;
+  l.loss.session_id = 7;
+  l.loss.channel = "wheel";
+  l.loss.detected_at = core::TimePoint::from_ns(core::Clock::realtime, 1'780'304'400'000'000'000);
+  l.loss.first_missing = 18;
+  l.loss.count = 3;
+  l.loss.kind = "seqno_gap";
+  return l;
+}
+
+Status status() {
+  Status s;
+  s.software_version = "0.1.0";
+  s.node = "vehicle";
+  s.role = core::Role::effect;
+  s.store_id = "0123456789abcdef0123456789abcdef";
+  s.session = session();
+  s.session->end.reset();
+  s.channels = {{"wheel", 10, 2, 1, 1'780'304'400'000'000'000}, {"pulse", 0, 0, 0, std::nullopt}};
+  s.events = 10;
+  s.lost = 1;
+  s.dropped = 5;
+  s.last_seq = 12;
+  s.clock = sample().sample;
+  s.started_ns = 1;
+  s.now_ns = 2;
+  return s;
+}
+
+// The message of the core::Error(data) that `f` throws.
+template <typename F>
+std::string refusal(F f) {
+  try {
+    f();
+  } catch (const core::Error& e) {
+    EXPECT_EQ(e.kind(), core::ErrorKind::data);
+    return e.what();
+  }
+  ADD_FAILURE() << "not refused";
+  return {};
+}
+
+TEST(Wire, EveryTypeRoundTripsThroughText) {
+  const auto s = session();
+  EXPECT_EQ(session_from_json(json::parse(to_json(s).dump()), "t"), s);
+  auto open = s;
+  open.end.reset();
+  EXPECT_EQ(session_from_json(json::parse(to_json(open).dump()), "t"), open);
+  const auto e = event();
+  EXPECT_EQ(event_from_json(json::parse(to_json(e).dump()), "t", "vehicle", core::Role::effect), e);
+  EXPECT_EQ(clock_sample_from_json(json::parse(to_json(sample()).dump()), "t"), sample());
+  EXPECT_EQ(loss_from_json(json::parse(to_json(loss()).dump()), "t"), loss());
+  EXPECT_EQ(status_from_json(json::parse(to_json(status()).dump()), "t"), status());
+  auto bare = status();
+  bare.session.reset();
+  bare.clock.reset();
+  bare.channels.clear();
+  EXPECT_EQ(status_from_json(json::parse(to_json(bare).dump()), "t"), bare);
+}
+
+TEST(Wire, EventsCarryTheContractsFieldsAndNoNodeOrRole) {
+  const auto j = to_json(event());
+  EXPECT_EQ(j["edge"], "rising");
+  EXPECT_EQ(j["clock"], "realtime");
+  EXPECT_EQ(j["t_ns"].get<std::int64_t>(), std::numeric_limits<std::int64_t>::max());
+  EXPECT_FALSE(j.contains("node"));
+  EXPECT_FALSE(j.contains("role"));
+  EXPECT_EQ(to_json(session())["end_ns"].get<std::int64_t>(), 1'780'304'500'000'000'001);
+  EXPECT_TRUE(to_json(status())["session"]["end_ns"].is_null());
+}
+
+// Removing, mistyping and (where there is a range) breaking each field of `good` is refused with a
+// message naming `where` and the field.
+template <typename Decode>
+void every_field_refused(const json& good, Decode decode, const std::map<std::string, json>& out_of_range) {
+  for (const auto& [field, value] : good.items()) {
+    SCOPED_TRACE(field);
+    auto missing = good;
+    missing.erase(field);
+    auto message = refusal([&] { decode(missing); });
+    EXPECT_NE(message.find("where-42"), std::string::npos) << message;
+    EXPECT_NE(message.find("'" + field + "'"), std::string::npos) << message;
+    auto mistyped = good;
+    mistyped[field] = value.is_array() ? json("x") : json::array({1});
+    message = refusal([&] { decode(mistyped); });
+    EXPECT_NE(message.find(field), std::string::npos) << message;
+  }
+  for (const auto& [field, value] : out_of_range) {
+    SCOPED_TRACE(field);
+    auto bad = good;
+    bad[field] = value;
+    const auto message = refusal([&] { decode(bad); });
+    EXPECT_NE(message.find("'" + field + "'"), std::string::npos) << message;
+  }
+}
+
+TEST(Wire, EveryEventFieldIsChecked) {
+  every_field_refused(to_json(event()),
+                      [](const json& j) { event_from_json(j, "where-42", "vehicle", core::Role::effect); },
+                      {{"seq", 0},
+                       {"session", -1},
+                       {"channel", ""},
+                       {"edge", "up"},
+                       {"clock", "wall"},
+                       {"t_ns", 9223372036854775808ull},
+                       {"t_ns", 1.5},
+                       {"seqno", -1},
+                       {"flags", 4294967296ull}});
+}
+
+TEST(Wire, EverySessionFieldIsChecked) {
+  auto j = to_json(session());
+  every_field_refused(j, [](const json& x) { session_from_json(x, "where-42"); },
+                      {{"id", 0},
+                       {"node", ""},
+                       {"role", "operator"},  // only the canonical name on the wire
+                       {"end_ns", 1},
+                       {"config", "{}"},
+                       {"clock", "simulated-ish"}});
+}
+
+TEST(Wire, EveryClockSampleAndLossFieldIsChecked) {
+  every_field_refused(
+      to_json(sample()), [](const json& x) { clock_sample_from_json(x, "where-42"); },
+      {{"id", 0}, {"source", "Chrony!"}, {"max_error_ns", -1}, {"synchronised", 1}, {"detail", 3}});
+  every_field_refused(to_json(loss()), [](const json& x) { loss_from_json(x, "where-42"); },
+                      {{"id", -5}, {"count", 0}, {"kind", "gap"}, {"first_missing", -1}});
+}
+
+TEST(Wire, EveryStatusFieldIsChecked) {
+  every_field_refused(to_json(status()), [](const json& x) { status_from_json(x, "where-42"); },
+                      {{"api", "m2mlat-agent/2"}, {"store_id", "XYZ"}, {"events", -1}, {"last_seq", -1}});
+  auto j = to_json(status());
+  j["channels"][1]["lost"] = -3;
+  const auto message = refusal([&] { status_from_json(j, "where-42"); });
+  EXPECT_NE(message.find("channels[1]"), std::string::npos) << message;
+  EXPECT_NE(message.find("'lost'"), std::string::npos) << message;
+  j = to_json(status());
+  j["session"]["node"] = 5;
+  EXPECT_NE(refusal([&] { status_from_json(j, "where-42"); }).find("session"), std::string::npos);
+  EXPECT_NE(refusal([] { status_from_json(json::array(), "where-42"); }).find("where-42"), std::string::npos);
+}
+
+TEST(Wire, ErrorBodiesAreJsonEvenForBytesThatAreNotUtf8) {
+  const auto body = json::parse(error_body(400, "after='\xff\xfe'"));
+  EXPECT_EQ(body["error"]["status"], 400);
+  EXPECT_TRUE(body["error"]["message"].is_string());
+}
+
+}  // namespace
+}  // namespace m2mlat::net
