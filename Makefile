@@ -118,11 +118,11 @@ check-package: package
 	@if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
 	  $$SUDO tests/packaging/deb_install.sh $(PKG_DIR)/m2mlat_*_amd64.deb $(PKG_DIR)/upgrade/m2mlat_*_amd64.deb
 
-# The request parsers' fuzz targets (fuzz/): clang's libFuzzer with AddressSanitizer, the whole library
-# instrumented, each run for FUZZ_TIME seconds from its seed corpus (new inputs go to $(BUILD_FUZZ)).
+# The parsers' fuzz targets (fuzz/: the agent's requests, the wire, chronyc, pmc, cyclictest): clang's
+# libFuzzer with AddressSanitizer, the whole library instrumented, each run for FUZZ_TIME seconds from its seed corpus (new inputs go to $(BUILD_FUZZ)).
 BUILD_FUZZ ?= build-fuzz
 FUZZ_TIME ?= 20
-FUZZ_TARGETS := query_params session_body authorization wire_decode
+FUZZ_TARGETS := query_params session_body authorization wire_decode chronyc_output pmc_output cyclictest_output
 fuzz: deps
 	$(call install_missing,libclang-rt-14-dev)
 	cmake -S . -B $(BUILD_FUZZ) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \

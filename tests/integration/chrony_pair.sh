@@ -3,7 +3,8 @@
 # serving its own clock (local stratum 1) on an ephemeral UDP port of 127.0.0.1, and a peer
 # following it with a 0.25 s poll. Both run with -x (never touch the system clock), in the
 # foreground, with their own pid files and command sockets in the test's temporary folder. Then
-# `m2mlat clock` reads the real chronyc output of both and stores samples. Needs root (chronyd).
+# `m2mlat clock` reads the real chronyc output of both and stores samples, and an agent's clock
+# monitor stores and serves the peer's. Needs root (chronyd).
 source "$(dirname "$0")/lib.bash"
 command -v chronyd >/dev/null && command -v chronyc >/dev/null || fail "chronyd/chronyc are not installed"
 [ "$(id -u)" = 0 ] || fail "needs root: chronyd binds its command socket and ntp port as root"
@@ -105,7 +106,37 @@ rows = db.execute("SELECT source, COUNT(*) FROM clock_samples GROUP BY source OR
 assert dict(rows)["chrony"] == 3 and dict(rows)["adjtimex"] >= 3, rows
 PY
 
-# 6. A chronyd that is not there: `--chrony on` fails with chronyc's message, `auto` just says so.
+# 6. An agent's clock monitor: a kmsg-source agent reading the peer's chronyd every 300 ms stores
+# chrony and adjtimex samples in its own commits, serves them on /v1/clock-samples, and shows the
+# newest in /v1/status.
+printf 'GPIO_16_IRQ:1780000000000000000\n' >edges.log
+"$M2MLAT" agent --store agent.db --node peer --role effect --source kmsg --kmsg edges.log --channel wheel=k:16 \
+  --listen 127.0.0.1:0 --chrony-interval 300ms --kernel-interval 200ms --chronyc-socket "$WORK/peer.sock" \
+  --commit-interval 50ms --quiet >agent.out 2>agent.err &
+AGENT=$!
+PIDS+=($AGENT)
+for _ in $(seq 100); do grep -q '^listening ' agent.out && break; sleep 0.1; done
+URL="http://$(sed -n 's/^listening //p' agent.out)"
+[ "$URL" != "http://" ] || { cat agent.err >&2; fail "the agent did not start"; }
+sleep 1.5
+$PY - "$URL" <<'PY' || { cat agent.err >&2; fail "the agent's clock samples"; }
+import json, sys, urllib.request
+url = sys.argv[1]
+rows = [json.loads(l) for l in urllib.request.urlopen(url + "/v1/clock-samples?after=0").read().decode().splitlines()]
+chrony = [r for r in rows if r["source"] == "chrony"]
+kernel = [r for r in rows if r["source"] == "adjtimex"]
+assert len(chrony) >= 3 and len(kernel) >= 3, rows
+for r in chrony:
+    assert r["synchronised"] and r["detail"]["stratum"] == 2 and r["detail"]["ref_name"] == "127.0.0.1", r
+    assert 0 < r["max_error_ns"] < 10**9, r
+status = json.load(urllib.request.urlopen(url + "/v1/status"))
+assert status["clock"] is not None and status["clock"]["source"] in ("chrony", "adjtimex"), status
+PY
+kill -TERM "$AGENT"
+wait "$AGENT" || fail "the agent did not stop cleanly: $(cat agent.err)"
+[ ! -s agent.err ] || fail "the agent warned: $(cat agent.err)"
+
+# 7. A chronyd that is not there: `--chrony on` fails with chronyc's message, `auto` just says so.
 expect_exit 74 "$M2MLAT" clock --chrony on --ptp off --chronyc-socket "$WORK/none.sock"
 grep -q "chronyc" err.txt || fail "no chronyc message: $(cat err.txt)"
 expect_exit 0 "$M2MLAT" clock --ptp off --chronyc-socket "$WORK/none.sock"

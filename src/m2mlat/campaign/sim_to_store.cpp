@@ -1,8 +1,9 @@
 // Simulated run -> store, chunk by chunk; one transaction per node per chunk.
 #include "m2mlat/campaign/sim_to_store.hpp"
 
-#include <limits>
 #include <nlohmann/json.hpp>
+
+#include "m2mlat/capture/sim_source.hpp"
 
 namespace m2mlat::campaign {
 
@@ -20,21 +21,6 @@ std::string config_json(const sim::RigConfig& config, core::Role role) {
                    {"magnets_deg", config.magnets_deg},
                    {"channel", config.channel}};
   return j.dump();
-}
-
-store::ClockSample to_store(const sim::ClockSample& s, std::int64_t session) {
-  store::ClockSample out;
-  out.session_id = session;
-  // The sample is taken on the node's own clock: true time plus that clock's error.
-  out.time = core::TimePoint::from_ns(core::Clock::realtime, s.true_time.ns() + s.error.count());
-  out.source = "sim";
-  out.offset_ns = s.estimated_offset.count();
-  const bool synced = s.error_bound != core::Duration::max();
-  out.max_error_ns = synced ? s.error_bound.count() : std::numeric_limits<std::int64_t>::max();
-  out.est_error_ns = synced ? s.error_bound.count() / 3 : std::numeric_limits<std::int64_t>::max();
-  out.synchronised = synced;
-  out.detail_json = nlohmann::json{{"true_error_ns", s.error.count()}}.dump();
-  return out;
 }
 
 }  // namespace
@@ -66,7 +52,7 @@ RecordedRun record_simulation(store::Store& store, const sim::RigConfig& config,
       batch.session_id = session;
       batch.events = chunk.events(role);
       for (const auto& s : chunk.clock_samples)
-        if (s.node == role) batch.clock_samples.push_back(to_store(s, session));
+        if (s.node == role) batch.clock_samples.push_back(capture::sim_clock_sample(s, session));
       if (!batch.events.empty()) last = std::max(last, batch.events.back().time);
       store.append(batch);
       (role == core::Role::cause ? run.cause_events : run.effect_events) +=

@@ -174,9 +174,25 @@ class Reader {
           else
             fail(sk.source(), full, "unknown key (batch, commit_interval, durability)");
         }
+      } else if (key == "clock") {
+        const auto* table = v.as_table();
+        if (table == nullptr) fail(v.source(), key, "expected a table [clock]");
+        for (auto&& [ck, cv] : *table) {
+          const auto full = "clock." + std::string(ck.str());
+          if (ck.str() == "monitor")
+            c.clock_monitor = boolean(cv, full);
+          else if (ck.str() == "kernel_interval")
+            c.kernel_interval = duration(cv, full);
+          else if (ck.str() == "chrony_interval")
+            c.chrony_interval = duration(cv, full);
+          else if (ck.str() == "ptp_interval")
+            c.ptp_interval = duration(cv, full);
+          else
+            fail(ck.source(), full, "unknown key (monitor, kernel_interval, chrony_interval, ptp_interval)");
+        }
       } else {
         fail(k.source(), key,
-             "unknown key (node, role, scenario, label, source, kmsg, [[channel]], [rt], [store])");
+             "unknown key (node, role, scenario, label, source, kmsg, [[channel]], [rt], [store], [clock])");
       }
     }
     return c;

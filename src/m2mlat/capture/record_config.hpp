@@ -11,6 +11,7 @@
 //   refractory = "10ms" debounce = "0"
 //   [rt]     priority = 80   cpu = 3   mlock = true   irq_cpu = 2
 //   [store]  batch = 512   commit_interval = "100ms"   durability = "normal"
+//   [clock]  monitor = true   kernel_interval = "1s"   chrony_interval = "8s"   ptp_interval = "0"
 #pragma once
 
 #include <optional>
@@ -36,6 +37,9 @@ struct RecordConfig {
   std::optional<std::int64_t> batch;
   std::optional<core::Duration> commit_interval;
   std::optional<std::string> durability;
+  // The clock monitor (sync::ClockMonitor) of a gpio or kmsg source; intervals 0 = that reading off.
+  std::optional<bool> clock_monitor;
+  std::optional<core::Duration> kernel_interval, chrony_interval, ptp_interval;
 };
 
 // Reads and checks a TOML file. Throws core::Error: no_input if it cannot be read, data (naming

@@ -123,6 +123,10 @@ RecordCounters Recorder::run(int stop_fd, const std::function<std::string()>& st
       counters.dropped += batch.events.size();
       return;
     }
+    for (auto& sample : batch.clock_samples) {
+      sample.session_id = counters.session_id;
+      writer->add(sample);
+    }
     const auto detected = realtime_now();
     for (const auto& gap : batch.gaps) {
       store::Loss loss{counters.session_id, gap.channel, detected, gap.first_missing, gap.count, gap.kind};

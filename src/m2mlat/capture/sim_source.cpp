@@ -3,9 +3,27 @@
 
 #include <fmt/format.h>
 
+#include <limits>
+#include <nlohmann/json.hpp>
+
 #include "m2mlat/capture/recorder.hpp"
 
 namespace m2mlat::capture {
+
+store::ClockSample sim_clock_sample(const sim::ClockSample& s, std::int64_t session_id) {
+  store::ClockSample out;
+  out.session_id = session_id;
+  // The sample is taken on the node's own clock: true time plus that clock's error.
+  out.time = core::TimePoint::from_ns(core::Clock::realtime, s.true_time.ns() + s.error.count());
+  out.source = "sim";
+  out.offset_ns = s.estimated_offset.count();
+  const bool synced = s.error_bound != core::Duration::max();
+  out.max_error_ns = synced ? s.error_bound.count() : std::numeric_limits<std::int64_t>::max();
+  out.est_error_ns = synced ? s.error_bound.count() / 3 : std::numeric_limits<std::int64_t>::max();
+  out.synchronised = synced;
+  out.detail_json = nlohmann::json{{"true_error_ns", s.error.count()}}.dump();
+  return out;
+}
 
 SimSource::SimSource(SimSourceOptions options)
     : options_(std::move(options)), generator_(std::make_unique<sim::Generator>(options_.config)) {
@@ -24,6 +42,8 @@ void SimSource::read(ReadResult& out, std::size_t max_events) {
       event.channel = options_.channel;
       ready_.push_back(std::move(event));
     }
+    for (const auto& sample : chunk_.clock_samples)
+      if (sample.node == options_.side) clock_ready_.push_back(sim_clock_sample(sample, 0));
   }
   const auto now = monotonic_now();
   std::size_t taken = 0;
@@ -37,11 +57,19 @@ void SimSource::read(ReadResult& out, std::size_t max_events) {
       }
       if (core::Duration{next.time.ns() - origin_event_ns_} > now - origin_wall_) break;
     }
+    handed_ns_ = next.time.ns();
     out.events.push_back(ready_.front());
     ready_.pop_front();
     ++taken;
   }
   out.finished = ready_.empty() && generator_->done();
+  // The daemons' readings up to the simulated time reached: paced, the wall clock's; unpaced, the
+  // last event's; all that are left at the end.
+  if (options_.paced && have_origin_) handed_ns_ = origin_event_ns_ + (now - origin_wall_).count();
+  while (!clock_ready_.empty() && (out.finished || clock_ready_.front().time.ns() <= handed_ns_)) {
+    out.clock_samples.push_back(clock_ready_.front());
+    clock_ready_.pop_front();
+  }
 }
 
 std::vector<std::string> SimSource::describe() const {

@@ -5,6 +5,7 @@
 // simulated time did (the timestamps stay the simulator's); unpaced, as fast as the store takes them.
 #pragma once
 
+#include <cstdint>
 #include <deque>
 #include <memory>
 #include <string>
@@ -25,6 +26,10 @@ struct SimSourceOptions {
   bool paced = false;                    // real-time pacing
 };
 
+// A simulated daemon's reading as the store keeps it (source "sim"): taken on the node's own clock,
+// max_error = the daemon's bound, est_error = a third of it; unbounded when not synchronised.
+store::ClockSample sim_clock_sample(const sim::ClockSample& sample, std::int64_t session_id);
+
 class SimSource final : public Source {
  public:
   explicit SimSource(SimSourceOptions options);
@@ -39,9 +44,11 @@ class SimSource final : public Source {
   std::unique_ptr<sim::Generator> generator_;
   sim::Chunk chunk_;
   std::deque<core::Event> ready_;
+  std::deque<store::ClockSample> clock_ready_;  // this side's daemon readings, by time
   bool have_origin_ = false;
   std::int64_t origin_event_ns_ = 0;  // the first event's simulated timestamp
   core::Duration origin_wall_{0};     // CLOCK_MONOTONIC when it was handed over
+  std::int64_t handed_ns_ = INT64_MIN;  // simulated time handed over so far (unpaced: the last event's)
 };
 
 }  // namespace m2mlat::capture

@@ -14,6 +14,7 @@
 
 #include "m2mlat/core/event.hpp"
 #include "m2mlat/core/time.hpp"
+#include "m2mlat/store/records.hpp"
 
 namespace m2mlat::capture {
 
@@ -29,10 +30,14 @@ struct Gap {
 struct ReadResult {
   std::vector<core::Event> events;  // in the order the kernel reported them
   std::vector<Gap> gaps;            // each reported where it was detected, before the event after it
-  bool finished = false;            // the source has nothing more, ever (a simulated run's end)
+  // Readings of the clock that stamped the events, where the source has its own (the simulated
+  // rig's daemons); a real board's come from the recorder's clock monitor instead. session_id unset.
+  std::vector<store::ClockSample> clock_samples;
+  bool finished = false;  // the source has nothing more, ever (a simulated run's end)
   void clear() {
     events.clear();
     gaps.clear();
+    clock_samples.clear();
     finished = false;
   }
 };

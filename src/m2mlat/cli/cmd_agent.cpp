@@ -87,7 +87,7 @@ int run_agent(AgentCommand& c) {
                agent.address(), options.server.token ? " (bearer token required)" : "");
   apply_rt(setup, flags.quiet);
   const auto counters = agent.run(stop.fd(), [&] { return stop.take(); });
-  for (const auto& note : setup.source->notes()) warn(note);
+  warn_after_run(setup);
   if (!flags.quiet)
     fmt::print(stderr, "m2mlat: {}: {} events stored, {} dropped, last seq {}, stopped by {}\n",
                flags.store_path, counters.events, counters.dropped, counters.last_committed_seq,

@@ -37,7 +37,7 @@ int run_record(RecordFlags& c) {
   capture::Recorder recorder(store, *source, options);
   const auto counters = recorder.run(stop.fd(), [&] { return stop.take(); });
   progress_done();
-  for (const auto& note : source->notes()) warn(note);
+  warn_after_run(setup);
 
   if (c.json) {
     nlohmann::json j{{"store", c.store_path},

@@ -47,7 +47,38 @@ nlohmann::json channel_json(const capture::ChannelSpec& s) {
           {"refractory_ns", s.refractory.count()}};
 }
 
+// The clock monitor of a real board: its samples go into the same commits as the events.
+void start_clock_monitor(const RecordFlags& c, const capture::RecordConfig& file, RecordSetup& s) {
+  const auto interval = [&](const char* flag, const std::string& value,
+                            const std::optional<core::Duration>& from_file) {
+    const auto d = c.given(flag) || !from_file ? core::parse_duration(value, 1'000'000'000) : *from_file;
+    if (d.count() < 0) throw core::Error(core::ErrorKind::usage, fmt::format("{} must not be negative", flag));
+    return d;
+  };
+  sync::MonitorOptions mo;
+  mo.kernel_interval = interval("--kernel-interval", c.kernel_interval, file.kernel_interval);
+  mo.chrony_interval = interval("--chrony-interval", c.chrony_interval, file.chrony_interval);
+  mo.ptp_interval = interval("--ptp-interval", c.ptp_interval, file.ptp_interval);
+  mo.chronyc.host = c.chronyc_socket;
+  mo.pmc.uds = c.pmc_socket;
+  s.clocks = std::make_unique<sync::SystemClockSource>();
+  s.runner = std::make_unique<sync::ProcessRunner>();
+  s.monitor = std::make_unique<sync::ClockMonitor>(mo, *s.clocks, s.runner.get());
+  s.options.before_commit = [monitor = s.monitor.get()](std::int64_t session,
+                                                        std::vector<store::ClockSample>& out) {
+    monitor->on_batch(session, out);
+  };
+}
+
 }  // namespace
+
+void warn_after_run(const RecordSetup& s) {
+  for (const auto& note : s.source->notes()) warn(note);
+  if (!s.monitor) return;
+  for (const auto* failure : {&s.monitor->chrony_error(), &s.monitor->ptp_error()})
+    if (!failure->empty())
+      warn(fmt::format("clock monitor: {} (--chrony-interval 0 / --ptp-interval 0 turn a reading off)", *failure));
+}
 
 void print_counters(const capture::RecordCounters& counters) {
   std::string line;
@@ -164,6 +195,8 @@ RecordSetup prepare_record(const RecordFlags& c) {
   options.commit_interval = commit_interval;
   options.max_events = c.count;
   if (!c.duration.empty()) options.max_duration = core::parse_duration(c.duration);
+  if (s.source_kind != "sim" && !c.no_clock_monitor && file.clock_monitor.value_or(true))
+    start_clock_monitor(c, file, s);
   return s;
 }
 
@@ -217,6 +250,19 @@ void add_record_options(CLI::App& sub, RecordFlags& flags) {
   o["--sim-set"] = sub.add_option("--sim-set", c->sim_set,
                                   "sim source: set one field of the simulated rig, KEY=VALUE (repeatable; "
                                   "see m2mlat simulate --list)");
+  o["--no-clock-monitor"] =
+      sub.add_flag("--no-clock-monitor", c->no_clock_monitor, "Do not store the clock's state (gpio, kmsg)");
+  o["--kernel-interval"] = sub.add_option("--kernel-interval", c->kernel_interval,
+                                          "Clock monitor: an adjtimex sample at least this often")
+                               ->capture_default_str();
+  o["--chrony-interval"] =
+      sub.add_option("--chrony-interval", c->chrony_interval, "Clock monitor: read chronyc this often (0: never)")
+          ->capture_default_str();
+  o["--ptp-interval"] =
+      sub.add_option("--ptp-interval", c->ptp_interval, "Clock monitor: read ptp4l's pmc this often (0: never)")
+          ->capture_default_str();
+  sub.add_option("--chronyc-socket", c->chronyc_socket, "Clock monitor: chronyd's command socket (chronyc -h)");
+  sub.add_option("--pmc-socket", c->pmc_socket, "Clock monitor: ptp4l's Unix socket (pmc -s)");
   sub.add_flag("--quiet", c->quiet, "No settings or live counters on stderr");
 }
 

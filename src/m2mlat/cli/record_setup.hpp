@@ -16,6 +16,7 @@
 #include "m2mlat/capture/recorder.hpp"
 #include "m2mlat/capture/source.hpp"
 #include "m2mlat/store/records.hpp"
+#include "m2mlat/sync/clock_monitor.hpp"
 
 namespace m2mlat::cli {
 
@@ -35,6 +36,10 @@ struct RecordFlags {
   std::uint64_t sim_seed = 1;
   std::vector<std::string> sim_set;  // "key=value" overrides of the simulated rig (sim/overrides.hpp)
   std::uint32_t event_buffer_size = capture::kMaxEventBufferSize;
+  // The clock monitor (gpio and kmsg sources): adjtimex, chronyc and pmc intervals ("0" = off).
+  bool no_clock_monitor = false;
+  std::string kernel_interval = "1s", chrony_interval = "8s", ptp_interval = "0";
+  std::string chronyc_socket, pmc_socket;  // other daemons than the system's (chronyc -h, pmc -s)
   // Which of the flags above were given (a flag overrides the file; a file's channel key overrides
   // the flag's default).
   std::map<std::string, CLI::Option*> options;
@@ -57,6 +62,11 @@ struct RecordSetup {
   store::Options store_options;
   int rt_priority = 0, cpu = -1, irq_cpu = -1;
   bool mlock = false;
+  // The board's clock state beside its events (gpio and kmsg sources; the simulated rig's clocks
+  // give their own samples): the monitor, what it reads, and options.before_commit calling it.
+  std::unique_ptr<sync::SystemClockSource> clocks;
+  std::unique_ptr<sync::ProcessRunner> runner;
+  std::unique_ptr<sync::ClockMonitor> monitor;
 };
 
 // Reads the configuration file, merges the flags and opens the source (so that a wrong line or a
@@ -66,6 +76,9 @@ RecordSetup prepare_record(const RecordFlags& flags);
 // Applies the real-time settings (memory lock, CPU, FIFO priority, IRQ affinity), each reported;
 // a refusal is a warning, not a failure.
 void apply_rt(const RecordSetup& setup, bool quiet);
+
+// After a run: the source's notes, and the clock monitor's last failure (chronyc or pmc not answering).
+void warn_after_run(const RecordSetup& setup);
 
 // The live counters line on stderr.
 void print_counters(const capture::RecordCounters& counters);

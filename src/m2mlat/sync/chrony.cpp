@@ -185,7 +185,8 @@ store::ClockSample chrony_sample(const ChronyReport& report, core::TimePoint tim
                               {"update_interval_ns", t.update_interval_ns},
                               {"leap_status", t.leap_status},
                               {"sources", sources}};
-  sample.detail_json = detail.dump();
+  // Names come from another program's output: bytes that are not UTF-8 become U+FFFD, not a throw.
+  sample.detail_json = detail.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   return sample;
 }
 

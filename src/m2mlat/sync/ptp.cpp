@@ -113,7 +113,8 @@ store::ClockSample ptp_sample(const PtpStatus& status, core::TimePoint time) {
                                       {"ingress_time_ns", status.ingress_time_ns},
                                       {"steps_removed", status.steps_removed},
                                       {"mean_path_delay_ns", status.mean_path_delay_ns}}
-                           .dump();
+                           // identities are pmc's text: bytes that are not UTF-8 become U+FFFD
+                           .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   return sample;
 }
 

@@ -43,7 +43,8 @@ TEST(RecordConfig, ReadsEverySection) {
       "[[channel]]\nname = \"a\"\nline = 16\nclock = \"monotonic\"\nactive_low = true\ndebounce = \"1ms\"\n"
       "[[channel]]\nname = \"b\"\nline = \"GPIO17\"\nedges = \"both\"\n"
       "[rt]\npriority = 80\ncpu = 3\nmlock = true\nirq_cpu = 2\n"
-      "[store]\nbatch = 64\ncommit_interval = \"50ms\"\ndurability = \"full\"\n",
+      "[store]\nbatch = 64\ncommit_interval = \"50ms\"\ndurability = \"full\"\n"
+      "[clock]\nmonitor = true\nkernel_interval = \"2s\"\nchrony_interval = \"4s\"\nptp_interval = 0\n",
       "x.toml");
   EXPECT_EQ(c.role, core::Role::cause);
   EXPECT_EQ(c.source, "kmsg");
@@ -61,6 +62,10 @@ TEST(RecordConfig, ReadsEverySection) {
   EXPECT_EQ(c.batch, 64);
   EXPECT_EQ(c.commit_interval, std::chrono::milliseconds(50));
   EXPECT_EQ(c.durability, "full");
+  EXPECT_EQ(c.clock_monitor, true);
+  EXPECT_EQ(c.kernel_interval, std::chrono::seconds(2));
+  EXPECT_EQ(c.chrony_interval, std::chrono::seconds(4));
+  EXPECT_EQ(c.ptp_interval, core::Duration{0});
 }
 
 TEST(RecordConfig, ErrorsNameTheFileLineAndKey) {
@@ -69,7 +74,7 @@ TEST(RecordConfig, ErrorsNameTheFileLineAndKey) {
   EXPECT_EQ(
       error_of("node = \"v\"\nrefractory = \"10ms\"\n"),
       "vehicle.toml:2:1: refractory: unknown key (node, role, scenario, label, source, kmsg, [[channel]], "
-      "[rt], [store])");
+      "[rt], [store], [clock])");
   const auto bad_duration = error_of("[[channel]]\nname = \"w\"\nline = 3\nrefractory = \"10\"\n");
   EXPECT_NE(bad_duration.find("vehicle.toml:4:14: channel[1].refractory:"), std::string::npos)
       << bad_duration;

@@ -31,6 +31,12 @@ TEST(SimSource, HandsOverOneSidesEventsUnchangedButForTheNames) {
     expected.channel = "steer";
     EXPECT_EQ(out.events[i], expected);
   }
+  // The effect board's daemon readings come along, each as the store keeps it, in time order.
+  std::vector<store::ClockSample> expected_samples;
+  for (const auto& s : truth.clock_samples)
+    if (s.node == core::Role::effect) expected_samples.push_back(sim_clock_sample(s, 0));
+  ASSERT_FALSE(expected_samples.empty());
+  EXPECT_EQ(out.clock_samples, expected_samples);
 }
 
 TEST(SimSource, RecordsARunIntoAStoreUntilItEnds) {
@@ -50,6 +56,12 @@ TEST(SimSource, RecordsARunIntoAStoreUntilItEnds) {
     const auto truth = sim::simulate(small_run());
     EXPECT_EQ(counters.events, truth.cause_events.size());
     EXPECT_EQ(store.event_count(counters.session_id), static_cast<std::int64_t>(truth.cause_events.size()));
+    // The operator board's simulated clock state is stored beside its events, in its session.
+    std::size_t cause_samples = 0;
+    for (const auto& s : truth.clock_samples) cause_samples += s.node == core::Role::cause ? 1 : 0;
+    const auto stored = store.clock_samples(counters.session_id);
+    EXPECT_EQ(stored.size(), cause_samples);
+    for (const auto& s : stored) EXPECT_EQ(s.source, "sim");
   }
   for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path + suffix);
 }
