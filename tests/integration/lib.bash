@@ -1,6 +1,10 @@
 # Shared by the integration tests: each test is `bash <test>.sh M2MLAT DATA_DIR` and runs the real
 # executable as separate processes in a temporary folder.
-set -euo pipefail
+set -Eeuo pipefail
+# A command that fails outside a condition ends the test: say which, or it ends without a word.
+# (Only in the test's own shell: inside $(...) a failure is the caller's to judge.)
+on_error() { [ "$BASH_SUBSHELL" -gt 0 ] || echo "FAIL: ${BASH_SOURCE[1]}:$2: \`$3\` exited $1" >&2; }
+trap 'on_error $? $LINENO "$BASH_COMMAND"' ERR
 M2MLAT=$(realpath "$1")
 DATA=$(realpath "$2")
 PY=/usr/bin/python3
