@@ -8,16 +8,15 @@
 
 #include <cerrno>
 #include <chrono>
-#include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <memory>
-#include <sstream>
 
 #include "m2mlat/capture/stop_signal.hpp"
 #include "m2mlat/cli/command.hpp"
+#include "m2mlat/cli/live_flags.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/collect/coordinator.hpp"
+#include "m2mlat/collect/live_view.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/time.hpp"
 
@@ -31,19 +30,8 @@ struct CollectCommand {
   std::string stale_after = "3s", refresh = "250ms", connect_timeout = "2s", read_timeout = "5s", poll = "0";
   std::string durability = "normal";
   bool start_session = false, stop_session = false, once = false, json = false, quiet = false;
+  LiveFlags live;  // the terminal block and the dashboard (docs/dashboard.md)
 };
-
-std::string read_token(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw core::Error(core::ErrorKind::no_input, fmt::format("--token-file {}: cannot read it", path));
-  std::stringstream text;
-  text << in.rdbuf();
-  auto token = text.str();
-  while (!token.empty() && (token.back() == '\n' || token.back() == '\r' || token.back() == ' '))
-    token.pop_back();
-  if (token.empty()) throw core::Error(core::ErrorKind::data, fmt::format("--token-file {}: empty", path));
-  return token;
-}
 
 std::chrono::milliseconds to_ms(core::Duration d) {
   return std::chrono::duration_cast<std::chrono::milliseconds>(d);
@@ -92,11 +80,8 @@ int run_collect(const CollectCommand& c) {
   options.agents = c.agents;
   options.store_path = c.store_path;
   options.durability = store::parse_durability(c.durability);
-  if (!c.token_file.empty()) {
-    options.client.token = read_token(c.token_file);
-  } else if (const char* env = std::getenv("M2MLAT_TOKEN"); env != nullptr && *env != '\0') {
-    options.client.token = env;
-  }
+  // The agents' token, by the agent's own rules: --token-file, else $M2MLAT_TOKEN.
+  options.client.token = token_flag_or_env(c.token_file);
   options.client.ca_file = c.ca_file;
   options.client.connect_timeout = to_ms(core::parse_duration(c.connect_timeout, 1'000'000));
   options.client.read_timeout = to_ms(core::parse_duration(c.read_timeout, 1'000'000));
@@ -133,13 +118,18 @@ int run_collect(const CollectCommand& c) {
       fmt::print(stderr, "m2mlat: collect: {} began session {} ('{}', '{}')\n", session.node, session.id,
                  session.label, session.scenario);
 
-  // ---- The live views: started here, refreshed from the loop below every --refresh. ----------
-  // The terminal view and the dashboard read the campaign store (coordinator.store_path()) and
-  // coordinator.health(); hook them into `on_refresh` (and stop them after the loop).
+  // ---- The live views: live pairing of the campaign store, the terminal block (not with --json,
+  // whose stdout is the summary) and the dashboard, fed with the agents' health every --refresh.
+  collect::LiveView view(c.live.options(c.store_path, options.client.token, !c.json));
+  if (const auto url = view.dashboard_url(); !url.empty()) {
+    fmt::print(stderr, "dashboard {}\n", url);
+    std::fflush(stderr);
+  }
   std::vector<collect::NodeState> previous(c.agents.size(), collect::NodeState::unreachable);
   std::vector<bool> seen(c.agents.size(), false);
   const auto on_refresh = [&] {
     const auto health = coordinator.health();
+    view.refresh(health, collect::realtime_now_ns());
     for (std::size_t i = 0; i < health.size(); ++i) {
       const auto& h = health[i];
       if (seen[i] && h.state == previous[i]) continue;
@@ -176,6 +166,8 @@ int run_collect(const CollectCommand& c) {
   }
   if (!quiet) fmt::print(stderr, "m2mlat: collect: stopping ({})\n", reason);
   coordinator.stop();
+  // The final numbers, from everything the agents held (those of `m2mlat stats` on the campaign).
+  view.finish(coordinator.health(), collect::realtime_now_ns());
   print_summary(coordinator.health(), c.store_path, c.json);
   return 0;
 }
@@ -209,6 +201,8 @@ Runner attach_collect(CLI::App& sub) {
   sub.add_option("--durability", c->durability, "full, normal or off (docs/store.md)")->capture_default_str();
   sub.add_flag("--json", c->json, "Print the summary as JSON");
   sub.add_flag("--quiet", c->quiet, "Print only errors and unhealthy agents");
+  // --token-file above is the dashboard's token too.
+  c->live.add_to(sub, false);
   return [c] { return run_collect(*c); };
 }
 

@@ -20,7 +20,7 @@ void LiveFlags::add_to(CLI::App& sub, bool with_token_file) {
   match.add_to(sub);
 }
 
-std::string dashboard_token(const std::string& token_file) {
+std::string token_flag_or_env(const std::string& token_file) {
   const auto token =
       net::load_token(token_file.empty() ? std::nullopt : std::optional<std::string>(token_file));
   return token.value_or("");
@@ -38,9 +38,9 @@ collect::LiveViewOptions LiveFlags::options(const std::string& store_path, const
     collect::DashboardOptions d;
     collect::parse_listen_address(dashboard, d);
     // This subcommand's own --token-file, else the token it already read, else $M2MLAT_TOKEN.
-    d.token = !token_file.empty() ? dashboard_token(token_file)
+    d.token = !token_file.empty() ? token_flag_or_env(token_file)
               : !token.empty()    ? token
-                                  : dashboard_token("");
+                                  : token_flag_or_env("");
     o.dashboard = d;
   }
   o.terminal = terminal && !no_live;

@@ -27,7 +27,7 @@ struct LiveFlags {
                                    bool terminal) const;
 };
 
-// The token for the dashboard: the file's first line (net::load_token rules), else $M2MLAT_TOKEN, else "".
-std::string dashboard_token(const std::string& token_file);
+// A bearer token by the agent's rules (net::load_token): the file's first line, else $M2MLAT_TOKEN, else "".
+std::string token_flag_or_env(const std::string& token_file);
 
 }  // namespace m2mlat::cli

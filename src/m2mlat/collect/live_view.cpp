@@ -49,8 +49,12 @@ void LiveView::run() {
       wait = std::max(wait, paced);
     }
     due = started + wait;
+    const bool fresh = result.pairings != before;
     lock.lock();
     summary_ = std::move(result);
+    // A new result goes to the dashboard at once, not at the next refresh(): the delay from an
+    // effect event's commit to its sample on the page is then the store's poll plus the pairing.
+    if (fresh && dashboard_) dashboard_->publish(snapshot_json(summary_, nodes_, realtime_now_ns()));
   }
 }
 
@@ -64,7 +68,12 @@ void LiveView::stop_worker() {
 }
 
 void LiveView::refresh(std::vector<NodeHealth> nodes, std::int64_t now_ns) {
-  const auto summary = this->summary();
+  LiveSummary summary;
+  {
+    std::lock_guard lock(mutex_);
+    summary = summary_;
+    nodes_ = nodes;
+  }
   if (dashboard_) dashboard_->publish(snapshot_json(summary, nodes, now_ns));
   if (terminal_) terminal_->show(summary, nodes, now_ns);
 }

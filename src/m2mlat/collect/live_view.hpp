@@ -3,10 +3,11 @@
 //
 // The coordinator calls refresh() every --refresh (250 ms): that only copies the health, draws the
 // terminal block and publishes the dashboard's snapshot; it never waits for pairing. The pairing
-// thread re-pairs when the store has new events, at most every `min_period` and never more often
-// than its own cost allows (after a re-pairing that took c it waits at least c / max_load), so a
-// huge store slows the live numbers down instead of the coordinator. finish() pairs one last time,
-// so the final numbers are those of `m2mlat stats` on the store.
+// thread looks for new events in the store every `min_period` and re-pairs when there are, never
+// more often than its own cost allows (after a re-pairing that took c it waits at least
+// c / max_load), so a huge store slows the live numbers down instead of the coordinator; each new
+// result is published to the dashboard at once (with the newest health refresh() gave). finish() pairs one
+// last time, so the final numbers are those of `m2mlat stats` on the store.
 #pragma once
 
 #include <chrono>
@@ -34,7 +35,8 @@ struct LiveViewOptions {
   std::FILE* out = stdout;                    // where the block goes
   bool tty = false;                           // redraw in place (out is a terminal)
   std::chrono::nanoseconds plain_interval = std::chrono::seconds(5);  // plain block at most this often
-  std::chrono::milliseconds min_period{250};                          // re-pair at most this often
+  // Look for new events this often (a cheap query when there are none): the live numbers' delay.
+  std::chrono::milliseconds min_period{100};
   double max_load = 0.25;  // share of one CPU re-pairing may take, (0, 1]
 };
 
@@ -70,6 +72,7 @@ class LiveView {
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   LiveSummary summary_;
+  std::vector<NodeHealth> nodes_;  // from the last refresh(), for the worker's snapshots
   bool stopping_ = false;
   std::thread worker_;
 };

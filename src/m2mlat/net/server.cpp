@@ -8,9 +8,11 @@
 #include <array>
 #include <atomic>
 #include <condition_variable>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <thread>
+#include <type_traits>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/version.hpp"
@@ -85,7 +87,10 @@ template <typename Items>
 std::string ndjson(const Items& items) {
   std::string out;
   for (const auto& item : items) {
-    out += to_json(item).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    if constexpr (std::is_same_v<typename Items::value_type, store::StoredEvent>)
+      append_json(out, item);  // the hot path of a catch-up
+    else
+      out += to_json(item).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
     out += '\n';
   }
   return out;
@@ -257,8 +262,9 @@ struct AgentServer::Impl {
       if (!page.empty()) {
         std::string out;
         for (const auto& e : page) {
-          out += fmt::format("id: {}\nevent: event\ndata: {}\n\n", e.seq,
-                             to_json(e).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+          fmt::format_to(std::back_inserter(out), "id: {}\nevent: event\ndata: ", e.seq);
+          append_json(out, e);
+          out += "\n\n";
         }
         next = page.back().seq;
         last_write = monotonic();

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <iterator>
 #include <limits>
 
 #include "m2mlat/core/error.hpp"
@@ -162,6 +163,22 @@ json to_json(const store::StoredEvent& e) {
           {"seqno", e.event.seqno},
           {"line_seqno", e.event.line_seqno},
           {"flags", e.event.flags}};
+}
+
+void append_json(std::string& out, const store::StoredEvent& e) {
+  // A channel name of printable ASCII without quote or backslash is its own JSON text; anything
+  // else takes the JSON library's escaping (and its replacement of invalid UTF-8).
+  const auto& channel = e.event.channel;
+  const bool plain = std::all_of(channel.begin(), channel.end(),
+                                 [](char c) { return c >= 0x20 && c <= 0x7e && c != '"' && c != '\\'; });
+  const auto quoted = plain ? fmt::format("\"{}\"", channel)
+                            : json(channel).dump(-1, ' ', false, json::error_handler_t::replace);
+  // Keys in the order nlohmann::json (a std::map) writes them: alphabetical.
+  fmt::format_to(std::back_inserter(out),
+                 R"({{"channel":{},"clock":"{}","edge":"{}","flags":{},"line_seqno":{},"seq":{},"seqno":{},)"
+                 R"("session":{},"t_ns":{}}})",
+                 quoted, core::to_string(e.event.time.clock()), core::to_string(e.event.edge), e.event.flags,
+                 e.event.line_seqno, e.seq, e.event.seqno, e.session_id, e.event.time.ns());
 }
 
 json to_json(const store::StoredClockSample& s) {

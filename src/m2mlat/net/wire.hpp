@@ -37,26 +37,30 @@ struct Status {
   std::string store_id;
   std::optional<store::Session> session;  // the open session, if any
   std::vector<ChannelStatus> channels;
-  std::uint64_t events = 0;   // stored since the agent started
-  std::uint64_t lost = 0;     // reported lost since the agent started
-  std::uint64_t dropped = 0;  // seen while no session was open (not stored)
-  std::int64_t last_seq = 0;  // the store's last committed seq
+  std::uint64_t events = 0;                 // stored since the agent started
+  std::uint64_t lost = 0;                   // reported lost since the agent started
+  std::uint64_t dropped = 0;                // seen while no session was open (not stored)
+  std::int64_t last_seq = 0;                // the store's last committed seq
   std::optional<store::ClockSample> clock;  // the latest clock sample
-  std::int64_t started_ns = 0;  // CLOCK_REALTIME when the agent started
-  std::int64_t now_ns = 0;      // CLOCK_REALTIME when the status was made
+  std::int64_t started_ns = 0;              // CLOCK_REALTIME when the agent started
+  std::int64_t now_ns = 0;                  // CLOCK_REALTIME when the status was made
   friend bool operator==(const Status&, const Status&) = default;
 };
 
 nlohmann::json to_json(const store::Session& session);
 nlohmann::json to_json(const store::StoredEvent& event);  // node and role are the session's: not sent
+// The same event as one line of JSON text, appended to `out`: exactly the bytes of
+// to_json(event).dump() (keys in order, invalid UTF-8 replaced), without building a JSON value, so
+// that an agent serving a catch-up of a million events spends its time on the store, not on the heap.
+void append_json(std::string& out, const store::StoredEvent& event);
 nlohmann::json to_json(const store::StoredClockSample& sample);
 nlohmann::json to_json(const store::StoredLoss& loss);
 nlohmann::json to_json(const Status& status);
 
 store::Session session_from_json(const nlohmann::json& json, std::string_view where);
 // The event's node and role come from its session (looked up by the caller): pass them in.
-store::StoredEvent event_from_json(const nlohmann::json& json, std::string_view where, const std::string& node,
-                                   core::Role role);
+store::StoredEvent event_from_json(const nlohmann::json& json, std::string_view where,
+                                   const std::string& node, core::Role role);
 store::StoredClockSample clock_sample_from_json(const nlohmann::json& json, std::string_view where);
 store::StoredLoss loss_from_json(const nlohmann::json& json, std::string_view where);
 Status status_from_json(const nlohmann::json& json, std::string_view where);

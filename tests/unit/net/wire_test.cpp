@@ -117,6 +117,27 @@ TEST(Wire, EveryTypeRoundTripsThroughText) {
   EXPECT_EQ(status_from_json(json::parse(to_json(bare).dump()), "t"), bare);
 }
 
+TEST(Wire, AnEventsTextIsTheJsonLibrarysByteForByte) {
+  auto e = event();
+  const auto same = [&] {
+    std::string fast;
+    append_json(fast, e);
+    EXPECT_EQ(fast, to_json(e).dump(-1, ' ', false, json::error_handler_t::replace)) << e.event.channel;
+  };
+  same();
+  for (const char* channel : {"a", "wheel 2", "say \"hi\"", "back\\slash", "tab\there", "\x7f", "ümlaut",
+                              "bad \xff\xfe utf-8", "ctl \x01"}) {
+    e.event.channel = channel;
+    same();
+  }
+  e.event.time = core::TimePoint::from_ns(core::Clock::monotonic, std::numeric_limits<std::int64_t>::min());
+  e.event.edge = core::Edge::falling;
+  e.event.flags = std::numeric_limits<std::uint32_t>::max();
+  e.event.seqno = std::numeric_limits<std::uint64_t>::max();
+  e.seq = std::numeric_limits<std::int64_t>::max();
+  same();
+}
+
 TEST(Wire, EventsCarryTheContractsFieldsAndNoNodeOrRole) {
   const auto j = to_json(event());
   EXPECT_EQ(j["edge"], "rising");
