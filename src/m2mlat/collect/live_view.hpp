@@ -36,7 +36,7 @@ struct LiveViewOptions {
   bool tty = false;                           // redraw in place (out is a terminal)
   std::chrono::nanoseconds plain_interval = std::chrono::seconds(5);  // plain block at most this often
   // Look for new events this often (a cheap query when there are none): the live numbers' delay.
-  std::chrono::milliseconds min_period{100};
+  std::chrono::milliseconds min_period{50};
   double max_load = 0.25;  // share of one CPU re-pairing may take, (0, 1]
 };
 

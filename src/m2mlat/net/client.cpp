@@ -135,6 +135,20 @@ store::StoredEvent decode_event(const nlohmann::json& json, const std::string& w
   return event_from_json(json, where, session->node, session->role);
 }
 
+// One event line: the agent's own text without a JSON value (parse_canonical_event), anything else
+// through the JSON library, whose decoder names what is wrong. `where` makes the error's place.
+template <class Where>
+store::StoredEvent decode_event_text(std::string_view text, const Where& where, const SessionLookup& lookup) {
+  if (auto fast = parse_canonical_event(text)) {
+    if (const store::Session* session = lookup ? lookup(fast->session_id) : nullptr) {
+      fast->event.node = session->node;
+      return std::move(*fast);
+    }
+  }
+  const std::string place = where();
+  return decode_event(parse_json(std::string(text), place), place, lookup);
+}
+
 }  // namespace
 
 AgentClient::AgentClient(std::string base_url, ClientOptions options)
@@ -251,9 +265,7 @@ EventPage AgentClient::decode_events(const RawEventPage& raw, const SessionLooku
   const auto where = [&] { return fmt::format("{}{} line {}", url_, path, number); };
   for_each_line(raw.body, [&](std::string_view text, long line) {
     number = line;
-    nlohmann::json json = nlohmann::json::parse(text.begin(), text.end(), nullptr, false);
-    if (json.is_discarded()) throw core::Error(core::ErrorKind::data, fmt::format("{}: not JSON", where()));
-    auto event = decode_event(json, where(), lookup);
+    auto event = decode_event_text(text, where, lookup);
     if (event.seq <= previous)
       throw core::Error(core::ErrorKind::data,
                         fmt::format("{}: field 'seq': {} does not follow {}", where(), event.seq, previous));
@@ -353,7 +365,8 @@ void AgentClient::stream_events(std::int64_t after, const SessionLookup& lookup,
         throw core::Error(core::ErrorKind::data,
                           fmt::format("{}: event without a numeric id ('{}')", what, id));
       const auto where = fmt::format("{} id {}", what, seq);
-      auto event = decode_event(parse_json(data, where), where, lookup);
+      auto event = decode_event_text(
+          data, [&] { return where; }, lookup);
       if (event.seq != seq || seq <= previous)
         throw core::Error(core::ErrorKind::data,
                           fmt::format("{}: field 'seq': {} (after {}) breaks the stream's order", where,

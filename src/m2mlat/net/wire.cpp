@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <charconv>
 #include <iterator>
 #include <limits>
 
@@ -179,6 +180,70 @@ void append_json(std::string& out, const store::StoredEvent& e) {
                  R"("session":{},"t_ns":{}}})",
                  quoted, core::to_string(e.event.time.clock()), core::to_string(e.event.edge), e.event.flags,
                  e.event.line_seqno, e.seq, e.event.seqno, e.session_id, e.event.time.ns());
+}
+
+namespace {
+
+// A reader of append_json's text: each step consumes what it expects or fails.
+class CanonicalReader {
+ public:
+  explicit CanonicalReader(std::string_view text) : text_(text) {}
+  bool literal(std::string_view expected) {
+    if (text_.substr(pos_, expected.size()) != expected) return false;
+    pos_ += expected.size();
+    return true;
+  }
+  // Characters up to the next quote (consumed), all printable ASCII without a backslash.
+  bool plain(std::string_view& out) {
+    const auto end = text_.find('"', pos_);
+    if (end == std::string_view::npos) return false;
+    out = text_.substr(pos_, end - pos_);
+    if (!std::all_of(out.begin(), out.end(), [](char c) { return c >= 0x20 && c <= 0x7e && c != '\\'; }))
+      return false;
+    pos_ = end + 1;
+    return true;
+  }
+  template <typename Int>
+  bool integer(Int& out) {
+    const char* first = text_.data() + pos_;
+    const char* last = text_.data() + text_.size();
+    const char* digits = first != last && *first == '-' ? first + 1 : first;
+    if (digits + 1 < last && *digits == '0' && digits[1] >= '0' && digits[1] <= '9') return false;
+    const auto [end, ec] = std::from_chars(first, last, out);
+    if (ec != std::errc()) return false;
+    pos_ += static_cast<std::size_t>(end - first);
+    return true;
+  }
+  bool at_end() const { return pos_ == text_.size(); }
+
+ private:
+  std::string_view text_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace
+
+std::optional<store::StoredEvent> parse_canonical_event(std::string_view line) {
+  CanonicalReader r(line);
+  store::StoredEvent e;
+  std::string_view channel, clock, edge;
+  std::int64_t t_ns = 0;
+  if (!(r.literal(R"({"channel":")") && r.plain(channel) && r.literal(R"(,"clock":")") && r.plain(clock) &&
+        r.literal(R"(,"edge":")") && r.plain(edge) && r.literal(R"(,"flags":)") && r.integer(e.event.flags) &&
+        r.literal(R"(,"line_seqno":)") && r.integer(e.event.line_seqno) && r.literal(R"(,"seq":)") &&
+        r.integer(e.seq) && r.literal(R"(,"seqno":)") && r.integer(e.event.seqno) &&
+        r.literal(R"(,"session":)") && r.integer(e.session_id) && r.literal(R"(,"t_ns":)") &&
+        r.integer(t_ns) && r.literal("}") && r.at_end()))
+    return std::nullopt;
+  if (channel.empty() || e.seq < 1 || e.session_id < 1) return std::nullopt;
+  try {
+    e.event.time = core::TimePoint::from_ns(core::parse_clock(clock), t_ns);
+    e.event.edge = core::parse_edge(edge);
+  } catch (const core::Error&) {
+    return std::nullopt;
+  }
+  e.event.channel = channel;
+  return e;
 }
 
 json to_json(const store::StoredClockSample& s) {

@@ -58,6 +58,11 @@ nlohmann::json to_json(const store::StoredLoss& loss);
 nlohmann::json to_json(const Status& status);
 
 store::Session session_from_json(const nlohmann::json& json, std::string_view where);
+// The inverse of append_json, for the agent's own text only: every field in its order, a channel
+// name without escapes, integers without leading zeros. Anything else, valid or not, gives nullopt:
+// decode it with event_from_json, which also names what is wrong. The node is left empty (it is
+// the session's). A coordinator catching up a million events spends its time on storing them.
+std::optional<store::StoredEvent> parse_canonical_event(std::string_view line);
 // The event's node and role come from its session (looked up by the caller): pass them in.
 store::StoredEvent event_from_json(const nlohmann::json& json, std::string_view where,
                                    const std::string& node, core::Role role);

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 
 #include "m2mlat/core/error.hpp"
@@ -123,6 +124,21 @@ TEST(Wire, AnEventsTextIsTheJsonLibrarysByteForByte) {
     std::string fast;
     append_json(fast, e);
     EXPECT_EQ(fast, to_json(e).dump(-1, ' ', false, json::error_handler_t::replace)) << e.event.channel;
+    // And back: the canonical reader takes it whole when the channel is plain printable ASCII (no
+    // escapes, no UTF-8), else leaves it to the JSON decoder; either way the same event.
+    const auto& c = e.event.channel;
+    const bool plain = !c.empty() && std::all_of(c.begin(), c.end(), [](char ch) {
+      return ch >= 0x20 && ch <= 0x7e && ch != '"' && ch != '\\';
+    });
+    auto decoded = event_from_json(json::parse(fast), "test", e.event.node, core::Role::effect);
+    auto back = parse_canonical_event(fast);
+    ASSERT_EQ(back.has_value(), plain) << fast;
+    if (back) {
+      back->event.node = e.event.node;
+      EXPECT_EQ(back->event, decoded.event) << fast;
+      EXPECT_EQ(back->seq, decoded.seq);
+      EXPECT_EQ(back->session_id, decoded.session_id);
+    }
   };
   same();
   for (const char* channel : {"a", "wheel 2", "say \"hi\"", "back\\slash", "tab\there", "\x7f", "ümlaut",
@@ -136,6 +152,27 @@ TEST(Wire, AnEventsTextIsTheJsonLibrarysByteForByte) {
   e.event.seqno = std::numeric_limits<std::uint64_t>::max();
   e.seq = std::numeric_limits<std::int64_t>::max();
   same();
+}
+
+TEST(Wire, TheCanonicalReaderRefusesAnythingElse) {
+  std::string good;
+  append_json(good, event());
+  ASSERT_TRUE(parse_canonical_event(good));
+  const auto with = [&](std::string_view from, std::string_view to) {
+    auto text = good;
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    return text.replace(at, from.size(), to);
+  };
+  for (const auto& bad :
+       {with("{", " {"), with("}", "} "), with(R"("seq":12)", R"("seq":012)"),
+        with(R"("seq":12)", R"("seq":0)"), with(R"("seq":12)", R"("seq":-12)"),
+        with(R"("session":7)", R"("session":0)"), with(R"("flags":9)", R"("flags":4294967296)"),
+        with(R"("flags":9)", R"("flags":-1)"), with(R"("clock":"realtime")", R"("clock":"sundial")"),
+        with(R"("edge":"rising")", R"("edge":"up")"), with(R"("channel":"wheel")", R"("channel":"")"),
+        with(R"("channel":"wheel")", R"("channel":"wh\"eel")"), with(R"("t_ns":)", R"("t_ns": )"),
+        with(R"(,"seqno":41)", ""), std::string(good, 0, good.size() - 1), std::string("{}")})
+    EXPECT_FALSE(parse_canonical_event(bad)) << bad;
 }
 
 TEST(Wire, EventsCarryTheContractsFieldsAndNoNodeOrRole) {
