@@ -11,7 +11,15 @@
 //                                     capture program started in the background is ready for edges);
 //                                     prints its consumer; exit 1 on timeout
 //   rusage OUT -- CMD ARGS...          runs CMD, passing SIGINT and SIGTERM on to it, and writes its CPU
-//                                     time to OUT: "user_us=U sys_us=S status=X"; exits with its status
+//                                     time and peak resident memory to OUT:
+//                                     "user_us=U sys_us=S status=X maxrss_kb=M"; exits with its status
+//   sample --file F --duration-ms D --log OUT
+//       reads a sysfs value file (an output line's sim_gpioK/value) as often as it can for D ms and
+//       logs each change of value with the CLOCK_REALTIME readings around the read that saw it
+//   verify-pulse --values LOG --events CSV --period-us P [--channel pulse]
+//       holds the commanded edges `m2mlat pulse` stored against the line changes sample saw: as many
+//       edges as changes, each edge's direction the change's, each commanded before it was seen, on
+//       consecutive multiples of the period, flagged commanded and without kernel seqno
 //   toggle --sim DIR --count N [--period-us P] [--burst B --burst-gap-us G] [--log FILE] [--append]
 //          [--watch DEV:LINE --events FILE]
 //       N writes, each flipping the pull, P us apart (0: as fast as possible), optionally in bursts of
@@ -187,9 +195,11 @@ int cmd_rusage(const std::string& out_path, char** command) {
   const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   std::FILE* out = std::fopen(out_path.c_str(), "w");
   if (out == nullptr) throw std::runtime_error("cannot write " + out_path);
-  std::fprintf(out, "user_us=%lld sys_us=%lld status=%d\n",
+  // ru_maxrss: the child's peak resident set (its VmHWM), KiB.
+  std::fprintf(out, "user_us=%lld sys_us=%lld status=%d maxrss_kb=%ld\n",
                static_cast<long long>(usage.ru_utime.tv_sec) * 1000000 + usage.ru_utime.tv_usec,
-               static_cast<long long>(usage.ru_stime.tv_sec) * 1000000 + usage.ru_stime.tv_usec, code);
+               static_cast<long long>(usage.ru_stime.tv_sec) * 1000000 + usage.ru_stime.tv_usec, code,
+               usage.ru_maxrss);
   std::fclose(out);
   return code;
 }
@@ -346,7 +356,8 @@ struct Stored {
   std::int64_t time_ns;
   std::int64_t seqno;
   std::int64_t line_seqno;
-  std::size_t line;  // in the CSV, for messages
+  std::size_t line;    // in the CSV, for messages
+  std::int64_t flags;  // -1 when the CSV has no flags column
 };
 
 std::vector<std::string> split_csv(const std::string& line) {
@@ -396,7 +407,8 @@ std::vector<Stored> read_events(const std::string& path, const std::string& chan
     events.push_back({f.at(column["edge"]) == "rising", f.at(column["clock"]),
                       parse_int(f.at(column["time_ns"]), "time_ns"),
                       parse_int(f.at(column["seqno"]), "seqno"),
-                      parse_int(f.at(column["line_seqno"]), "line_seqno"), number});
+                      parse_int(f.at(column["line_seqno"]), "line_seqno"), number,
+                      column.count("flags") != 0 ? parse_int(f.at(column["flags"]), "flags") : -1});
   }
   return events;
 }
@@ -530,11 +542,124 @@ int cmd_verify(const std::map<std::string, std::string>& options) {
   return failures.empty() ? 0 : 1;
 }
 
+// ---- sample and verify-pulse ----------------------------------------------------------------------
+
+int cmd_sample(const std::map<std::string, std::string>& options) {
+  const std::string file = required(options, "file");
+  const std::int64_t duration_ns = parse_int(required(options, "duration-ms"), "--duration-ms") * 1000000;
+  const int fd = open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw std::runtime_error("cannot open " + file + ": " + std::strerror(errno));
+  struct Change {
+    std::int64_t before_ns, after_ns;
+    char value;
+  };
+  std::vector<Change> changes;
+  char last = 0;
+  std::size_t reads = 0;
+  const std::int64_t end = clock_ns(CLOCK_MONOTONIC) + duration_ns;
+  while (clock_ns(CLOCK_MONOTONIC) < end) {
+    char buffer[8] = {};
+    const std::int64_t before = clock_ns(CLOCK_REALTIME);
+    const ssize_t n = pread(fd, buffer, sizeof buffer - 1, 0);
+    const std::int64_t after = clock_ns(CLOCK_REALTIME);
+    if (n <= 0) throw std::runtime_error("read " + file + ": " + std::strerror(errno));
+    ++reads;
+    if (buffer[0] != last) changes.push_back({before, after, buffer[0]});
+    last = buffer[0];
+    // 100 us between reads: far finer than any pulse period, and it leaves the (single) CPU to the
+    // program under test.
+    const timespec pause{0, 100 * kNsPerUs};
+    nanosleep(&pause, nullptr);
+  }
+  close(fd);
+  std::FILE* log = std::fopen(required(options, "log").c_str(), "w");
+  if (log == nullptr) throw std::runtime_error("cannot write --log file");
+  // The first row is the value found at the start, not a change.
+  std::fprintf(log, "before_ns,after_ns,value\n");
+  for (const auto& c : changes)
+    std::fprintf(log, "%lld,%lld,%c\n", static_cast<long long>(c.before_ns),
+                 static_cast<long long>(c.after_ns), c.value);
+  std::fclose(log);
+  std::printf("sample: reads=%zu changes=%zu\n", reads, changes.empty() ? 0 : changes.size() - 1);
+  return 0;
+}
+
+int cmd_verify_pulse(const std::map<std::string, std::string>& options) {
+  const std::int64_t period_ns = parse_int(required(options, "period-us"), "--period-us") * kNsPerUs;
+  if (period_ns <= 0) throw UsageError("--period-us must be positive");
+  const auto events = read_events(required(options, "events"), option_or(options, "channel", "pulse"));
+  struct Change {
+    std::int64_t before_ns, after_ns;
+    bool high;
+  };
+  std::vector<Change> changes;
+  {
+    const std::string path = required(options, "values");
+    std::ifstream in(path);
+    if (!in) throw UsageError("cannot read " + path);
+    std::string line;
+    std::getline(in, line);  // header
+    bool first = true;
+    while (std::getline(in, line)) {
+      const auto f = split_csv(line);
+      if (f.size() != 3) throw UsageError(path + ": malformed line '" + line + "'");
+      if (first) {  // the value at the start
+        first = false;
+        continue;
+      }
+      changes.push_back({parse_int(f[0], "before_ns"), parse_int(f[1], "after_ns"), f[2] == "1"});
+    }
+  }
+  std::vector<std::string> failures;
+  if (events.empty()) failures.push_back("no commanded edge stored");
+  if (events.size() != changes.size())
+    failures.push_back(std::to_string(events.size()) + " commanded edges stored, " +
+                       std::to_string(changes.size()) + " changes of the line seen");
+  std::int64_t max_late_ns = 0, max_seen_ns = 0;
+  std::vector<std::int64_t> seen_ns;
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    const Stored& e = events[i];
+    const auto fail = [&](const std::string& what) {
+      failures.push_back("edge " + std::to_string(i) + " (time_ns " + std::to_string(e.time_ns) +
+                         "): " + what);
+    };
+    if (e.clock != "realtime") fail("clock is " + e.clock);
+    // Bits 2 (no kernel seqno) and 4 (commanded) of the event flags.
+    if (e.flags < 0 || (e.flags & 0x14) != 0x14) fail("flags " + std::to_string(e.flags) + " lack commanded");
+    // The first edge falls on a multiple of the period, every one after on the next multiple.
+    const std::int64_t late = e.time_ns % period_ns;
+    max_late_ns = std::max(max_late_ns, late);
+    if (late >= period_ns / 2)
+      fail("commanded " + std::to_string(late / kNsPerUs) + " us after its deadline");
+    if (i > 0) {
+      const std::int64_t step = e.time_ns / period_ns - events[i - 1].time_ns / period_ns;
+      if (step != 1)
+        fail("on the " + std::to_string(step) + "th period after the previous edge, not the next");
+    }
+    if (i < changes.size()) {
+      if (changes[i].high != e.rising) fail("stored as the other direction than the line changed");
+      if (changes[i].after_ns < e.time_ns) fail("the line changed before it was commanded");
+      seen_ns.push_back(changes[i].after_ns - e.time_ns);
+      max_seen_ns = std::max(max_seen_ns, changes[i].after_ns - e.time_ns);
+    }
+  }
+  std::sort(seen_ns.begin(), seen_ns.end());
+  std::printf(
+      "verify-pulse: edges=%zu changes=%zu max_late_us=%lld median_seen_after_us=%lld max_seen_after_us=%lld "
+      "result=%s\n",
+      events.size(), changes.size(), static_cast<long long>(max_late_ns / kNsPerUs),
+      static_cast<long long>(seen_ns.empty() ? 0 : seen_ns[seen_ns.size() / 2] / kNsPerUs),
+      static_cast<long long>(max_seen_ns / kNsPerUs), failures.empty() ? "pass" : "fail");
+  for (std::size_t i = 0; i < failures.size() && i < 10; ++i) std::printf("  %s\n", failures[i].c_str());
+  return failures.empty() ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   try {
-    if (argc < 2) throw UsageError("usage: m2mlat-vm-driver info|wait-used|rusage|toggle|verify ...");
+    if (argc < 2)
+      throw UsageError("usage: m2mlat-vm-driver info|wait-used|rusage|toggle|verify|sample|verify-pulse ...");
     const std::string command = argv[1];
     if (command == "info") {
       if (argc != 3) throw UsageError("usage: m2mlat-vm-driver info /dev/gpiochipN");
@@ -551,6 +676,8 @@ int main(int argc, char** argv) {
     }
     if (command == "toggle") return cmd_toggle(parse_options(argc, argv, 2));
     if (command == "verify") return cmd_verify(parse_options(argc, argv, 2));
+    if (command == "sample") return cmd_sample(parse_options(argc, argv, 2));
+    if (command == "verify-pulse") return cmd_verify_pulse(parse_options(argc, argv, 2));
     throw UsageError("unknown command '" + command + "'");
   } catch (const UsageError& e) {
     std::fprintf(stderr, "m2mlat-vm-driver: %s\n", e.what());

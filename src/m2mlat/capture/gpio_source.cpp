@@ -114,14 +114,15 @@ void GpioSource::read_channel(Channel& channel, ReadResult& out, std::size_t max
       const auto line_gap = channel.line_seqno.observe(raw.line_seqno);
       if (line_gap && channel.line_seqno.missing_total() > channel.seqno.missing_total())
         out.gaps.push_back({channel.spec.name, "line_seqno_gap", line_gap->first, line_gap->count});
-      core::Event event;
+      // Built in place: in a reused ReadResult (the recorder's) this allocates nothing for names of
+      // up to 15 bytes (the strings' own buffer).
+      auto& event = out.events.emplace_back();
       event.node = options_.node;
       event.channel = channel.spec.name;
       event.edge = raw.id == GPIO_V2_LINE_EVENT_RISING_EDGE ? core::Edge::rising : core::Edge::falling;
       event.time = core::TimePoint::from_ns(clock, static_cast<std::int64_t>(raw.timestamp_ns));
       event.seqno = raw.seqno;
       event.line_seqno = raw.line_seqno;
-      out.events.push_back(std::move(event));
     }
     max_events -= n;
     if (n < want) break;

@@ -1,5 +1,6 @@
 // The GPIO capture source: one uAPI v2 line request per channel, events read in batches from all
-// requests through one epoll descriptor, every seqno / line_seqno gap reported.
+// requests through one epoll descriptor (up to a whole kernel buffer per read), every seqno /
+// line_seqno gap reported.
 //
 // One request per channel (rather than one per chip) so that each channel's interrupt carries its
 // own consumer label ("m2mlat-<channel>") in /proc/interrupts, which is how --irq-cpu finds it, and
@@ -8,7 +9,6 @@
 // the hard interrupt handler.
 #pragma once
 
-#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -61,7 +61,9 @@ class GpioSource final : public Source {
   std::vector<Channel> channels_;
   std::size_t next_ = 0;  // round-robin start, so a busy channel cannot starve the others
   int epoll_fd_ = -1;
-  std::array<gpio_v2_line_event, 64> scratch_{};
+  // One read(2) takes up to a whole kernel buffer (1024 events of 48 bytes): under a high edge rate
+  // the cost of the system call is shared by many events.
+  std::vector<gpio_v2_line_event> scratch_ = std::vector<gpio_v2_line_event>(kMaxEventBufferSize);
 };
 
 // The uAPI request for one channel: input, its edges, bias, active-low, event clock, debounce.

@@ -1,9 +1,12 @@
-// The recorder loop of one node: source -> refractory gate per channel -> store::EventWriter, with
-// every gap the source reports stored as a store::Loss. It waits on the source's descriptor and on a
-// stop descriptor (StopSignal's signalfd in the CLI, anything readable in tests), commits by batch
-// size and age, and on stop drains what the kernel still buffers, commits it, and ends the session.
-// With a SessionControl (the agent) sessions are begun and ended while it runs; between a stop and
-// the next begin the edges it reads are counted as dropped and not stored.
+// The recorder of one node: source -> refractory gate per channel -> store::EventWriter, with every
+// gap the source reports stored as a store::Loss. Two threads: a SourceReader drains the source
+// (the kernel's buffer) into a bounded queue, so that reading never waits on a commit; the calling
+// thread waits on that queue and on a stop descriptor (StopSignal's signalfd in the CLI, anything
+// readable in tests), takes what is queued when a batch is full or its oldest event has waited the
+// commit interval, and commits it. An event counts as stored only once its commit has returned. On
+// stop the reader drains what the kernel still buffers, and all of it is committed before the
+// session ends. With a SessionControl (the agent) sessions are begun and ended while it runs;
+// between a stop and the next begin the edges it reads are counted as dropped and not stored.
 #pragma once
 
 #include <chrono>
@@ -14,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "m2mlat/capture/latency_histogram.hpp"
 #include "m2mlat/capture/refractory_gate.hpp"
 #include "m2mlat/capture/session_control.hpp"
 #include "m2mlat/capture/source.hpp"
@@ -39,6 +43,9 @@ struct RecordCounters {
   std::uint64_t dropped = 0;              // read while no session was open: not stored
   std::int64_t last_committed_seq = 0;    // the store's acknowledged point
   std::string stop_reason;                // "SIGINT", "count", "duration", "source finished", "stop"
+  // From each stored event's timestamp to the return of the commit that made it durable (events on
+  // CLOCK_REALTIME only: the commit's end is read on that clock), ns.
+  LatencyHistogram commit_latency;
 };
 
 struct RecorderOptions {
@@ -46,7 +53,11 @@ struct RecorderOptions {
   std::map<std::string, core::Duration> refractory;                 // per channel; missing = none
   std::size_t batch = 512;                                          // events per commit
   core::Duration commit_interval = std::chrono::milliseconds(100);  // longest an event waits for its commit
-  std::size_t read_batch = 256;                                     // events taken from the source per read
+  std::size_t read_batch = 1024;  // events per read of the source (the kernel's largest buffer)
+  std::size_t read_chunks = 16;   // the reading queue's bound, in reads of read_batch (SourceReader)
+  // When events come faster than one per read_coalesce, the reader pauses this long after each
+  // read, so that one wake-up takes many (SourceReaderOptions::coalesce).
+  core::Duration read_coalesce = std::chrono::milliseconds(1);
   std::uint64_t max_events = 0;    // stop after this many stored events (0: no limit)
   core::Duration max_duration{0};  // stop after this long (0: no limit)
   // Called at most every progress_interval and once at the end (live counters).
@@ -57,10 +68,11 @@ struct RecorderOptions {
   // carries requests out between batches and closes the control when it stops.
   SessionControl* control = nullptr;
   bool start_session = true;  // false: begin with no session open (only with a control)
-  // Called once per loop turn (so before every commit) with the open session's id: may append clock
-  // samples for that session, which go into the same batch as the events. Not called without a session.
+  // Called once before every round of commits (what is queued is taken and committed) with the open
+  // session's id: may append clock samples for that session, which are committed with the events.
+  // Not called without a session.
   std::function<void(std::int64_t session_id, std::vector<store::ClockSample>&)> before_commit;
-  // Called after a loop turn that committed, with the store's new acknowledged seq (to wake readers).
+  // Called after a round that committed, with the store's new acknowledged seq (to wake readers).
   std::function<void(std::int64_t last_committed_seq)> on_commit;
 };
 
@@ -77,6 +89,7 @@ class Recorder {
     RefractoryGate gate;
   };
   Channel& channel(const std::string& name);
+  Channel& channel_of(const core::Event& event);  // channel(), remembering the last one looked up
   std::int64_t begin(const store::Session& session);
 
   store::Store& store_;
@@ -84,6 +97,7 @@ class Recorder {
   RecorderOptions options_;
   std::map<std::string, std::size_t> index_;
   std::vector<Channel> channels_;
+  std::size_t last_channel_ = 0;
 };
 
 // CLOCK_REALTIME now (for session bounds and loss detection times).

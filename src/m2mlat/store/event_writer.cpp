@@ -73,6 +73,7 @@ AppendResult EventWriter::flush() {
   const AppendResult result = store_.append(batch_);  // throws: the batch stays for a retry
   if (result.last_seq != 0) last_committed_seq_ = result.last_seq;
   committed_events_ += batch_.events.size();
+  if (options_.on_commit) options_.on_commit(batch_, result);
   batch_.events.clear();
   batch_.losses.clear();
   batch_.clock_samples.clear();
@@ -84,8 +85,9 @@ std::size_t EventWriter::pending() const {
 }
 
 void EventWriter::buffered() {
-  if (pending() == 1) oldest_ = now();
-  if (due()) flush();
+  const auto n = pending();
+  if (n == 1) oldest_ = now();
+  if (n >= options_.max_batch || (options_.age_on_add && now() - oldest_ >= options_.max_age)) flush();
 }
 
 bool EventWriter::due() const {

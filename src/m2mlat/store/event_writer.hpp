@@ -2,10 +2,10 @@
 // commits them to the store in one transaction per batch.
 //
 // A batch is committed when it holds max_batch records, when its oldest record is max_age old
-// (checked on every add and by poll(), which an idle capture loop calls), on flush() and in the
-// destructor. last_committed_seq() is the acknowledged point: every event with a seq up to it is
-// committed, and only such events may be served or acknowledged to anyone. A crash loses at most
-// the records still buffered.
+// (checked on every add, unless WriterOptions::age_on_add is off, and by poll(), which an idle
+// capture loop calls), on flush() and in the destructor. last_committed_seq() is the acknowledged point:
+// every event with a seq up to it is committed, and only such events may be served or acknowledged to anyone.
+// A crash loses at most the records still buffered.
 #pragma once
 
 #include <chrono>
@@ -25,6 +25,13 @@ struct WriterOptions {
   core::Duration max_age = std::chrono::milliseconds(100);  // longest a record waits for its commit
   // Monotonic time source, ns since any epoch; empty = CLOCK_MONOTONIC. Tests inject their own.
   std::function<core::Duration()> now;
+  // false: the age is checked by poll() only, and the clock is read once per batch instead of once
+  // per record (for a caller that keeps the time itself, as the recorder does; where the
+  // clocksource has no vDSO path, in some VMs, each clock read is a system call).
+  bool age_on_add = true;
+  // Called after every successful commit with the batch just committed and the store's answer
+  // (the recorder measures edge -> durable commit latency there). Must not throw.
+  std::function<void(const Batch& committed, const AppendResult& result)> on_commit;
 };
 
 class EventWriter {

@@ -72,15 +72,26 @@ void bind_session(sqlite::Statement& insert, const Session& session) {
   insert.bind(10, session.software_version);
 }
 
-void bind_event(sqlite::Statement& insert, std::int64_t session_id, const core::Event& event) {
-  insert.bind(1, session_id);
-  insert.bind(2, event.channel);
-  insert.bind(3, static_cast<std::int64_t>(event.edge));
-  insert.bind(4, to_column(event.time.clock()));
-  insert.bind(5, event.time.ns());
-  insert.bind(6, to_column(event.seqno));
-  insert.bind(7, to_column(event.line_seqno));
-  insert.bind(8, static_cast<std::int64_t>(event.flags));
+std::string insert_events_sql(int rows) {
+  std::string sql(kInsertEvent.substr(0, kInsertEvent.find("VALUES")));
+  sql += "VALUES ";
+  for (int r = 0; r < rows; ++r) {
+    sql += r == 0 ? "(" : ", (";
+    for (int p = 1; p <= 8; ++p) sql += fmt::format("{}?{}", p == 1 ? "" : ", ", r * 8 + p);
+    sql += ")";
+  }
+  return sql;
+}
+
+void bind_event(sqlite::Statement& insert, std::int64_t session_id, const core::Event& event, int first) {
+  insert.bind(first + 1, session_id);
+  insert.bind(first + 2, event.channel);
+  insert.bind(first + 3, static_cast<std::int64_t>(event.edge));
+  insert.bind(first + 4, to_column(event.time.clock()));
+  insert.bind(first + 5, event.time.ns());
+  insert.bind(first + 6, to_column(event.seqno));
+  insert.bind(first + 7, to_column(event.line_seqno));
+  insert.bind(first + 8, static_cast<std::int64_t>(event.flags));
 }
 
 void bind_clock_sample(sqlite::Statement& insert, const ClockSample& sample) {

@@ -45,6 +45,11 @@ inline constexpr std::string_view kInsertSession =
 inline constexpr std::string_view kInsertEvent =
     "INSERT INTO events (session_id, channel, edge, clock, t_ns, seqno, line_seqno, flags) "
     "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)";
+// kInsertEvent for `rows` events in one statement (parameters 8 per row, in order): a recorder's
+// batch is inserted kEventsPerInsert rows at a time, which saves SQLite's per-statement work (cursors
+// on the table and its indexes opened, the statement run and reset) on all but one row in each.
+inline constexpr int kEventsPerInsert = 32;
+std::string insert_events_sql(int rows);
 inline constexpr std::string_view kInsertClockSample =
     "INSERT INTO clock_samples (session_id, clock, t_ns, source, offset_ns, max_error_ns, est_error_ns, "
     "synchronised, detail_json) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)";
@@ -54,7 +59,8 @@ inline constexpr std::string_view kInsertLoss =
 
 // `software_version` is bound as given; the caller fills an empty one.
 void bind_session(sqlite::Statement& insert, const Session& session);
-void bind_event(sqlite::Statement& insert, std::int64_t session_id, const core::Event& event);
+// Parameters first + 1 .. first + 8 (first = 8 * row for the row of a multi-row insert).
+void bind_event(sqlite::Statement& insert, std::int64_t session_id, const core::Event& event, int first = 0);
 void bind_clock_sample(sqlite::Statement& insert, const ClockSample& sample);
 void bind_loss(sqlite::Statement& insert, const Loss& loss);
 

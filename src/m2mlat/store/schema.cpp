@@ -117,9 +117,19 @@ std::span<const Migration> migrations() { return kMigrations; }
 int latest_version() { return static_cast<int>(kMigrations.size()); }
 
 int identify(sqlite::Database& db, std::span<const Migration> steps) {
-  const auto application_id = db.query_int("PRAGMA application_id");
-  const auto version = db.query_int("PRAGMA user_version");
-  const auto objects = db.query_int("SELECT count(*) FROM sqlite_schema");
+  // One read transaction, so the three readings are of one moment: read one by one, a store that
+  // another process is creating right now could show its tables but not yet its application_id.
+  db.exec("BEGIN");
+  std::int64_t application_id = 0, version = 0, objects = 0;
+  try {
+    application_id = db.query_int("PRAGMA application_id");
+    version = db.query_int("PRAGMA user_version");
+    objects = db.query_int("SELECT count(*) FROM sqlite_schema");
+  } catch (...) {
+    db.exec("ROLLBACK");
+    throw;
+  }
+  db.exec("COMMIT");
   if (application_id == 0 && version == 0 && objects == 0) return 0;  // empty: a new store
   if (application_id != kApplicationId) {
     throw core::Error(core::ErrorKind::data,

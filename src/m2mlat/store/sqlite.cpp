@@ -95,6 +95,11 @@ void Database::exec(std::string_view sql) {
   if (rc != SQLITE_OK) throw_error(db_, rc, fmt::format("'{}'", sql.substr(0, 60)));
 }
 
+bool Database::last_error_was_busy() const {
+  const int primary = sqlite3_errcode(db_) & 0xff;
+  return primary == SQLITE_BUSY || primary == SQLITE_LOCKED;
+}
+
 std::int64_t Database::query_int(std::string_view sql) {
   Statement statement(*this, sql);
   return statement.step() ? statement.column_int64(0) : 0;

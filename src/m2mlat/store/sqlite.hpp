@@ -45,7 +45,8 @@ class Database {
   sqlite3* handle() const { return db_; }
   const std::string& path() const { return path_; }
   bool in_transaction() const;
-  std::int64_t changes() const;  // rows changed by the last INSERT/UPDATE/DELETE
+  std::int64_t changes() const;      // rows changed by the last INSERT/UPDATE/DELETE
+  bool last_error_was_busy() const;  // the last failed call met another connection's lock
   std::int64_t last_insert_rowid() const;
 
  private:

@@ -7,11 +7,13 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <set>
+#include <thread>
 #include <utility>
 
 #include "m2mlat/core/error.hpp"
@@ -90,6 +92,21 @@ std::int64_t limit_column(std::size_t limit) {
   return static_cast<std::int64_t>(std::min(limit, kMax));
 }
 
+// Switching a new database to WAL needs it to itself, and SQLite's busy handler does not wait for
+// that: two processes opening the same new store at once (two recorders into one file) would see
+// one of them fail with "database is locked". Retry until the busy timeout (milliseconds) instead.
+std::string switch_to_wal(sqlite::Database& db, int busy_timeout_ms) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(busy_timeout_ms);
+  for (;;) {
+    try {
+      return db.query_text("PRAGMA journal_mode = WAL");
+    } catch (const core::Error&) {
+      if (!db.last_error_was_busy() || std::chrono::steady_clock::now() >= deadline) throw;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
+
 }  // namespace
 
 Store::Store(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -124,7 +141,7 @@ Store Store::open(const std::string& path, const Options& options) {
   } else {
     // WAL: readers do not block the writer, and a commit is one append to the log, so a crash in
     // the middle of a batch leaves the database file as it was.
-    const auto mode = db.query_text("PRAGMA journal_mode = WAL");
+    const auto mode = switch_to_wal(db, options.busy_timeout_ms);
     if (mode != "wal")
       throw core::Error(core::ErrorKind::io,
                         fmt::format("{}: cannot switch to WAL journal mode (got '{}')", path, mode));
@@ -209,14 +226,26 @@ AppendResult Store::append(const Batch& batch) {
   AppendResult result;
   if (!batch.events.empty()) {
     const std::string node = s.require_open_session(batch.session_id, "appending events");
-    for (std::size_t i = 0; i < batch.events.size(); ++i) {
-      const core::Event& event = batch.events[i];
-      if (event.node != node)
+    const std::size_t n = batch.events.size();
+    for (std::size_t i = 0; i < n; ++i)
+      if (batch.events[i].node != node)
         core::throw_data_error({path(), 0},
                                fmt::format("event {} of the batch: field 'node' is '{}', but session {} "
                                            "records node '{}'",
-                                           i, event.node, batch.session_id, node));
-      rows::bind_event(s.insert_event, batch.session_id, event);
+                                           i, batch.events[i].node, batch.session_id, node));
+    // Blocks of kEventsPerInsert rows per statement, the rest one by one. Within the transaction (the
+    // write lock held) each row's seq is the largest so far plus one, so a block's are consecutive.
+    constexpr auto block = static_cast<std::size_t>(rows::kEventsPerInsert);
+    std::size_t i = 0;
+    for (; n - i >= block; i += block) {
+      for (std::size_t k = 0; k < block; ++k)
+        rows::bind_event(s.insert_events, batch.session_id, batch.events[i + k], static_cast<int>(k) * 8);
+      s.insert_events.step();
+      s.insert_events.reset();
+      if (i == 0) result.first_seq = s.db.last_insert_rowid() - static_cast<std::int64_t>(block - 1);
+    }
+    for (; i < n; ++i) {
+      rows::bind_event(s.insert_event, batch.session_id, batch.events[i]);
       s.insert_event.step();
       s.insert_event.reset();
       if (i == 0) result.first_seq = s.db.last_insert_rowid();
@@ -353,8 +382,9 @@ std::vector<StoredClockSample> Store::clock_samples_after(std::int64_t after_id,
 }
 
 std::vector<StoredLoss> Store::losses_after(std::int64_t after_id, std::size_t limit) const {
-  sqlite::Statement query(impl_->db, fmt::format("SELECT {}, id FROM losses WHERE id > ?1 ORDER BY id LIMIT ?2",
-                                                 rows::kLossColumns));
+  sqlite::Statement query(
+      impl_->db,
+      fmt::format("SELECT {}, id FROM losses WHERE id > ?1 ORDER BY id LIMIT ?2", rows::kLossColumns));
   query.bind(1, after_id);
   query.bind(2, limit_column(limit));
   std::vector<StoredLoss> out;

@@ -36,6 +36,7 @@ struct Store::Impl {
         options(opts),
         version(schema_version),
         insert_event(db, rows::kInsertEvent),
+        insert_events(db, rows::insert_events_sql(rows::kEventsPerInsert)),
         insert_loss(db, rows::kInsertLoss),
         insert_clock_sample(db, rows::kInsertClockSample),
         session_state(db, "SELECT node, end_ns IS NOT NULL FROM sessions WHERE id = ?1"),
@@ -73,6 +74,7 @@ struct Store::Impl {
   Options options;
   int version;
   sqlite::Statement insert_event;
+  sqlite::Statement insert_events;  // rows::kEventsPerInsert rows
   sqlite::Statement insert_loss;
   sqlite::Statement insert_clock_sample;
   sqlite::Statement session_state;

@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <mutex>
+#include <thread>
 
 #include "m2mlat/capture/fake_gpio.hpp"
 #include "m2mlat/capture/gpio_source.hpp"
@@ -166,6 +168,114 @@ TEST_F(RecorderTest, AFailingSourceKeepsWhatWasReadAndClosesTheSession) {
   const auto stored = store.events_after(0, 10);
   ASSERT_EQ(stored.size(), 1u);
   EXPECT_EQ(stored[0].event.time.ns(), 42);
+}
+
+// Edges stamped "now" as the test makes them available, read from the recorder's reading thread.
+class StreamSource final : public Source {
+ public:
+  void read(ReadResult& out, std::size_t max_events) override {
+    std::lock_guard lock(mutex_);
+    for (std::size_t i = 0; i < max_events && next_ <= available_; ++i) {
+      auto& e = out.events.emplace_back();
+      e.node = "vehicle";
+      e.channel = "wheel";
+      e.time = realtime_now();
+      e.seqno = e.line_seqno = next_++;
+    }
+  }
+  int fd() const override { return -1; }
+  core::Duration poll_interval() const override { return std::chrono::milliseconds(1); }
+  std::vector<std::string> describe() const override { return {"stream"}; }
+  std::vector<std::string> channels() const override { return {"wheel"}; }
+  void add(std::uint64_t n) {
+    std::lock_guard lock(mutex_);
+    available_ += n;
+  }
+  std::uint64_t read_so_far() const {
+    std::lock_guard lock(mutex_);
+    return next_ - 1;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::uint64_t available_ = 0, next_ = 1;
+};
+
+TEST_F(RecorderTest, ReadingGoesOnWhileACommitWaits) {
+  // A commit that takes long (an fsync on a slow SD card): while the writing thread is in it, the
+  // reading thread keeps draining the source, so that the kernel's buffer does not overflow.
+  auto store = store::Store::open(path_);
+  StreamSource source;
+  source.add(100);
+  auto o = options();
+  o.commit_interval = std::chrono::milliseconds(1);
+  o.max_events = 300;
+  bool read_during_commit = false;
+  int rounds = 0;
+  o.before_commit = [&](std::int64_t, std::vector<store::ClockSample>&) {
+    if (rounds++ > 0) return;
+    source.add(200);                                         // edges arrive while the first round commits...
+    for (int i = 0; i < 5000 && !read_during_commit; ++i) {  // ...and are read meanwhile
+      read_during_commit = source.read_so_far() == 300;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  };
+  Recorder recorder(store, source, o);
+  const auto counters = recorder.run(-1);
+  EXPECT_TRUE(read_during_commit);
+  EXPECT_EQ(counters.stop_reason, "count");
+  EXPECT_EQ(counters.events, 300u);
+  EXPECT_EQ(store.events_after(0, 1000).size(), 300u);
+  // Every stored event's edge -> durable commit time was measured; the first 100 waited for the
+  // slow round.
+  EXPECT_EQ(counters.commit_latency.count(), 300u);
+  EXPECT_GT(counters.commit_latency.max(), 0);
+  EXPECT_LT(counters.commit_latency.max(), 60'000'000'000);
+}
+
+TEST_F(RecorderTest, TheClockHookHasItsTurnWithoutEdges) {
+  // The clock monitor stores the board's clock state while no edge comes, too.
+  auto store = store::Store::open(path_);
+  StreamSource source;
+  auto o = options();
+  o.commit_interval = std::chrono::milliseconds(20);
+  o.max_duration = std::chrono::milliseconds(300);
+  int calls = 0;
+  o.before_commit = [&](std::int64_t session, std::vector<store::ClockSample>& samples) {
+    if (calls++ > 0) return;
+    store::ClockSample sample;
+    sample.session_id = session;
+    sample.time = realtime_now();
+    sample.source = "test";
+    samples.push_back(sample);
+  };
+  Recorder recorder(store, source, o);
+  const auto counters = recorder.run(-1);
+  EXPECT_EQ(counters.events, 0u);
+  EXPECT_GE(calls, 5);  // about every 20 ms
+  EXPECT_EQ(store.clock_samples(counters.session_id).size(), 1u);
+}
+
+TEST_F(RecorderTest, EveryAcknowledgedEventIsInTheStore) {
+  auto store = store::Store::open(path_);
+  StreamSource source;
+  auto o = options();
+  o.batch = 100;
+  o.commit_interval = std::chrono::milliseconds(50);
+  std::vector<std::int64_t> acknowledged;
+  o.on_commit = [&](std::int64_t seq) {
+    acknowledged.push_back(seq);
+    // Every acknowledged event is in the store for any other reader.
+    EXPECT_EQ(store.last_seq(), seq);
+  };
+  o.max_duration = std::chrono::milliseconds(400);
+  source.add(250);  // more than two batches at once
+  Recorder recorder(store, source, o);
+  const auto counters = recorder.run(-1);
+  EXPECT_EQ(counters.events, 250u);
+  ASSERT_FALSE(acknowledged.empty());
+  EXPECT_EQ(acknowledged.back(), 250);
+  EXPECT_EQ(store.events_after(0, 1000).size(), 250u);
 }
 
 }  // namespace

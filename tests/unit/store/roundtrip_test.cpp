@@ -154,3 +154,37 @@ TEST(StoreRoundTrip, OneBatchWritesEventsLossesAndSamplesTogether) {
   EXPECT_EQ(store.clock_samples(), batch.clock_samples);
   EXPECT_EQ(store.append(Batch{}), (AppendResult{0, 0}));  // an empty batch is no commit of events
 }
+
+TEST(StoreRoundTrip, ALargeBatchKeepsEveryEventInOrderWithConsecutiveSeqs) {
+  // Large batches go in blocks of several rows per statement and the rest row by row: sizes below,
+  // at and above a block, across two batches, with every field varied.
+  TempDir dir;
+  auto store = Store::open(dir.file("large.m2mlat"));
+  const auto session = store.begin_session(make_session("vehicle"));
+  std::vector<core::Event> all;
+  std::int64_t expected_first = 1;
+  for (const std::size_t size : {1u, 31u, 32u, 33u, 100u, 517u}) {
+    Batch batch;
+    batch.session_id = session;
+    for (std::size_t i = 0; i < size; ++i) {
+      const auto n = all.size() + 1;
+      auto e =
+          make_event("vehicle", n % 3 == 0 ? "steer" : "wheel", static_cast<std::int64_t>(n) * 1000 + 7, n);
+      e.edge = n % 2 == 0 ? core::Edge::rising : core::Edge::falling;
+      e.line_seqno = n + 5;
+      e.flags = static_cast<std::uint32_t>(n % 32);
+      batch.events.push_back(e);
+      all.push_back(e);
+    }
+    const auto result = store.append(batch);
+    EXPECT_EQ(result.first_seq, expected_first) << size;
+    EXPECT_EQ(result.last_seq, expected_first + static_cast<std::int64_t>(size) - 1) << size;
+    expected_first += static_cast<std::int64_t>(size);
+  }
+  const auto stored = store.events_after(0, 10'000);
+  ASSERT_EQ(stored.size(), all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    EXPECT_EQ(stored[i].seq, static_cast<std::int64_t>(i) + 1);
+    EXPECT_EQ(stored[i].event, all[i]) << i;
+  }
+}

@@ -101,6 +101,8 @@ start_record() {
   sleep 0.3
 }
 
+# ns_to_us NS: nanoseconds as whole microseconds (0 for an empty value).
+ns_to_us() { awk -v n="$1" 'BEGIN { printf "%d", n / 1000 }'; }
 # json_field FILE NAME: the first integer value of "NAME" in a JSON file (record's summary).
 json_field() { tr ',{}' '\n\n\n' <"$1" | sed -n "s/^ *\"$2\" *: *\([0-9]*\).*/\1/p" | head -n1; }
 
@@ -122,7 +124,8 @@ export_verify() {
 # ---- smoke: the guest, the chip, the driver, the binary (no capture code needed) -----------------
 
 t_boot() {
-  info "kernel $(uname -r); $(grep -c ^processor /proc/cpuinfo) CPUs"
+  info "kernel $(uname -r); $(grep -c ^processor /proc/cpuinfo) CPUs;" \
+    "clocksource $(cat /sys/devices/system/clocksource/clocksource0/current_clocksource 2>/dev/null)"
   case $(uname -r) in 6.1.*) ;; *) return 1 ;; esac
   grep -q '^gpio_sim ' /proc/modules || { info "gpio-sim is not loaded"; return 1; }
   make_chip chip0 "$LABEL" "$NLINES" || { info "gpio-sim chip creation failed"; return 1; }
@@ -283,6 +286,36 @@ t_doctor() {
   grep -q "$LABEL" doctor.out || { info "doctor does not name the chip $CHIP ($LABEL)"; return 1; }
 }
 
+# ---- m2mlat pulse against the real kernel --------------------------------------------------------
+
+# m2mlat pulse drives an output line, toggling it on multiples of its period, and stores each
+# commanded edge. gpio-sim shows an output line's value in sim_gpioK/value: sampled meanwhile (every
+# 100 us), it must change exactly as the stored edges say, each change seen after its command.
+t_pulse() {
+  "$M2MLAT" help 2>/dev/null | awk '$1 == "pulse" { found = 1 } END { exit !found }' ||
+    { info "skipped: this m2mlat has no 'pulse' subcommand"; return 77; }
+  local n=20 period_us=50000 rc sampler
+  "$DRIVER" sample --file "$SIM/sim_gpio2/value" --duration-ms 4000 --log pulse.values >pulse.sample &
+  sampler=$!
+  sleep 0.2
+  "$M2MLAT" pulse --chip "$CHIP" --line 2 --period 50ms --count $n --store pulse.db --node guest \
+    --json --quiet >pulse.json 2>pulse.err
+  rc=$?
+  wait $sampler
+  show pulse.sample
+  [ $rc = 0 ] || { info "pulse exited $rc"; show pulse.err; return 1; }
+  info "pulse's summary: edges=$(json_field pulse.json edges)" \
+    "mean_late_us=$(ns_to_us "$(json_field pulse.json mean_late_ns)")" \
+    "max_late_us=$(ns_to_us "$(json_field pulse.json max_late_ns)")"
+  [ "$(json_field pulse.json edges)" = $n ] || { show pulse.json; return 1; }
+  "$M2MLAT" export pulse.db -o pulse.csv 2>pulse.export.err || { show pulse.export.err; return 1; }
+  "$DRIVER" verify-pulse --values pulse.values --events pulse.csv --period-us $period_us >pulse.verify
+  rc=$?
+  show pulse.verify
+  [ "$(cat "$SIM/sim_gpio2/value")" = 0 ] || { info "pulse left the line high"; rc=1; }
+  return $rc
+}
+
 # ---- performance: m2mlat record against Debian's gpiomon on the same streams of edges ---------------
 
 # capture_run NAME TOOL PACE_US N: runs TOOL (record | gpiomon) under the driver's rusage while N edges
@@ -299,25 +332,45 @@ capture_run() {
   pid=$!
   "$DRIVER" wait-used "/dev/$CHIP" 0 20000 >/dev/null || { show "$name.err"; return 1; }
   sleep 0.3
-  "$DRIVER" toggle --sim "$SIM/sim_gpio0" --count "$n" --period-us "$pace" >"$name.toggle"
+  [ "$n" = 0 ] || "$DRIVER" toggle --sim "$SIM/sim_gpio0" --count "$n" --period-us "$pace" >"$name.toggle"
   sleep 1
   kill -INT $pid
   wait_exit $pid 30 || { info "$tool exited $?"; show "$name.err"; return 1; }
 }
 
+# rss_kb NAME: the peak resident memory of the run (VmHWM), KiB.
+rss_kb() { sed 's/.*maxrss_kb=\([0-9]*\).*/\1/' "$1.rusage"; }
+# user_sys NAME: "user U sys S" (us) of the run.
+user_sys() { sed 's/user_us=\([0-9]*\) sys_us=\([0-9]*\) .*/user \1 sys \2/' "$1.rusage"; }
 # cpu_us NAME: user + system CPU time of the run, in us.
 cpu_us() { sed 's/user_us=\([0-9]*\) sys_us=\([0-9]*\) .*/\1 \2/' "$1.rusage" | awk '{ print $1 + $2 }'; }
-# per_event CPU_US EVENTS: CPU time per event, us with two decimals.
-per_event() { awk -v c="$1" -v e="$2" 'BEGIN { printf "%.2f", (e > 0 ? c / e : 0) }'; }
+# per_event CPU_US EVENTS [FIXED_US]: CPU time per event, us with two decimals; with FIXED_US also
+# " (N net)", the same without the fixed cost of a run without edges.
+per_event() {
+  awk -v c="$1" -v e="$2" -v f="${3:-}" 'BEGIN {
+    printf "%.2f", (e > 0 ? c / e : 0)
+    if (f != "") printf " (%.2f net)", (e > 0 ? (c - f) / e : 0) }'
+}
 
 # One stream paced at 100 us (10k edges/s), one as fast as the guest can make them. Reported: events
 # captured, losses (record's from seqno; gpiomon, on the v1 uAPI, has no seqno and cannot see its
-# losses, so "missing" = edges made - events captured), CPU time per captured event. Asserted: every
-# edge of the paced stream is either stored by record or counted by it as lost.
+# losses, so "missing" = edges made - events captured), CPU time per captured event, peak resident
+# memory, and record's edge -> durable commit latency: record measures it itself, for every stored
+# event, from the kernel's timestamp to the return of the commit that made it durable (both on
+# CLOCK_REALTIME; p50 and p99 within 3 %). Asserted: every edge of the paced stream is either stored
+# by record or counted by it as lost, and record's peak resident memory is under 20 MiB.
 t_perf_gpiomon() {
   need_record || return 77
   command -v gpiomon >/dev/null || { info "skipped: gpiomon is not in this guest"; return 77; }
-  local n=10000 pace rc=0 events losses cpu
+  local n=10000 pace rc=0 events losses cpu rss rec_fixed mon_fixed
+  # The fixed cost of a run (start-up, store creation, shutdown; for m2mlat under TCG a sizeable
+  # share of 10,000 events), from a run without edges.
+  capture_run perf-rec-idle record 0 0 || return 1
+  capture_run perf-mon-idle gpiomon 0 0 || return 1
+  rec_fixed=$(cpu_us perf-rec-idle)
+  mon_fixed=$(cpu_us perf-mon-idle)
+  info "a run without edges: m2mlat record CPU $rec_fixed us, peak RSS $(rss_kb perf-rec-idle) KiB;" \
+    "gpiomon CPU $mon_fixed us"
   for pace in 100 0; do
     capture_run "perf-rec-$pace" record $pace $n || return 1
     capture_run "perf-mon-$pace" gpiomon $pace $n || return 1
@@ -325,8 +378,17 @@ t_perf_gpiomon() {
     losses=$(json_field "perf-rec-$pace.out" losses)
     cpu=$(cpu_us "perf-rec-$pace")
     info "stream period ${pace} us, $n edges ($(sed 's/.*elapsed_us=\([0-9]*\).*/\1/' "perf-rec-$pace.toggle") us):"
+    rss=$(rss_kb "perf-rec-$pace")
     info "  m2mlat record: $events events, $losses lost (seqno), $((n - events - losses)) missing otherwise," \
-      "CPU $cpu us, $(per_event "$cpu" "$events") us/event"
+      "CPU $cpu us ($(user_sys "perf-rec-$pace")), $(per_event "$cpu" "$events" "$rec_fixed") us/event," \
+      "peak RSS $rss KiB"
+    info "    edge -> durable commit: p50 $(ns_to_us "$(json_field "perf-rec-$pace.out" p50)") us," \
+      "p99 $(ns_to_us "$(json_field "perf-rec-$pace.out" p99)") us," \
+      "max $(ns_to_us "$(json_field "perf-rec-$pace.out" max)") us"
+    if [ "${rss:-0}" -ge 20480 ]; then
+      info "  record's peak resident memory $rss KiB is not under 20 MiB"
+      rc=1
+    fi
     if [ "$pace" != 0 ] && [ $((events + losses)) -ne $n ]; then
       info "  record accounted for $((events + losses)) of $n paced edges"
       rc=1
@@ -334,7 +396,8 @@ t_perf_gpiomon() {
     events=$(grep -c . "perf-mon-$pace.out")
     cpu=$(cpu_us "perf-mon-$pace")
     info "  gpiomon:       $events events, $((n - events)) missing (it cannot tell)," \
-      "CPU $cpu us, $(per_event "$cpu" "$events") us/event"
+      "CPU $cpu us ($(user_sys "perf-mon-$pace")), $(per_event "$cpu" "$events" "$mon_fixed") us/event," \
+      "peak RSS $(rss_kb "perf-mon-$pace") KiB"
   done
   return $rc
 }
@@ -351,4 +414,5 @@ run_test record.refractory t_record_refractory
 run_test record.busy-line t_record_busy
 run_test record.missing-chip t_record_missing_chip
 run_test cli.doctor t_doctor
+run_test pulse.output t_pulse
 run_test perf.record-vs-gpiomon t_perf_gpiomon
