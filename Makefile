@@ -1,13 +1,16 @@
 # The two commands of the README, and the steps behind them.
 #   make demo   install what is missing, build, run the simulated campaign
-#   make check  install what is missing, build with GCC and Clang (warnings are errors), run every test,
-#               the real-kernel suite (make check-vm) included
+#   make check  install what is missing, build with GCC and Clang (warnings are errors), run every test:
+#               the unit tests again under Clang's sanitizers, the real-kernel suite (make check-vm), the
+#               arm64 build, the packages and the fuzz targets
 BUILD ?= build
 BUILD_CLANG ?= build-clang
-# The real-kernel suite's build of m2mlat; its downloads and kernel module are cached outside the clone,
-# in $(M2MLAT_VM_CACHE) (default /var/cache/m2mlat-vm; see docs/testing.md).
-BUILD_VM ?= build-vm
+# RelWithDebInfo (-O2 -g) for the demo and the benchmarks; make check builds -O2 without debug info
+# (debug info is a third of the compile time) and keeps the asserts.
+BUILD_TYPE ?= RelWithDebInfo
 CMAKE_FLAGS ?=
+empty :=
+space := $(empty) $(empty)
 
 # Debian 12 / Ubuntu 24.04 packages the build and the tests need.
 PACKAGES := build-essential cmake ninja-build clang-14 pkg-config \
@@ -15,9 +18,11 @@ PACKAGES := build-essential cmake ninja-build clang-14 pkg-config \
   libgtest-dev libgmock-dev libbenchmark-dev libboost-math-dev \
   python3 python3-numpy python3-pandas python3-scipy chromium chrony rt-tests linuxptp libclang-rt-14-dev
 # Packages of the real-kernel suite (make check-vm): QEMU, the guest's busybox, the tools to unpack
-# Debian's kernel packages and pack the initramfs, ccache for the guest's build of m2mlat (whose shared
-# libraries the initramfs carries). tests/vm/run.sh installs linux-headers of the guest's kernel itself.
-VM_PACKAGES := qemu-system-x86 busybox-static cpio xz-utils kmod binutils ccache
+# Debian's kernel packages and pack the initramfs. The guest runs $(BUILD)/m2mlat (with its shared
+# libraries in the initramfs). tests/vm/run.sh installs linux-headers of the guest's kernel itself.
+# The two-guest test (tests/vm/twoguest.sh) also runs the host's chronyd and chronyc in its guests and
+# judges with python3 (standard library), and finds free ports with ss (iproute2).
+VM_PACKAGES := qemu-system-x86 busybox-static cpio xz-utils kmod binutils chrony python3 iproute2
 
 .PHONY: all deps deps-vm build build-clang demo check check-vm fuzz test bench clean
 .PHONY: deps-arm64 deps-package cross-arm64 check-arm64 package check-package
@@ -41,37 +46,48 @@ deps-vm: deps
 	$(call install_missing,$(VM_PACKAGES))
 
 build: deps
-	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS)
+	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) $(CMAKE_FLAGS)
 	cmake --build $(BUILD)
 
+# Clang, warnings as errors, AddressSanitizer and UndefinedBehaviorSanitizer (any report fails), with
+# the coverage instrumentation of libFuzzer: the same tree holds the unit tests and the fuzz targets.
+SANITIZE := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fsanitize=fuzzer-no-link
 build-clang: deps
-	cmake -S . -B $(BUILD_CLANG) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
-	  -DM2MLAT_WERROR=ON -DM2MLAT_BENCH=OFF $(CMAKE_FLAGS)
+	$(call install_missing,libclang-rt-14-dev)
+	cmake -S . -B $(BUILD_CLANG) -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=Release \
+	  "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -gline-tables-only" "-DCMAKE_CXX_FLAGS=$(SANITIZE)" \
+	  -DM2MLAT_WERROR=ON -DM2MLAT_FUZZ=ON -DM2MLAT_BENCH=OFF
 	cmake --build $(BUILD_CLANG)
 
 demo: build
 	./$(BUILD)/m2mlat demo
 
-check: CMAKE_FLAGS += -DM2MLAT_WERROR=ON
+check: BUILD_TYPE = Release
+check: CMAKE_FLAGS += -DM2MLAT_WERROR=ON -DCMAKE_CXX_FLAGS_RELEASE=-O2
 check: build build-clang
 	ctest --test-dir $(BUILD) --output-on-failure -j2
 	ctest --test-dir $(BUILD_CLANG) --output-on-failure -j2 -L unit
-	$(MAKE) --no-print-directory check-vm
-	$(MAKE) --no-print-directory check-arm64 check-package
-	$(MAKE) --no-print-directory fuzz
+	$(MAKE) --no-print-directory $(CHECK_VARS) check-vm fuzz
+	$(MAKE) --no-print-directory $(CHECK_VARS) check-arm64 check-package
+# The later steps depend on `build` too: hand them check's settings, or they would rebuild it.
+CHECK_VARS = BUILD_TYPE=$(BUILD_TYPE) "CMAKE_FLAGS=$(CMAKE_FLAGS)"
 
-# The real-kernel suite (tests/vm/): Debian's 6.1 kernel under QEMU with gpio-sim, m2mlat in the guest.
-check-vm: deps-vm
-	M2MLAT_VM_BUILD=$(abspath $(BUILD_VM)) tests/vm/run.sh
+# The real-kernel suite (tests/vm/): Debian's 6.1 kernel under QEMU with gpio-sim, $(BUILD)/m2mlat in
+# the guest; its downloads and kernel module are cached in $(M2MLAT_VM_CACHE) (default
+# /var/cache/m2mlat-vm; see docs/testing.md). Then the two-guest test: two such guests synchronised
+# by chrony (and then not), collected from the host, the edges triggered in physical time.
+check-vm: build deps-vm
+	tests/vm/run.sh --m2mlat $(BUILD)/m2mlat
+	tests/vm/twoguest.sh --m2mlat $(BUILD)/m2mlat
 
 # The boards (docs/packaging.md): the arm64 cross-build with Debian's cross toolchain and multiarch
 # arm64 libraries, its tests under qemu-aarch64, and the .deb packages for amd64 and arm64.
 BUILD_ARM64 ?= build-arm64
 PKG_DIR ?= dist
-# Compilations of the cross-build go through ccache, kept outside the clone (CI builds a fresh clone).
-M2MLAT_CCACHE_DIR ?= /var/cache/m2mlat-ccache
-CCACHE_ENV = CCACHE_DIR=$(M2MLAT_CCACHE_DIR) CCACHE_BASEDIR=$(CURDIR) CCACHE_NOHASHDIR=true
-ARM64_PACKAGES := crossbuild-essential-arm64 g++-aarch64-linux-gnu qemu-user ccache file \
+# The unit tests built and run for arm64: every namespace's (empty); a list (core store ...) builds only
+# those, for a quicker look at one part.
+ARM64_TEST_NAMESPACES ?=
+ARM64_PACKAGES := crossbuild-essential-arm64 g++-aarch64-linux-gnu qemu-user file \
   libsqlite3-dev:arm64 libfmt-dev:arm64 libcpp-httplib-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 \
   libtomlplusplus-dev:arm64 libboost-dev:arm64 libboost-math-dev:arm64
 PACKAGE_PACKAGES := dpkg-dev help2man debootstrap file sqlite3
@@ -89,8 +105,8 @@ deps-package: deps
 cross-arm64: deps-arm64
 	cmake -S . -B $(BUILD_ARM64) -G Ninja -DCMAKE_TOOLCHAIN_FILE=$(CURDIR)/cmake/toolchain-aarch64.cmake \
 	  -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O2 -DNDEBUG" -DM2MLAT_WERROR=ON -DM2MLAT_BENCH=OFF \
-	  -DCMAKE_CXX_COMPILER_LAUNCHER=ccache
-	$(CCACHE_ENV) cmake --build $(BUILD_ARM64)
+	  "-DM2MLAT_TEST_NAMESPACES=$(subst $(space),;,$(ARM64_TEST_NAMESPACES))"
+	cmake --build $(BUILD_ARM64)
 
 # Unit tests under the emulator (ctest prefixes them with it), the uAPI layout on both architectures,
 # the integration subset, and stores crossing between amd64 and arm64.
@@ -119,26 +135,21 @@ check-package: package
 	  $$SUDO tests/packaging/deb_install.sh $(PKG_DIR)/m2mlat_*_amd64.deb $(PKG_DIR)/upgrade/m2mlat_*_amd64.deb
 
 # The parsers' fuzz targets (fuzz/: the agent's requests, the wire, chronyc, pmc, cyclictest): clang's
-# libFuzzer with AddressSanitizer, the whole library instrumented, each run for FUZZ_TIME seconds from its seed corpus (new inputs go to $(BUILD_FUZZ)).
-BUILD_FUZZ ?= build-fuzz
-FUZZ_TIME ?= 20
+# libFuzzer in the sanitizer build ($(BUILD_CLANG)), the whole library instrumented, each run for
+# FUZZ_TIME seconds from its seed corpus (new inputs go to $(BUILD_CLANG)/corpus).
+FUZZ_TIME ?= 15
 FUZZ_TARGETS := query_params session_body authorization wire_decode chronyc_output pmc_output cyclictest_output
-fuzz: deps
-	$(call install_missing,libclang-rt-14-dev)
-	cmake -S . -B $(BUILD_FUZZ) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
-	  -DM2MLAT_FUZZ=ON -DM2MLAT_TESTS=OFF -DM2MLAT_BENCH=OFF -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address" \
-	  $(CMAKE_FLAGS)
-	cmake --build $(BUILD_FUZZ) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
+fuzz: build-clang
 	@for t in $(FUZZ_TARGETS); do \
-	  mkdir -p $(BUILD_FUZZ)/corpus/$$t && \
+	  mkdir -p $(BUILD_CLANG)/corpus/$$t && \
 	  echo "fuzz_$$t: $(FUZZ_TIME) s" && \
-	  ./$(BUILD_FUZZ)/fuzz/fuzz_$$t -max_total_time=$(FUZZ_TIME) -print_final_stats=1 \
-	    $(BUILD_FUZZ)/corpus/$$t fuzz/corpus/$$t 2> $(BUILD_FUZZ)/fuzz_$$t.log || { tail -40 $(BUILD_FUZZ)/fuzz_$$t.log; exit 1; }; \
-	  grep -E '^stat::number_of_executed_units' $(BUILD_FUZZ)/fuzz_$$t.log; \
+	  ./$(BUILD_CLANG)/fuzz/fuzz_$$t -max_total_time=$(FUZZ_TIME) -print_final_stats=1 \
+	    $(BUILD_CLANG)/corpus/$$t fuzz/corpus/$$t 2> $(BUILD_CLANG)/fuzz_$$t.log || { tail -40 $(BUILD_CLANG)/fuzz_$$t.log; exit 1; }; \
+	  grep -E '^stat::number_of_executed_units' $(BUILD_CLANG)/fuzz_$$t.log; \
 	done
 
 bench: build
 	bench/run.sh $(BUILD)
 
 clean:
-	rm -rf $(BUILD) $(BUILD_CLANG) $(BUILD_VM) $(BUILD_FUZZ) $(BUILD_ARM64) $(PKG_DIR)
+	rm -rf $(BUILD) $(BUILD_CLANG) $(BUILD_ARM64) $(PKG_DIR)

@@ -5,6 +5,8 @@
 #   configfs.ko   Debian's module (gpio-sim is configured through configfs)
 #   gpio-sim.ko   gpio-sim, which Debian does not build (CONFIG_GPIO_SIM unset), built here out of
 #                 tree from Debian's own linux-source-6.1 against linux-headers of the same ABI
+#   e1000.ko      Debian's module for QEMU's default NIC (the two-guest test, twoguest.sh, networks
+#                 its guests with it)
 # Everything is fetched with `apt-get download` and built once into $M2MLAT_VM_CACHE/<abi>/; later runs
 # find it there and return at once. Kernel sources are unpacked in a temporary folder and deleted:
 # nothing of the kernel ever enters the clone.
@@ -15,16 +17,27 @@ source "$(dirname "$0")/lib.sh"
 
 ABI=$(kernel_abi)
 OUT=$CACHE/$ABI
-if [ -s "$OUT/vmlinux" ] && [ -s "$OUT/configfs.ko" ] && [ -s "$OUT/gpio-sim.ko" ]; then
+# Debian's own modules the guests load, as paths below the image package's /lib/modules/<abi>/kernel.
+IMAGE_MODULES=(fs/configfs/configfs.ko drivers/net/ethernet/intel/e1000/e1000.ko)
+have_modules() {
+  local m
+  for m in "${IMAGE_MODULES[@]}"; do [ -s "$OUT/$(basename "$m")" ] || return 1; done
+}
+if [ -s "$OUT/vmlinux" ] && [ -s "$OUT/gpio-sim.ko" ] && have_modules; then
   echo "$OUT"
   exit 0
 fi
+# A cache filled before a module was added to IMAGE_MODULES needs only the image package again.
+BUILT=
+[ -s "$OUT/vmlinux" ] && [ -s "$OUT/gpio-sim.ko" ] && BUILT=1
 
 # The headers package puts the kbuild tree in /usr/src and its scripts in /usr/lib/linux-kbuild-6.1;
 # it is only needed on the host, to build the module.
-ensure_packages "${VM_HOST_PACKAGES[@]}" "linux-headers-$ABI"
-KBUILD=/usr/src/linux-headers-$ABI
-[ -f "$KBUILD/Makefile" ] || die "linux-headers-$ABI is installed but $KBUILD/Makefile is missing"
+if [ -z "$BUILT" ]; then
+  ensure_packages "${VM_HOST_PACKAGES[@]}" "linux-headers-$ABI"
+  KBUILD=/usr/src/linux-headers-$ABI
+  [ -f "$KBUILD/Makefile" ] || die "linux-headers-$ABI is installed but $KBUILD/Makefile is missing"
+fi
 
 as_root mkdir -p "$CACHE"
 as_root chown "$(id -u):$(id -g)" "$CACHE"
@@ -39,17 +52,31 @@ SOURCE_DEB=$CACHE/debs/linux-source-6.1_${VERSION}_all.deb
 (
   cd "$CACHE/debs"
   [ -s "$IMAGE_DEB" ] || { log "downloading linux-image-$ABI $VERSION"; apt_download "linux-image-$ABI=$VERSION"; }
-  [ -s "$SOURCE_DEB" ] || { log "downloading linux-source-6.1 $VERSION"; apt_download "linux-source-6.1=$VERSION"; }
+  [ -n "$BUILT" ] || [ -s "$SOURCE_DEB" ] ||
+    { log "downloading linux-source-6.1 $VERSION"; apt_download "linux-source-6.1=$VERSION"; }
 )
 
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 
-# 1. The image: the compressed kernel and configfs.ko, from the package's data (the host's /boot and
+# 1. The image: the compressed kernel and the modules, from the package's data (the host's /boot and
 #    /lib/modules are not touched).
 log "unpacking linux-image-$ABI"
 dpkg-deb --fsys-tarfile "$IMAGE_DEB" |
-  tar -x -C "$TMP" "./boot/vmlinuz-$ABI" "./lib/modules/$ABI/kernel/fs/configfs/configfs.ko"
+  tar -x -C "$TMP" "./boot/vmlinuz-$ABI" "${IMAGE_MODULES[@]/#/./lib/modules/$ABI/kernel/}"
+install_modules() {
+  local m
+  for m in "${IMAGE_MODULES[@]}"; do
+    install -m 0644 "$TMP/lib/modules/$ABI/kernel/$m" "$OUT/$(basename "$m").tmp"
+    mv "$OUT/$(basename "$m").tmp" "$OUT/$(basename "$m")"
+  done
+}
+if [ -n "$BUILT" ]; then
+  install_modules
+  log "kernel $ABI ready in $OUT (modules added)"
+  echo "$OUT"
+  exit 0
+fi
 
 # 2. From the source tarball (streamed out of the .deb, never stored whole): extract-vmlinux, and the
 #    three files gpio-sim needs.
@@ -85,7 +112,7 @@ make -s -C "$KBUILD" M="$MOD" -j"$(nproc)" modules >&2
 
 # Move into the cache last, each file whole, so an interrupted run never leaves a half-built cache.
 install -m 0644 "$TMP/vmlinux" "$OUT/vmlinux.tmp" && mv "$OUT/vmlinux.tmp" "$OUT/vmlinux"
-install -m 0644 "$TMP/lib/modules/$ABI/kernel/fs/configfs/configfs.ko" "$OUT/configfs.ko"
-install -m 0644 "$MOD/gpio-sim.ko" "$OUT/gpio-sim.ko"
+install_modules
+install -m 0644 "$MOD/gpio-sim.ko" "$OUT/gpio-sim.ko.tmp" && mv "$OUT/gpio-sim.ko.tmp" "$OUT/gpio-sim.ko"
 log "kernel $ABI ready in $OUT"
 echo "$OUT"

@@ -56,3 +56,18 @@ kernel_abi() {
   [ -n "$abi" ] || die "cannot tell which 6.1 kernel linux-image-amd64 pulls in (apt-cache depends linux-image-amd64); is this Debian 12 with its archive in sources.list?"
   echo "$abi"
 }
+
+# skip_unless_runnable NAME: where NAME cannot run, says so, passes nothing and exits 0:
+# M2MLAT_VM_SKIP=1, or a system whose archive has no Debian 6.1 kernel (Ubuntu, say).
+skip_unless_runnable() {
+  local reason=""
+  if [ -n "${M2MLAT_VM_SKIP:-}" ]; then
+    reason="M2MLAT_VM_SKIP is set"
+  elif [ -z "${M2MLAT_VM_KERNEL:-}" ] && ! apt-cache depends linux-image-amd64 2>/dev/null | grep -q 'Depends: linux-image-6\.1\.'; then
+    reason="the apt archive has no Debian 6.1 kernel (linux-image-amd64); it needs Debian 12's"
+  fi
+  [ -z "$reason" ] && return 0
+  echo "SKIP $1: $reason"
+  echo "0 passed, 0 failed"
+  exit 0
+}

@@ -38,17 +38,7 @@ SMP=${M2MLAT_VM_SMP:-1}
 MEM=${M2MLAT_VM_MEM:-512}
 SECONDS=0
 
-# Where the suite cannot run, say so and pass nothing: M2MLAT_VM_SKIP=1, or a system whose archive
-# has no Debian 6.1 kernel (Ubuntu, say).
-skip_suite() {
-  echo "SKIP real-kernel suite: $1"
-  echo "0 passed, 0 failed"
-  exit 0
-}
-[ -z "${M2MLAT_VM_SKIP:-}" ] || skip_suite "M2MLAT_VM_SKIP is set"
-if [ -z "${M2MLAT_VM_KERNEL:-}" ] && ! apt-cache depends linux-image-amd64 2>/dev/null | grep -q 'Depends: linux-image-6\.1\.'; then
-  skip_suite "the apt archive has no Debian 6.1 kernel (linux-image-amd64); the suite needs Debian 12's"
-fi
+skip_unless_runnable "real-kernel suite"
 
 ensure_packages "${VM_HOST_PACKAGES[@]}"
 KERNEL_DIR=$(bash "$VM_DIR/kernel.sh")

@@ -12,6 +12,7 @@ namespace m2mlat::analysis {
 namespace {
 
 constexpr std::string_view kStepSource = "step";
+constexpr std::string_view kKernelSource = "adjtimex";
 
 // a + b without overflow: kUnbounded absorbs.
 std::int64_t add_saturating(std::int64_t a, std::int64_t b) {
@@ -41,11 +42,19 @@ double median_ms(std::vector<std::int64_t> values) {
 
 ClockTrack make_clock_track(std::vector<store::ClockSample> samples, core::Clock clock) {
   ClockTrack track;
+  // A daemon's own samples (chrony, ptp, ...) describe its clock; the kernel's adjtimex state is only
+  // what the daemon chose to tell the kernel. chronyd serving its own clock (`local stratum`, the
+  // reference board of a co-referenced rig) or running without `rtcsync` leaves STA_UNSYNC set while
+  // it reports itself synchronised, and those adjtimex samples would mark every pair unsynchronised.
+  // So a board's adjtimex samples count only when it has no daemon's samples.
+  const bool has_daemon = std::any_of(samples.begin(), samples.end(), [&](const store::ClockSample& s) {
+    return s.time.clock() == clock && s.source != kStepSource && s.source != kKernelSource;
+  });
   for (auto& s : samples) {
     if (s.time.clock() != clock) continue;
     if (s.source == kStepSource)
       track.steps_ns.push_back(s.time.ns());
-    else
+    else if (!has_daemon || s.source != kKernelSource)
       track.samples.push_back(std::move(s));
   }
   std::stable_sort(track.samples.begin(), track.samples.end(),

@@ -50,6 +50,23 @@ TEST(Uncertainty, WorseNeighbourGrownByItsDistance) {
   EXPECT_EQ(offset_at(track, kT0 + 6 * kS), 30'000);
 }
 
+TEST(Uncertainty, TheKernelsStateCountsOnlyWithoutADaemonsOwn) {
+  // The reference board of a co-referenced rig: chronyd serves its own clock and reports itself
+  // synchronised, while the kernel's adjtimex state still says unsynchronised.
+  const auto reference = make_clock_track({sample(kT0, kUnbounded, kUnbounded, false, "adjtimex"),
+                                           sample(kT0 + kS, 500'000, 100'000, true, "chrony"),
+                                           sample(kT0 + 2 * kS, kUnbounded, kUnbounded, false, "adjtimex")});
+  const auto b = bound_at(reference, kT0 + kS, 0);
+  ASSERT_TRUE(b.found);
+  EXPECT_TRUE(b.synchronised);
+  EXPECT_EQ(b.max_error_ns, 500'000);
+  // A board with only the kernel's state: that is what it has, and it is used.
+  const auto kernel_only = make_clock_track({sample(kT0, 800'000, 200'000, true, "adjtimex")});
+  EXPECT_EQ(bound_at(kernel_only, kT0, 0).max_error_ns, 800'000);
+  const auto unsynced_kernel = make_clock_track({sample(kT0, kUnbounded, kUnbounded, false, "adjtimex")});
+  EXPECT_FALSE(bound_at(unsynced_kernel, kT0, 0).synchronised);
+}
+
 TEST(Uncertainty, SumOfBoundsAndRootSumSquareOfEstimates) {
   const auto cause = make_clock_track({sample(kT0, 1'000'000, 300'000)});
   const auto effect = make_clock_track({sample(kT0, 2'000'000, 400'000)});
