@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""Runs a command and prints its wall time (s) and peak resident memory (MiB) as JSON, the
-command's own output going to a file. Usage: measure.py OUTPUT_FILE -- COMMAND [ARGS...]"""
+"""Runs a command and prints its wall time (s), CPU time (s, user + system) and peak resident memory
+(MiB) as JSON, the command's own output going to a file. On a machine shared with other jobs the CPU
+time varies much less than the wall time. Usage: measure.py OUTPUT_FILE -- COMMAND [ARGS...]"""
 import json
 import resource
 import subprocess
@@ -13,6 +14,8 @@ start = time.monotonic()
 with open(out, "w") as sink:
     code = subprocess.call(command, stdout=sink)
 wall = time.monotonic() - start
-peak_kib = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-print(json.dumps({"exit": code, "wall_s": round(wall, 3), "peak_mib": round(peak_kib / 1024, 1)}))
+usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+cpu = usage.ru_utime + usage.ru_stime
+print(json.dumps({"exit": code, "wall_s": round(wall, 3), "cpu_s": round(cpu, 3),
+                  "peak_mib": round(usage.ru_maxrss / 1024, 1)}))
 sys.exit(code)

@@ -34,12 +34,18 @@ ScenarioResult analyse(ScenarioInput input, const pairing::MatchOptions& match_o
 }
 
 void summarize(ScenarioResult& result, const stats::SummaryOptions& summary_options) {
-  const auto latencies = result.latencies_ns();
-  std::vector<std::int64_t> ids;
-  ids.reserve(latencies.size());
-  for (std::size_t i = 0; i < result.match.pairs.size(); ++i)
-    if (result.in_statistics(i)) ids.push_back(result.cause_seq(result.match.pairs[i]));
-  result.summary = stats::summarize(latencies, ids, summary_options);
+  auto latencies = result.latencies_ns();
+  auto& summary = result.summary = stats::summarize_in_place(latencies, {}, summary_options);
+  if (!summary.min) return;
+  // Without ids an extreme's id is its position among latencies_ns(); name the cause event instead.
+  const auto last = std::max(summary.min->index, summary.max->index);
+  std::size_t k = 0;  // position among the pairs in_statistics
+  for (std::size_t i = 0; i < result.match.pairs.size() && k <= last; ++i) {
+    if (!result.in_statistics(i)) continue;
+    if (k == summary.min->index) summary.min->id = result.cause_seq(result.match.pairs[i]);
+    if (k == summary.max->index) summary.max->id = result.cause_seq(result.match.pairs[i]);
+    ++k;
+  }
 }
 
 }  // namespace m2mlat::analysis

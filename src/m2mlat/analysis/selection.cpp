@@ -40,9 +40,14 @@ std::string side_node(const std::vector<store::Session>& sessions, const std::st
   return *nodes.begin();
 }
 
-// Sorts the two parallel columns by time (stable, so equal times keep their seq order).
+// Sorts the two parallel columns by time (stable, so equal times keep their seq order). A side without
+// a seq column (ids = positions) gets one first: sorting moves the timestamps away from their positions.
 void sort_by_time(store::Timestamps& t) {
   if (std::is_sorted(t.t_ns.begin(), t.t_ns.end())) return;
+  if (t.seq.empty()) {
+    t.seq.resize(t.t_ns.size());
+    std::iota(t.seq.begin(), t.seq.end(), std::int64_t{0});
+  }
   std::vector<std::size_t> order(t.t_ns.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return t.t_ns[a] < t.t_ns[b]; });
@@ -149,9 +154,7 @@ ScenarioInput from_timestamps(std::string scenario, SideInput cause, SideInput e
   auto take = [](SideInput& side, core::ChannelRef& ref, store::Timestamps& out) {
     ref = std::move(side.ref);
     out.clock = core::Clock::realtime;
-    out.seq.resize(side.t_ns.size());
-    std::iota(out.seq.begin(), out.seq.end(), std::int64_t{0});
-    out.t_ns = std::move(side.t_ns);
+    out.t_ns = std::move(side.t_ns);  // seq stays empty: ids are positions, unless sorting moves them
     sort_by_time(out);
   };
   take(cause, input.cause_ref, input.cause);

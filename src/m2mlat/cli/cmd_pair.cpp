@@ -36,10 +36,8 @@ void write_unmatched(const std::string& path, const std::vector<analysis::Scenar
       for (const auto& u : r.match.unmatched) {
         const bool cause = u.side == pairing::Side::cause;
         const auto& ref = cause ? r.input.cause_ref : r.input.effect_ref;
-        const auto& seq = cause ? r.input.cause.seq : r.input.effect.seq;
         out << r.input.scenario << ',' << pairing::to_string(u.side) << ',' << ref.node << ',' << ref.channel
-            << ',' << seq[static_cast<std::size_t>(u.index)] << ',' << u.time.ns() << ','
-            << pairing::to_string(u.reason) << '\n';
+            << ',' << r.seq(u) << ',' << u.time.ns() << ',' << pairing::to_string(u.reason) << '\n';
       }
   });
 }

@@ -1,5 +1,5 @@
 // Computing the summary: one pass for extremes and the exact sum, one sort, one pass for the
-// standard deviation, then quantiles, threshold shares and the bootstrap from the sorted copy.
+// standard deviation, then quantiles, threshold shares and the bootstrap from the sorted sample.
 #include "m2mlat/stats/summary.hpp"
 
 #include <algorithm>
@@ -17,6 +17,12 @@ constexpr double kNsPerMs = 1e6;
 
 Summary summarize(std::span<const std::int64_t> latencies_ns, std::span<const std::int64_t> ids,
                   const SummaryOptions& options) {
+  std::vector<std::int64_t> copy(latencies_ns.begin(), latencies_ns.end());
+  return summarize_in_place(copy, ids, options);
+}
+
+Summary summarize_in_place(std::span<std::int64_t> latencies_ns, std::span<const std::int64_t> ids,
+                           const SummaryOptions& options) {
   // Validate every option before doing any work, so that a bad one fails fast even on 1e7 samples.
   for (const double percent : options.extra_percentiles) check_percentile(percent);
   if (options.bootstrap) check_confidence_level(options.bootstrap->level);
@@ -28,9 +34,8 @@ Summary summarize(std::span<const std::int64_t> latencies_ns, std::span<const st
     s.max = e->max;
   }
 
-  std::vector<std::int64_t> sorted(latencies_ns.begin(), latencies_ns.end());
-  std::sort(sorted.begin(), sorted.end());
-  const std::span<const std::int64_t> view(sorted);
+  std::sort(latencies_ns.begin(), latencies_ns.end());
+  const std::span<const std::int64_t> view(latencies_ns);
 
   s.thresholds = threshold_shares(view, options.thresholds);
   for (const double percent : options.extra_percentiles) {
@@ -38,8 +43,8 @@ Summary summarize(std::span<const std::int64_t> latencies_ns, std::span<const st
   }
   if (s.n == 0) return s;
 
-  // The sorted copy serves the moments too: the order of summation does not matter to an exact
-  // sum, and sequential reads of the copy are as fast as of the input.
+  // The sorted sample serves the moments too: the order of summation does not matter to an exact
+  // sum, and the sd is computed over the sorted order whichever function was called.
   const Mean mean = exact_mean(view);
   s.mean_ms = mean.mean / kNsPerMs;
   s.sd_ms = sample_sd(view, mean) / kNsPerMs;

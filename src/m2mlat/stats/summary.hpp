@@ -6,7 +6,7 @@
 // name (median_ms); exact values stay in ns (Extreme::ns, ThresholdShare::threshold).
 //
 // Definitions (docs/statistics.md): mean from an exact integer sum (within 1 ulp); sd with divisor n - 1;
-// quantiles type 7 (numpy's default) on one sorted copy; IQR = q3 - q1; "above a threshold"
+// quantiles type 7 (numpy's default) on the sorted sample; IQR = q3 - q1; "above a threshold"
 // means strictly greater. Undefined values are NaN: every statistic for n = 0, sd for n = 1.
 #pragma once
 
@@ -60,5 +60,11 @@ struct Summary {
 // level throws core::Error(usage). Sorts one copy of the sample; the input is not changed.
 Summary summarize(std::span<const std::int64_t> latencies_ns, std::span<const std::int64_t> ids = {},
                   const SummaryOptions& options = {});
+
+// The same without the copy, for a sample the caller builds for the purpose: sorts `latencies_ns` in
+// place (8 bytes a sample fewer at the peak, 74 MB for 9.3 M latencies). The extremes are found before
+// the sort, so they, their ids and their ties are those of summarize().
+Summary summarize_in_place(std::span<std::int64_t> latencies_ns, std::span<const std::int64_t> ids = {},
+                           const SummaryOptions& options = {});
 
 }  // namespace m2mlat::stats

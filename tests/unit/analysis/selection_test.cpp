@@ -118,3 +118,61 @@ TEST(FromEvents, SplitsByNodeAndRefusesMixedChannels) {
   events.push_back(edge("vehicle", "pedal", kT0 + 950 * kMs));
   EXPECT_THROW(analysis::from_events("x", events, events, sel), core::Error);
 }
+
+TEST(FromTimestamps, FilesInTimeOrderKeepNoSeqColumn) {
+  analysis::SideInput cause{{"cause", "gpio16"}, {kT0, kT0 + 3000 * kMs}};
+  analysis::SideInput effect{{"effect", "gpio16"}, {kT0 + 800 * kMs, kT0 + 3850 * kMs}};
+  const auto input = analysis::from_timestamps("x", std::move(cause), std::move(effect));
+  EXPECT_TRUE(input.cause.seq.empty());  // the id of a timestamp is its position
+  EXPECT_TRUE(input.effect.seq.empty());
+  EXPECT_EQ(input.id_kind, "index");
+  EXPECT_EQ(analysis::source_id(input.cause, 1), 1);
+  const auto result = analysis::analyse(input, {}, {});
+  ASSERT_EQ(result.summary.n, 2u);
+  EXPECT_EQ(result.summary.min->id, 0);  // 800 ms: the first cause
+  EXPECT_EQ(result.summary.max->id, 1);  // 850 ms
+  EXPECT_EQ(result.effect_seq(result.match.pairs[1]), 1);
+}
+
+TEST(FromTimestamps, UnsortedFilesKeepTheirPositionsAsIds) {
+  // The second line of the cause file is the earlier edge: after sorting, ids are the lines' positions.
+  analysis::SideInput cause{{"cause", "gpio16"}, {kT0 + 3000 * kMs, kT0, kT0 + 6000 * kMs}};
+  analysis::SideInput effect{{"effect", "gpio16"}, {kT0 + 800 * kMs, kT0 + 3850 * kMs, kT0 + 6900 * kMs}};
+  const auto input = analysis::from_timestamps("x", std::move(cause), std::move(effect));
+  EXPECT_EQ(input.cause.t_ns, (std::vector<std::int64_t>{kT0, kT0 + 3000 * kMs, kT0 + 6000 * kMs}));
+  EXPECT_EQ(input.cause.seq, (std::vector<std::int64_t>{1, 0, 2}));
+  EXPECT_TRUE(input.effect.seq.empty());
+  const auto result = analysis::analyse(input, {}, {});
+  ASSERT_EQ(result.summary.n, 3u);
+  EXPECT_EQ(result.summary.min->id, 1);  // 800 ms, the cause on the file's second line
+  EXPECT_EQ(result.summary.max->id, 2);  // 900 ms
+}
+
+TEST(Summarize, ExtremesNameTheCauseOfPairsInTheStatistics) {
+  // Latencies 500, 100 (ambiguous, left out), 300, 100, 900, 900 ms: the ids of the extremes are the
+  // causes' seq, counted over the pairs in the statistics only; ties go to the earlier pair.
+  analysis::ScenarioResult r;
+  r.input.cause.seq = {70, 71, 72, 73, 74, 75};
+  r.input.effect.seq = {80, 81, 82, 83, 84, 85};
+  const std::int64_t latency_ms[] = {500, 100, 300, 100, 900, 900};
+  for (std::int64_t i = 0; i < 6; ++i) {
+    pairing::Pair p;
+    p.cause_index = p.effect_index = i;
+    p.cause_time = core::TimePoint::from_ns(core::Clock::realtime, kT0 + i * 10'000 * kMs);
+    p.effect_time = p.cause_time + core::Duration{latency_ms[i] * kMs};
+    if (i == 1) p.flags = pairing::kPairAmbiguous;
+    r.input.cause.t_ns.push_back(p.cause_time.ns());
+    r.input.effect.t_ns.push_back(p.effect_time.ns());
+    r.match.pairs.push_back(p);
+  }
+  analysis::summarize(r, {});
+  ASSERT_EQ(r.summary.n, 5u);
+  EXPECT_EQ(r.summary.min->id, 73);
+  EXPECT_EQ(r.summary.min->index, 2u);  // position among the latencies summarised
+  EXPECT_EQ(r.summary.max->id, 74);
+  r.include_ambiguous = true;
+  analysis::summarize(r, {});
+  EXPECT_EQ(r.summary.min->id, 71);
+  EXPECT_EQ(r.summary.max->id, 74);
+  EXPECT_EQ(r.latencies_ns().front(), 500 * kMs);  // the result's pairs are not reordered
+}

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -214,6 +215,30 @@ TEST(Summary, ExtremesNameTheirSample) {
   EXPECT_DOUBLE_EQ(s.max->ms(), 0.0005);
   const std::vector<std::int64_t> short_ids = {1, 2};
   EXPECT_THROW((void)summarize(v, short_ids), m2mlat::core::Error);
+}
+
+TEST(Summary, InPlaceGivesTheSameSummaryAndSortsTheSample) {
+  SummaryOptions options;
+  options.extra_percentiles = {12.5, 99.9};
+  options.bootstrap = BootstrapOptions{200, 4, 0.95};
+  const auto v = test::lcg_sample(1001, 9);
+  std::vector<std::int64_t> ids(v.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = 5000 + static_cast<std::int64_t>(i);
+  const Summary copied = summarize(v, ids, options);
+  auto sample = v;
+  const Summary in_place = summarize_in_place(sample, ids, options);
+  EXPECT_TRUE(std::is_sorted(sample.begin(), sample.end()));
+  ASSERT_TRUE(in_place.min && in_place.max && in_place.bootstrap);
+  EXPECT_EQ(in_place.min, copied.min);  // found before the sort: ids and positions of the input
+  EXPECT_EQ(in_place.max, copied.max);
+  EXPECT_EQ(in_place.mean_ms, copied.mean_ms);
+  EXPECT_EQ(in_place.sd_ms, copied.sd_ms);
+  EXPECT_EQ(in_place.median_ms, copied.median_ms);
+  EXPECT_EQ(in_place.p99_ms, copied.p99_ms);
+  EXPECT_EQ(in_place.extra_percentiles.at(1).value_ms, copied.extra_percentiles.at(1).value_ms);
+  EXPECT_EQ(in_place.thresholds.at(0).count_above, copied.thresholds.at(0).count_above);
+  EXPECT_EQ(in_place.bootstrap->median_ms.lower, copied.bootstrap->median_ms.lower);
+  EXPECT_EQ(in_place.bootstrap->iqr_ms.upper, copied.bootstrap->iqr_ms.upper);
 }
 
 TEST(Summary, EmptySampleIsAllUndefined) {
