@@ -19,12 +19,14 @@ JsonLine::JsonLine(std::string_view line, std::string_view file, long line_numbe
     : file_(file), line_(line_number) {
   try {
     json_ = nlohmann::json::parse(line);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range (1e999)
     // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 5: ..."; the
     // bracketed id and the "line 1" (always 1 here) mean nothing to the user.
     std::string_view what = e.what();
     if (const auto column = what.find("column "); column != std::string_view::npos)
       what.remove_prefix(column);
+    else if (const auto close = what.find("] "); what.starts_with("[json.exception") && close != what.npos)
+      what.remove_prefix(close + 2);
     throw_line_error(file_, line_, fmt::format("not valid JSON: {}", what));
   }
   if (!json_.is_object()) throw_line_error(file_, line_, "not a JSON object (one object per line)");

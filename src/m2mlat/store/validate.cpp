@@ -34,7 +34,7 @@ void json(const std::string& store_path, std::string_view what, std::string_view
     // Parse only to get the parser's message (line, column, reason).
     const auto parsed = nlohmann::json::parse(text);
     (void)parsed;
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range (1e999)
     // Drop the library's "[json.exception.parse_error.101] " prefix; keep line/column and reason.
     std::string_view reason = e.what();
     if (const auto close = reason.find("] "); reason.starts_with("[json.exception") && close != reason.npos)

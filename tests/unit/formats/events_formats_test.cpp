@@ -196,6 +196,9 @@ TEST(EventsJsonl, MalformedInput) {
   expect_data_error([&] { import(R"({"format":"m2mlat-events/9","node":"a","channel":"b","time_ns":5})"); },
                     {"ev.jsonl:1: field format", "not supported"});
   expect_data_error([&] { import(good + "{\"format\":\n"); }, {"ev.jsonl:2: not valid JSON"});
+  // A number beyond a double's range is the JSON library's out_of_range, not its parse_error.
+  expect_data_error([&] { import(good + head + R"("time_ns":1e999})" + "\n"); },
+                    {"ev.jsonl:2: not valid JSON", "number overflow"});
   expect_data_error([&] { import(good + "[1,2]\n"); }, {"ev.jsonl:2: not a JSON object"});
   // CRLF and blank lines are fine.
   EXPECT_EQ(
