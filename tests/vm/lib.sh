@@ -71,3 +71,16 @@ skip_unless_runnable() {
   echo "0 passed, 0 failed"
   exit 0
 }
+
+# parse_vm_args ARGS...: the arguments of both VM scripts: --m2mlat PATH (sets M2MLAT_BIN), --help
+# (prints the calling script's header comment).
+parse_vm_args() {
+  M2MLAT_BIN=""
+  while [ $# -gt 0 ]; do
+    case $1 in
+      --m2mlat) M2MLAT_BIN=$(realpath "$2"); shift 2 ;;
+      -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
+      *) die "unknown argument '$1' (see --help)" ;;
+    esac
+  done
+}

@@ -27,14 +27,7 @@
 set -euo pipefail
 source "$(dirname "$0")/lib.sh"
 
-M2MLAT_BIN=""
-while [ $# -gt 0 ]; do
-  case $1 in
-    --m2mlat) M2MLAT_BIN=$(realpath "$2"); shift 2 ;;
-    -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
-    *) die "unknown argument '$1' (see --help)" ;;
-  esac
-done
+parse_vm_args "$@"  # sets M2MLAT_BIN
 BUILD=${M2MLAT_VM_BUILD:-$REPO/build-vm}
 DELAY_US=${M2MLAT_2G_DELAY_US:-50000}
 OFFSET_NS=${M2MLAT_2G_OFFSET_NS:-5000000}
