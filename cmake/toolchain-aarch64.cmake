@@ -38,10 +38,14 @@ set(ENV{PKG_CONFIG_LIBDIR} /usr/lib/${M2MLAT_TRIPLET}/pkgconfig:/usr/share/pkgco
 set(ENV{PKG_CONFIG_PATH} "")
 set(ENV{PKG_CONFIG_SYSROOT_DIR} "")
 
-# The emulator for tests (and for generating the man pages from the arm64 binary). The -L prefix is
-# where QEMU looks first for the program's dynamic loader and libraries: the cross toolchain's libc,
-# then (falling back to the host's paths) the multiarch arm64 libraries in /usr/lib/aarch64-linux-gnu.
+# The emulator for tests (and for generating the man pages from the arm64 binary). No -L prefix: the
+# program's dynamic loader and its libraries all come from the multiarch arm64 packages
+# (/lib/ld-linux-aarch64.so.1, /lib/aarch64-linux-gnu), the same glibc build. The cross toolchain's
+# own tree (/usr/aarch64-linux-gnu) is only for linking: its loader is an older glibc build than the
+# multiarch libc.so.6 the loader finds, and that pair must never meet (a mismatched ld.so and libc
+# share private structures: pthread_create looped forever in a thread-stack list read at the wrong
+# offset).
 find_program(M2MLAT_QEMU_AARCH64 NAMES qemu-aarch64 qemu-aarch64-static)
 if(M2MLAT_QEMU_AARCH64)
-  set(CMAKE_CROSSCOMPILING_EMULATOR ${M2MLAT_QEMU_AARCH64} -L /usr/${M2MLAT_TRIPLET})
+  set(CMAKE_CROSSCOMPILING_EMULATOR ${M2MLAT_QEMU_AARCH64})
 endif()

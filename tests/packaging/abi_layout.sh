@@ -7,11 +7,11 @@
 # offsets) and run (arm64 under qemu-aarch64); both must print the same table.
 #
 #   tests/packaging/abi_layout.sh [CROSS_CXX [EMULATOR...]]
-# Default: aarch64-linux-gnu-g++, qemu-aarch64 -L /usr/aarch64-linux-gnu.
+# Default: aarch64-linux-gnu-g++, qemu-aarch64.
 set -euo pipefail
 CROSS_CXX=${1:-aarch64-linux-gnu-g++}
 shift || true
-if [ $# -gt 0 ]; then EMU=("$@"); else EMU=(qemu-aarch64 -L /usr/aarch64-linux-gnu); fi
+if [ $# -gt 0 ]; then EMU=("$@"); else EMU=(qemu-aarch64); fi
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }

@@ -8,7 +8,7 @@
 #   tests/packaging/arm64_integration.sh ARM64_M2MLAT [NAME...]
 # Default NAMEs: $M2MLAT_ARM64_INTEGRATION, else the subset docs/packaging.md explains (those that
 # need no kernel GPIO, no chronyd, no browser, and run in reasonable time under emulation).
-# M2MLAT_QEMU overrides the emulator command (default: qemu-aarch64 -L /usr/aarch64-linux-gnu).
+# M2MLAT_QEMU overrides the emulator command (default: qemu-aarch64).
 set -euo pipefail
 [ $# -ge 1 ] || { echo "usage: $0 ARM64_M2MLAT [NAME...]" >&2; exit 2; }
 BIN=$(realpath "$1")
@@ -16,7 +16,7 @@ shift
 REPO=$(cd "$(dirname "$0")/../.." && pwd)
 DEFAULT="demo exactness bad_input rig_formats separated_logs upstream_data report_upstream collect_pairs"
 if [ $# -gt 0 ]; then NAMES=("$@"); else read -r -a NAMES <<<"${M2MLAT_ARM64_INTEGRATION:-$DEFAULT}"; fi
-QEMU=${M2MLAT_QEMU:-qemu-aarch64 -L /usr/aarch64-linux-gnu}
+QEMU=${M2MLAT_QEMU:-qemu-aarch64}
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 

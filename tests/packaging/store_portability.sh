@@ -8,12 +8,12 @@
 # seed must give the same events too.
 #
 #   tests/packaging/store_portability.sh AMD64_M2MLAT ARM64_M2MLAT
-# M2MLAT_QEMU overrides the emulator command (default: qemu-aarch64 -L /usr/aarch64-linux-gnu).
+# M2MLAT_QEMU overrides the emulator command (default: qemu-aarch64).
 set -euo pipefail
 [ $# -eq 2 ] || { echo "usage: $0 AMD64_M2MLAT ARM64_M2MLAT" >&2; exit 2; }
 AMD=$(realpath "$1")
 ARM=$(realpath "$2")
-read -r -a QEMU <<<"${M2MLAT_QEMU:-qemu-aarch64 -L /usr/aarch64-linux-gnu}"
+read -r -a QEMU <<<"${M2MLAT_QEMU:-qemu-aarch64}"
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
 cd "$WORK"

@@ -3,19 +3,10 @@
 
 #include <fmt/format.h>
 
+#include "m2mlat/cli/duration_flag.hpp"
 #include "m2mlat/core/error.hpp"
 
 namespace m2mlat::cli {
-
-namespace {
-core::Duration duration_flag(const std::string& flag, const std::string& text) {
-  try {
-    return core::parse_duration(text);
-  } catch (const core::Error& e) {
-    throw core::Error(core::ErrorKind::usage, fmt::format("{}: {}", flag, e.what()));
-  }
-}
-}  // namespace
 
 void MatchFlags::add_to(CLI::App& sub) {
   auto* group = sub.add_option_group("pairing");

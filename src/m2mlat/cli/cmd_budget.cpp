@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "m2mlat/cli/command.hpp"
+#include "m2mlat/cli/duration_flag.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/report/table.hpp"
@@ -34,14 +35,6 @@ struct BudgetCommand {
   std::string rate_min_gap = "5ms", rate_max_gap = "1s";
   bool json = false;
 };
-
-core::Duration duration_flag(const std::string& flag, const std::string& text) {
-  try {
-    return core::parse_duration(text);
-  } catch (const core::Error& e) {
-    throw core::Error(core::ErrorKind::usage, fmt::format("{}: {}", flag, e.what()));
-  }
-}
 
 store::Store open_read_only(const std::string& path) {
   store::Options read;

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "m2mlat/cli/command.hpp"
+#include "m2mlat/cli/duration_flag.hpp"
 #include "m2mlat/cli/inputs.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
@@ -37,15 +38,6 @@ struct SynctestCommand {
   bool series = false;
   std::string csv_out, svg_out;
 };
-
-core::Duration duration_flag(const std::string& flag, const std::string& text) {
-  if (text.empty()) return core::Duration{0};
-  try {
-    return core::parse_duration(text);
-  } catch (const core::Error& e) {
-    throw core::Error(core::ErrorKind::usage, fmt::format("{}: {}", flag, e.what()));
-  }
-}
 
 // One board's side: its edges on the pulse channel and its clock samples.
 struct Board {
@@ -105,10 +97,10 @@ std::string only_node(const store::Store& store, const std::string& channel, con
 
 selftest::SyncTestResult run(const SynctestCommand& c) {
   selftest::SyncTestOptions options;
-  options.tau0 = duration_flag("--tau0", c.tau0);
+  options.tau0 = duration_flag("--tau0", c.tau0, true);
   pairing::PulsePairingOptions pairing_options;
-  pairing_options.period = duration_flag("--period", c.period);
-  pairing_options.expected_offset = duration_flag("--expected-offset", c.expected_offset);
+  pairing_options.period = duration_flag("--period", c.period, true);
+  pairing_options.expected_offset = duration_flag("--expected-offset", c.expected_offset, true);
   store::Options read;
   read.read_only = true;
 

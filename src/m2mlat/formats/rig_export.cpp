@@ -7,7 +7,7 @@
 namespace m2mlat::formats {
 
 namespace {
-enum Column : std::size_t { kLine = 0, kSeconds = 1, kNanoseconds = 2 };
+enum ExportColumn : std::size_t { kLine = 0, kSeconds = 1, kNanoseconds = 2 };
 
 void check_label(const FixedCsv& csv) {
   if (csv.text(kLine).empty()) csv.fail("field Line: is empty");

@@ -7,7 +7,7 @@
 namespace m2mlat::formats {
 
 namespace {
-enum Column : std::size_t {
+enum PairedColumn : std::size_t {
   kRemoteS = 0,
   kRemoteNs = 1,
   kVehicleS = 2,

@@ -13,12 +13,12 @@
 #include <string_view>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/net/query.hpp"  // kMaxLimit: the agent's largest page
 
 namespace m2mlat::net {
 
 namespace {
 
-constexpr std::size_t kMaxLimit = 10000;
 constexpr std::size_t kMaxErrorBody = 4096;      // bytes of an error answer kept for the message
 constexpr std::size_t kMaxStreamLine = 1 << 20;  // a longer SSE line is not an agent's
 

@@ -4,14 +4,14 @@
 #include <cmath>
 
 #include "m2mlat/report/comparison_text.hpp"
+#include "m2mlat/report/json_number.hpp"
 #include "m2mlat/report/scenario_json.hpp"
 
 namespace m2mlat::report {
 
 namespace {
-nlohmann::json number(double x) { return std::isnan(x) ? nlohmann::json(nullptr) : nlohmann::json(x); }
-nlohmann::json number(const std::optional<double>& x) { return x ? number(*x) : nlohmann::json(nullptr); }
-nlohmann::json interval(const stats::Interval& i) {
+// An undefined interval (NaN bounds) as null, not [null, null].
+nlohmann::json interval_or_null(const stats::Interval& i) {
   if (std::isnan(i.lower)) return nullptr;
   return nlohmann::json::array({i.lower, i.upper});
 }
@@ -27,7 +27,7 @@ nlohmann::json comparison_json(const ComparisonReport& r) {
                      {"share_subject", number(d.share_subject)},
                      {"share_baseline", number(d.share_baseline)},
                      {"difference", number(d.difference)},
-                     {"ci", interval(d.ci)}});
+                     {"ci", interval_or_null(d.ci)}});
   return {{"subject", r.subject},
           {"baseline", r.baseline},
           {"n_subject", c.n_subject},
@@ -39,11 +39,11 @@ nlohmann::json comparison_json(const ComparisonReport& r) {
           {"sd_subject_ms", number(c.sd_subject_ms)},
           {"sd_baseline_ms", number(c.sd_baseline_ms)},
           {"median_difference_ms", number(c.median_difference_ms)},
-          {"median_difference_ci_ms", interval(c.median_difference_ci_ms)},
+          {"median_difference_ci_ms", interval_or_null(c.median_difference_ci_ms)},
           {"iqr_ratio", number(c.iqr_ratio)},
-          {"iqr_ratio_ci", interval(c.iqr_ratio_ci)},
+          {"iqr_ratio_ci", interval_or_null(c.iqr_ratio_ci)},
           {"sd_ratio", number(c.sd_ratio)},
-          {"sd_ratio_ci", interval(c.sd_ratio_ci)},
+          {"sd_ratio_ci", interval_or_null(c.sd_ratio_ci)},
           {"mann_whitney",
            {{"u_subject", c.mann_whitney.u_a},
             {"z", c.mann_whitney.z},

@@ -1,15 +1,13 @@
 // Scenario results as JSON. NaN (undefined statistics) becomes null; exact values stay integer ns.
 #include "m2mlat/report/scenario_json.hpp"
 
-#include <cmath>
 
 #include "m2mlat/core/time.hpp"
+#include "m2mlat/report/json_number.hpp"
 
 namespace m2mlat::report {
 
 namespace {
-nlohmann::json number(double x) { return std::isnan(x) ? nlohmann::json(nullptr) : nlohmann::json(x); }
-
 nlohmann::json extreme(const std::optional<stats::Extreme>& e) {
   if (!e) return nullptr;
   return {{"ns", e->ns}, {"ms", e->ms()}, {"sample_id", e->id}};

@@ -30,7 +30,6 @@ std::int64_t next_tick(std::int64_t origin, std::int64_t period, std::int64_t t,
   return tick;
 }
 
-core::TimePoint true_time(std::int64_t ns) { return core::TimePoint::from_ns(core::Clock::simulated, ns); }
 }  // namespace
 
 MotionPlanner::MotionPlanner(const RigConfig& config)

@@ -22,6 +22,9 @@ enum class EdgeKind : std::uint8_t {
 };
 std::string_view to_string(EdgeKind kind);
 
+// A true time from its nanoseconds since the epoch.
+inline core::TimePoint true_time(std::int64_t ns) { return core::TimePoint::from_ns(core::Clock::simulated, ns); }
+
 // The truth about one event; parallel to the node's event list (same index).
 struct EventTruth {
   EdgeKind kind = EdgeKind::pass;

@@ -10,8 +10,10 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 
 extern char** environ;
@@ -24,6 +26,25 @@ std::int64_t monotonic_ns() {
   timespec ts{};
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+}
+
+// 0 if `program` names an executable file (as posix_spawnp would find it: a path if it has a slash,
+// else the first match in $PATH), else the errno why not. posix_spawnp reports the same, but only
+// where the child can hand the exec's failure back (not under an emulator that turns vfork into
+// fork, such as QEMU's user mode): checking first makes "not started" mean the same everywhere.
+int not_executable(const std::string& program) {
+  if (program.find('/') != std::string::npos) return ::access(program.c_str(), X_OK) == 0 ? 0 : errno;
+  const char* env = std::getenv("PATH");
+  const std::string path = env != nullptr ? env : "/usr/local/bin:/usr/bin:/bin";
+  int why = ENOENT;
+  for (std::size_t start = 0; start <= path.size();) {
+    const auto end = std::min(path.find(':', start), path.size());
+    const std::string dir = end > start ? path.substr(start, end - start) : ".";
+    if (::access((dir + "/" + program).c_str(), X_OK) == 0) return 0;
+    if (errno == EACCES) why = EACCES;  // found but not executable: say so, as execvp does
+    start = end + 1;
+  }
+  return why;
 }
 
 // Closes a descriptor once.
@@ -54,6 +75,10 @@ CommandResult ProcessRunner::run(const std::vector<std::string>& argv, core::Dur
   CommandResult result;
   if (argv.empty()) {
     result.err = "no command";
+    return result;
+  }
+  if (const int why = not_executable(argv[0]); why != 0) {
+    result.err = argv[0] + ": " + std::strerror(why);
     return result;
   }
   std::array<int, 2> out_pipe{-1, -1};

@@ -11,7 +11,7 @@ using namespace m2mlat;
 namespace {
 
 constexpr std::int64_t kMs = 1'000'000;
-constexpr std::int64_t kNow = 1'780'304'400'000'000'000;
+constexpr std::int64_t kViewNow = 1'780'304'400'000'000'000;
 
 collect::LiveSummary summary_with_samples() {
   collect::LiveSummary s;
@@ -27,7 +27,7 @@ collect::LiveSummary summary_with_samples() {
   s.summary.n = 12;
   s.summary.median_ms = 874.04;
   s.summary.iqr_ms = 198.26;
-  s.last = collect::LiveSample{kNow - 2'000 * kMs, 873'249'000, false};
+  s.last = collect::LiveSample{kViewNow - 2'000 * kMs, 873'249'000, false};
   return s;
 }
 
@@ -37,7 +37,7 @@ std::vector<collect::NodeHealth> two_nodes() {
   op.url = "http://10.0.0.1:8470";
   op.role = core::Role::cause;
   op.state = collect::NodeState::ok;
-  op.last_contact_ns = kNow - 200 * kMs;
+  op.last_contact_ns = kViewNow - 200 * kMs;
   op.events_per_s = 0.75;
   op.events = 812;
   op.lost = 0;
@@ -76,7 +76,7 @@ class Capture {
 }  // namespace
 
 TEST(TerminalView, BlockShowsTheNumbersAndEveryNode) {
-  const auto lines = collect::render_block(summary_with_samples(), two_nodes(), kNow);
+  const auto lines = collect::render_block(summary_with_samples(), two_nodes(), kViewNow);
   ASSERT_EQ(lines.size(), 5u);
   EXPECT_EQ(lines[0], "static_wifi: operator/wheel -> vehicle/wheel");
   EXPECT_EQ(lines[1],
@@ -99,7 +99,7 @@ TEST(TerminalView, WaitingBlockSaysWhy) {
   collect::LiveSummary s;
   s.message = "scenario 'x' has no effect session";
   s.scenario = "x";
-  const auto lines = collect::render_block(s, {}, kNow);
+  const auto lines = collect::render_block(s, {}, kViewNow);
   ASSERT_EQ(lines.size(), 2u);  // no agents: no agents' table
   EXPECT_EQ(lines[0], "waiting x: scenario 'x' has no effect session");
   EXPECT_EQ(lines[1], "samples 0");
@@ -108,28 +108,28 @@ TEST(TerminalView, WaitingBlockSaysWhy) {
 TEST(TerminalView, UnsynchronisedClockIsMarked) {
   auto nodes = two_nodes();
   nodes[0].synchronised = false;
-  const auto lines = collect::render_block(summary_with_samples(), nodes, kNow);
+  const auto lines = collect::render_block(summary_with_samples(), nodes, kViewNow);
   EXPECT_NE(lines[3].find("ok,unsync"), std::string::npos) << lines[3];
 }
 
 TEST(TerminalView, RedrawsInPlaceOnATerminal) {
   Capture out;
   collect::TerminalView view(out.file(), true);
-  EXPECT_TRUE(view.show(summary_with_samples(), two_nodes(), kNow));
+  EXPECT_TRUE(view.show(summary_with_samples(), two_nodes(), kViewNow));
   const auto first = out.text();
   EXPECT_EQ(first.find("\x1b[5F"), std::string::npos);  // nothing to go back over yet
   EXPECT_NE(first.find("samples 12"), std::string::npos);
   EXPECT_NE(first.find("\x1b[K\n"), std::string::npos);
-  EXPECT_TRUE(view.show(summary_with_samples(), two_nodes(), kNow + 250 * kMs));
+  EXPECT_TRUE(view.show(summary_with_samples(), two_nodes(), kViewNow + 250 * kMs));
   const auto second = out.text().substr(first.size());
   EXPECT_EQ(second.rfind("\x1b[5F", 0), 0u);  // back to the block's first line (5 lines)
   EXPECT_NE(second.find("samples 12"), std::string::npos);
   // The final block redraws too; later output goes below it, with no moving back.
   const auto before_finish = out.text().size();
-  view.finish(summary_with_samples(), two_nodes(), kNow + 500 * kMs);
+  view.finish(summary_with_samples(), two_nodes(), kViewNow + 500 * kMs);
   const auto after_finish = out.text();
   EXPECT_EQ(after_finish.substr(before_finish).rfind("\x1b[5F", 0), 0u);
-  view.show(summary_with_samples(), two_nodes(), kNow + 750 * kMs);
+  view.show(summary_with_samples(), two_nodes(), kViewNow + 750 * kMs);
   const auto later = out.text().substr(after_finish.size());
   EXPECT_EQ(later.find("\x1b[5F"), std::string::npos);
   EXPECT_NE(later.find("samples 12"), std::string::npos);
@@ -138,17 +138,17 @@ TEST(TerminalView, RedrawsInPlaceOnATerminal) {
 TEST(TerminalView, PlainBlocksAtMostEveryInterval) {
   Capture out;
   collect::TerminalView view(out.file(), false, std::chrono::seconds(5));
-  EXPECT_TRUE(view.show(summary_with_samples(), two_nodes(), kNow));
-  EXPECT_FALSE(view.show(summary_with_samples(), two_nodes(), kNow + 1'000 * kMs));
-  EXPECT_FALSE(view.show(summary_with_samples(), two_nodes(), kNow + 4'999 * kMs));
-  EXPECT_TRUE(view.show(summary_with_samples(), two_nodes(), kNow + 5'000 * kMs));
+  EXPECT_TRUE(view.show(summary_with_samples(), two_nodes(), kViewNow));
+  EXPECT_FALSE(view.show(summary_with_samples(), two_nodes(), kViewNow + 1'000 * kMs));
+  EXPECT_FALSE(view.show(summary_with_samples(), two_nodes(), kViewNow + 4'999 * kMs));
+  EXPECT_TRUE(view.show(summary_with_samples(), two_nodes(), kViewNow + 5'000 * kMs));
   const auto text = out.text();
   EXPECT_EQ(text.find('\x1b'), std::string::npos);  // no ANSI codes in a file
   std::size_t blocks = 0;
   for (auto at = text.find("samples 12"); at != std::string::npos; at = text.find("samples 12", at + 1))
     ++blocks;
   EXPECT_EQ(blocks, 2u);
-  view.finish(summary_with_samples(), two_nodes(), kNow + 5'001 * kMs);  // always written
+  view.finish(summary_with_samples(), two_nodes(), kViewNow + 5'001 * kMs);  // always written
   const auto final_text = out.text();
   EXPECT_GT(final_text.size(), text.size());
 }

@@ -7,7 +7,8 @@
 namespace m2mlat::net {
 namespace {
 
-Status status() {
+// Labels that need escaping: a quote in the node, a backslash and a newline in a channel.
+Status awkward_status() {
   Status s;
   s.node = "veh\"icle";
   s.channels = {{"wheel", 10, 2, 1, std::nullopt}, {"a\\b\nc", 3, 0, 0, std::nullopt}};
@@ -19,7 +20,7 @@ Status status() {
 }
 
 TEST(Metrics, SamplesOfTheStatus) {
-  const auto text = render_metrics(status());
+  const auto text = render_metrics(awkward_status());
   const std::string node = R"(node="veh\"icle")";
   EXPECT_NE(text.find("# TYPE m2mlat_events_total counter\n"), std::string::npos);
   EXPECT_NE(text.find("m2mlat_up{" + node + "} 1\n"), std::string::npos) << text;
@@ -40,7 +41,7 @@ TEST(Metrics, SamplesOfTheStatus) {
 }
 
 TEST(Metrics, ClockFamiliesWithASample) {
-  auto s = status();
+  auto s = awkward_status();
   store::ClockSample c;
   c.source = "chrony";
   c.offset_ns = -1500;

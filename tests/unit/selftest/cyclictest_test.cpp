@@ -6,17 +6,13 @@
 
 #include <fstream>
 #include <numeric>
-#include <sstream>
+
+#include "../sync/fixtures.hpp"  // fixture(): a file of tests/data/sync
 
 namespace m2mlat::selftest {
 namespace {
 
-std::string fixture(const std::string& name) {
-  std::ifstream in(std::string(M2MLAT_TEST_DATA) + "/sync/" + name);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using sync::testing::fixture;
 
 const core::Location kWhere{"cyclictest", 0};
 

@@ -4,18 +4,13 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <fstream>
-#include <sstream>
+
+#include "../sync/fixtures.hpp"  // fixture(): a file of tests/data/sync
 
 namespace m2mlat::selftest {
 namespace {
 
-std::string fixture(const std::string& name) {
-  std::ifstream in(std::string(M2MLAT_TEST_DATA) + "/sync/" + name);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using sync::testing::fixture;
 
 SchedtestRun recorded_run() {
   SchedtestRun run;

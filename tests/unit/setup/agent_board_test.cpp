@@ -84,11 +84,11 @@ BoardSetup vehicle_board() {
   return b;
 }
 
-constexpr std::string_view kInterrupts =
+constexpr std::string_view kWheelInterrupts =
     "           CPU0       CPU1\n183:  12  0  pinctrl-rp1  16 Edge      m2mlat-wheel\n";
 
 TEST(SetupBoard, PlanHasEveryPart) {
-  const auto plan = plan_board(vehicle_board(), BoardState{"gpio:x:997:\n", std::string(kInterrupts), ""});
+  const auto plan = plan_board(vehicle_board(), BoardState{"gpio:x:997:\n", std::string(kWheelInterrupts), ""});
   std::vector<std::string> files;
   for (const auto& s : plan.steps)
     if (s.kind == Step::Kind::file) files.push_back(s.path);
@@ -121,7 +121,7 @@ TEST(SetupBoard, SecondRunChangesNothing) {
   root.write("/etc/m2mlat/vehicle.env", "# mine\nM2MLAT_LISTEN=127.0.0.1:8470\n");
   root.write("/proc/irq/183/smp_affinity_list", "0-3\n");
   const auto state = [&] {
-    return BoardState{"gpio:x:997:pi\n", std::string(kInterrupts), root.read("/etc/m2mlat/vehicle.env")};
+    return BoardState{"gpio:x:997:pi\n", std::string(kWheelInterrupts), root.read("/etc/m2mlat/vehicle.env")};
   };
   const auto first = testing::apply_into(plan_board(vehicle_board(), state()), root.path());
   EXPECT_EQ(first.result.files_checked, 6);

@@ -14,10 +14,10 @@ namespace {
 using testing::fixture;
 using testing::ScriptedRunner;
 
-const core::Location kWhere{"pmc", 0};
+const core::Location kPmcWhere{"pmc", 0};
 
 TEST(PmcOutput, ParsesResponseBlocks) {
-  const auto r = parse_pmc_output(fixture("pmc_three_slave.txt"), kWhere);
+  const auto r = parse_pmc_output(fixture("pmc_three_slave.txt"), kPmcWhere);
   ASSERT_EQ(r.size(), 3u);
   EXPECT_EQ(r[0].port_identity, "22b6a3.fffe.ba92f9-0");
   EXPECT_EQ(r[0].seq, 0);
@@ -36,19 +36,19 @@ TEST(PmcOutput, ParsesResponseBlocks) {
 }
 
 TEST(PmcOutput, NoDaemonMeansNoResponses) {
-  EXPECT_TRUE(parse_pmc_output(fixture("pmc_no_daemon.txt"), kWhere).empty());
+  EXPECT_TRUE(parse_pmc_output(fixture("pmc_no_daemon.txt"), kPmcWhere).empty());
 }
 
 TEST(PmcOutput, RefusesLinesThatAreNeitherHeaderNorField) {
-  EXPECT_THROW(parse_pmc_output("\t\tmaster_offset 5\n", kWhere), core::Error);  // a field before any header
-  EXPECT_THROW(parse_pmc_output("hello world\n", kWhere), core::Error);
-  EXPECT_THROW(parse_pmc_output("\tabc seq x RESPONSE MANAGEMENT TIME_STATUS_NP\n", kWhere), core::Error);
+  EXPECT_THROW(parse_pmc_output("\t\tmaster_offset 5\n", kPmcWhere), core::Error);  // a field before any header
+  EXPECT_THROW(parse_pmc_output("hello world\n", kPmcWhere), core::Error);
+  EXPECT_THROW(parse_pmc_output("\tabc seq x RESPONSE MANAGEMENT TIME_STATUS_NP\n", kPmcWhere), core::Error);
 }
 
 TEST(PtpStatus, SlaveFollowingAGrandmaster) {
   const auto responses = parse_pmc_output(
-      fixture("pmc_time_status_slave.txt") + fixture("pmc_current_data_set_slave.txt"), kWhere);
-  const auto s = ptp_status(responses, kWhere);
+      fixture("pmc_time_status_slave.txt") + fixture("pmc_current_data_set_slave.txt"), kPmcWhere);
+  const auto s = ptp_status(responses, kPmcWhere);
   EXPECT_TRUE(s.gm_present);
   EXPECT_EQ(s.gm_identity, "36199e.fffe.6da772");
   EXPECT_EQ(s.master_offset_ns, 60);
@@ -68,25 +68,25 @@ TEST(PtpStatus, SlaveFollowingAGrandmaster) {
 
 TEST(PtpStatus, TheGrandmasterItselfIsNotFollowingAnything) {
   const auto responses = parse_pmc_output(
-      fixture("pmc_time_status_master.txt") + fixture("pmc_current_data_set_master.txt"), kWhere);
-  const auto s = ptp_status(responses, kWhere);
+      fixture("pmc_time_status_master.txt") + fixture("pmc_current_data_set_master.txt"), kPmcWhere);
+  const auto s = ptp_status(responses, kPmcWhere);
   EXPECT_FALSE(s.gm_present);
   EXPECT_EQ(s.steps_removed, 0);
   EXPECT_FALSE(ptp_sample(s, {}).synchronised);
 }
 
 TEST(PtpStatus, MissingResponsesOrFieldsAreDataErrors) {
-  EXPECT_THROW(ptp_status(parse_pmc_output(fixture("pmc_time_status_slave.txt"), kWhere), kWhere),
+  EXPECT_THROW(ptp_status(parse_pmc_output(fixture("pmc_time_status_slave.txt"), kPmcWhere), kPmcWhere),
                core::Error);
   auto with = [](const std::string& from, const std::string& to) {
     std::string s = fixture("pmc_three_slave.txt");
     s.replace(s.find(from), from.size(), to);
     return s;
   };
-  EXPECT_THROW(ptp_status(parse_pmc_output(with("true", "maybe"), kWhere), kWhere), core::Error);
-  EXPECT_THROW(ptp_status(parse_pmc_output(with("2333.0", "lots"), kWhere), kWhere), core::Error);
+  EXPECT_THROW(ptp_status(parse_pmc_output(with("true", "maybe"), kPmcWhere), kPmcWhere), core::Error);
+  EXPECT_THROW(ptp_status(parse_pmc_output(with("2333.0", "lots"), kPmcWhere), kPmcWhere), core::Error);
   EXPECT_THROW(
-      ptp_status(parse_pmc_output(with("stepsRemoved     1", "stepsRemoved     -1"), kWhere), kWhere),
+      ptp_status(parse_pmc_output(with("stepsRemoved     1", "stepsRemoved     -1"), kPmcWhere), kPmcWhere),
       core::Error);
 }
 

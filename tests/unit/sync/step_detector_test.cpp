@@ -8,11 +8,11 @@
 namespace m2mlat::sync {
 namespace {
 
-constexpr std::int64_t kEpoch = 1'795'269'000'000'000'000;  // realtime at raw = 0, ns
+constexpr std::int64_t kRealtimeAtRawZero = 1'795'269'000'000'000'000;  // realtime at raw = 0, ns
 constexpr std::int64_t kSecond = 1'000'000'000;
 
 ClockPair pair(std::int64_t raw_ns, std::int64_t realtime_offset_ns = 0) {
-  return ClockPair{kEpoch + raw_ns + realtime_offset_ns, raw_ns, 200};
+  return ClockPair{kRealtimeAtRawZero + raw_ns + realtime_offset_ns, raw_ns, 200};
 }
 
 TEST(StepDetector, NoStepWhileTheClocksRunTogether) {
@@ -27,8 +27,8 @@ TEST(StepDetector, AForwardAndABackwardStep) {
   const auto forward = d.observe(pair(kSecond, 5'000'000), 0);  // +5 ms
   ASSERT_TRUE(forward);
   EXPECT_EQ(forward->step_ns, 5'000'000);
-  EXPECT_EQ(forward->to_ns, kEpoch + kSecond + 5'000'000);
-  EXPECT_EQ(forward->from_ns, kEpoch + kSecond);
+  EXPECT_EQ(forward->to_ns, kRealtimeAtRawZero + kSecond + 5'000'000);
+  EXPECT_EQ(forward->from_ns, kRealtimeAtRawZero + kSecond);
   EXPECT_EQ(forward->unexplained_ns,
             5'000'000 - 500'000 - 200);                      // less 500 ppm of 1 s and the pairing window
   EXPECT_FALSE(d.observe(pair(2 * kSecond, 5'000'000), 0));  // stays stepped: no new step
@@ -64,13 +64,13 @@ TEST(StepDetector, SampleHasTheDetail) {
   ASSERT_TRUE(step);
   const auto s = step_sample(*step);
   EXPECT_EQ(s.source, "step");
-  EXPECT_EQ(s.time.ns(), kEpoch + kSecond - 3'000'000);
+  EXPECT_EQ(s.time.ns(), kRealtimeAtRawZero + kSecond - 3'000'000);
   EXPECT_EQ(s.offset_ns, -3'000'000);
   EXPECT_EQ(s.max_error_ns, 3'000'000);
   EXPECT_FALSE(s.synchronised);
   const auto j = nlohmann::json::parse(s.detail_json);
-  EXPECT_EQ(j["from_ns"], kEpoch + kSecond);
-  EXPECT_EQ(j["to_ns"], kEpoch + kSecond - 3'000'000);
+  EXPECT_EQ(j["from_ns"], kRealtimeAtRawZero + kSecond);
+  EXPECT_EQ(j["to_ns"], kRealtimeAtRawZero + kSecond - 3'000'000);
   EXPECT_EQ(j["step_ns"], -3'000'000);
 }
 
