@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 
+#include "m2mlat/core/saturating.hpp"
 #include "m2mlat/sync/text.hpp"
 
 namespace m2mlat::sync {
@@ -153,8 +154,9 @@ store::ClockSample chrony_sample(const ChronyReport& report, core::TimePoint tim
   sample.time = time;
   sample.source = "chrony";
   sample.offset_ns = t.system_offset_ns;
-  const std::int64_t abs_offset = std::llabs(t.system_offset_ns);
-  sample.max_error_ns = abs_offset + t.root_dispersion_ns + t.root_delay_ns / 2;
+  const std::int64_t abs_offset = core::saturating_abs(t.system_offset_ns);
+  sample.max_error_ns =
+      core::saturating_add(core::saturating_add(abs_offset, t.root_dispersion_ns), t.root_delay_ns / 2);
   sample.est_error_ns = std::max(t.rms_offset_ns, abs_offset);
   sample.synchronised = t.synchronised();
   nlohmann::json sources = nlohmann::json::array();

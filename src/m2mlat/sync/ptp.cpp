@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 
+#include "m2mlat/core/saturating.hpp"
 #include "m2mlat/sync/text.hpp"
 
 namespace m2mlat::sync {
@@ -102,8 +103,8 @@ store::ClockSample ptp_sample(const PtpStatus& status, core::TimePoint time) {
   sample.time = time;
   sample.source = "ptp";
   sample.offset_ns = status.master_offset_ns;
-  const std::int64_t abs_offset = std::llabs(status.master_offset_ns);
-  sample.max_error_ns = abs_offset + std::llabs(status.mean_path_delay_ns);
+  const std::int64_t abs_offset = core::saturating_abs(status.master_offset_ns);
+  sample.max_error_ns = core::saturating_add(abs_offset, core::saturating_abs(status.mean_path_delay_ns));
   sample.est_error_ns = abs_offset;
   sample.synchronised = status.gm_present && status.steps_removed >= 1;
   sample.detail_json = nlohmann::json{{"port_identity", status.port_identity},

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <nlohmann/json.hpp>
 
 #include "fixtures.hpp"
@@ -142,6 +144,18 @@ TEST(ChronySample, ErrorBoundsFromTracking) {
   const auto u = chrony_sample(unsynced, time);
   EXPECT_FALSE(u.synchronised);
   EXPECT_EQ(u.max_error_ns, 1'000'000'000 + 500'000'000);
+}
+
+TEST(ChronySample, AnAbsurdReportGivesTheLargestBoundNotAnOverflow) {
+  // Offsets and dispersions of billions of seconds parse (they fit in int64 ns); their sum does not.
+  ChronyReport r;
+  r.tracking.system_offset_ns = -8'000'001'284'000'000'000;
+  r.tracking.root_dispersion_ns = 3'500'003'042'500'000'000;
+  r.tracking.root_delay_ns = 7'000'006'085'000'000'000;
+  const auto s = chrony_sample(r, core::TimePoint::from_ns(core::Clock::realtime, 0));
+  EXPECT_EQ(s.max_error_ns, std::numeric_limits<std::int64_t>::max());
+  r.tracking.system_offset_ns = std::numeric_limits<std::int64_t>::min();
+  EXPECT_EQ(chrony_sample(r, {}).max_error_ns, std::numeric_limits<std::int64_t>::max());
 }
 
 TEST(ChronyReader, RunsChronycWithTheSocketAndParses) {
