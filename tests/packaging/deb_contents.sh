@@ -25,13 +25,17 @@ for arch in amd64 arm64; do
   [ "$(field Architecture)" = "$arch" ] || fail "$deb: Architecture $(field Architecture), expected $arch"
   depends=$(field Depends)
   for lib in libc6 libstdc++6 libgcc-s1 libsqlite3-0 libfmt9 libcpp-httplib0.11 adduser; do
-    echo "$depends" | grep -Eq "(^|, )$lib( |,|$)" || fail "$deb: Depends lacks $lib: $depends"
+    # Package names compared as fixed strings ("libstdc++6" is not a regular expression).
+    echo "$depends" | tr ',' '\n' | sed 's/^ *//; s/ .*//' | grep -qxF "$lib" || fail "$deb: Depends lacks $lib: $depends"
   done
   case $depends in *-cross*) fail "$deb: Depends names the cross toolchain: $depends" ;; esac
   echo "$depends" | tr ',' '\n' | sed 's/^ *//; s/ .*//' | sort >"$WORK/$arch.depends"
-  dpkg-deb -I "$deb" | grep -q '^ *postinst' || fail "$deb: no postinst"
-  dpkg-deb --ctrl-tarfile "$deb" | tar -xO ./conffiles | grep -qx /etc/m2mlat/agent.toml.example ||
-    fail "$deb: agent.toml.example is not a conffile"
+  # Outputs are captured before grep -q looks at them: grep stops at its first match, and under
+  # pipefail the writer's SIGPIPE would fail the check.
+  info=$(dpkg-deb -I "$deb")
+  grep -Eq '[[:space:]]postinst([[:space:]]|$)' <<<"$info" || fail "$deb: no postinst: $info"
+  conffiles=$(dpkg-deb --ctrl-tarfile "$deb" | tar -xO ./conffiles)
+  grep -qx /etc/m2mlat/agent.toml.example <<<"$conffiles" || fail "$deb: agent.toml.example is not a conffile"
   dpkg-deb -c "$deb" | awk '{print $6}' >"$WORK/$arch.files"
   for f in $FILES; do grep -qx "$f" "$WORK/$arch.files" || fail "$deb: $f missing"; done
   mkdir "$WORK/$arch"
@@ -54,7 +58,8 @@ fi
 # Every man page names its subcommand; every subcommand of `m2mlat help` has one.
 for page in "$WORK"/amd64/usr/share/man/man1/*.1.gz; do
   name=$(basename "$page" .1.gz)
-  zcat "$page" | grep -q "^$name \\\\- " || fail "$name.1 has no NAME line"
+  text=$(zcat "$page")
+  grep -q "^$name \\\\- " <<<"$text" || fail "$name.1 has no NAME line"
 done
 
 # The completion: subcommands after `m2mlat`, a subcommand's options after it, files for values.
@@ -64,9 +69,9 @@ complete_words() {  # complete_words WORD... : the candidates for the last word
     _ "$completion" "$@"
 }
 [ "$(complete_words m2mlat rec)" = record ] || fail "completion of 'm2mlat rec': $(complete_words m2mlat rec)"
-complete_words m2mlat '' | grep -qx report || fail "'m2mlat <TAB>' lacks report"
-complete_words m2mlat record --st | grep -qx -- --store || fail "'m2mlat record --st' lacks --store"
-complete_words m2mlat record --store x.db --dur | grep -qx -- --duration || fail "'record ... --dur' lacks --duration"
-complete_words m2mlat export --dur | grep -q . && fail "'export --dur' offers record's options"
+grep -qx report <<<"$(complete_words m2mlat '')" || fail "'m2mlat <TAB>' lacks report"
+grep -qx -- --store <<<"$(complete_words m2mlat record --st)" || fail "'m2mlat record --st' lacks --store"
+grep -qx -- --duration <<<"$(complete_words m2mlat record --store x.db --dur)" || fail "'record ... --dur' lacks --duration"
+[ -z "$(complete_words m2mlat export --dur)" ] || fail "'export --dur' offers record's options"
 [ -z "$(complete_words m2mlat export st)" ] || fail "a value after a subcommand should be left to file names"
 echo "deb_contents: ok"
