@@ -77,6 +77,8 @@ else
   in_root apt-get clean
   tar -C "$ROOT" -cf "$CACHE/$SUITE-root.tar.part" . && mv "$CACHE/$SUITE-root.tar.part" "$CACHE/$SUITE-root.tar"
 fi
+# The root's "/": mktemp made it 0700 (and the cached tar keeps that), which only root could enter.
+chmod 755 "$ROOT"
 cp /etc/resolv.conf "$ROOT/etc/resolv.conf"
 mount -t proc proc "$ROOT/proc"
 mount --bind /dev "$ROOT/dev"
@@ -95,9 +97,9 @@ apt_in_root install --no-install-recommends "$PKG"
 [ "$(in_root m2mlat --version)" = "m2mlat $(dpkg-deb -f "$DEB" Version | sed 's/-[^-]*$//')" ] ||
   fail "m2mlat --version in the root: $(in_root m2mlat --version)"
 in_root getent passwd m2mlat >/dev/null || fail "no user m2mlat"
-in_root id -nG m2mlat | grep -qw gpio || fail "m2mlat is not in the group gpio"
-[ "$(stat -c '%U:%G %a' "$ROOT/var/lib/m2mlat")" = "m2mlat:m2mlat 750" ] ||
-  fail "/var/lib/m2mlat is $(stat -c '%U:%G %a' "$ROOT/var/lib/m2mlat")"
+grep -qw gpio <<<"$(in_root id -nG m2mlat)" || fail "m2mlat is not in the group gpio"
+[ "$(in_root stat -c '%U:%G %a' /var/lib/m2mlat)" = "m2mlat:m2mlat 750" ] ||
+  fail "/var/lib/m2mlat is $(in_root stat -c '%U:%G %a' /var/lib/m2mlat)"
 for f in /usr/lib/systemd/system/m2mlat-agent@.service /usr/lib/udev/rules.d/60-m2mlat-gpio.rules \
          /usr/libexec/m2mlat/irq-affinity /etc/m2mlat/agent.toml.example /usr/share/man/man1/m2mlat.1.gz \
          /usr/share/man/man1/m2mlat-record.1.gz /usr/share/bash-completion/completions/m2mlat; do
@@ -110,8 +112,9 @@ in_root sh -c 'cd /tmp && m2mlat record --config /etc/m2mlat/agent.toml.example 
   >/dev/null || fail "the example configuration does not load"
 
 log "the unit's command as the user m2mlat (simulated source), stopped by SIGTERM"
-# chroot and sh exec, so $! is the agent itself.
-in_root chroot --userspec=m2mlat:m2mlat / sh -c 'cd /var/lib/m2mlat && exec m2mlat agent \
+# chroot and sh exec, so $! is the agent itself (not through in_root: a function in the background
+# is a subshell, and SIGTERM would end that instead).
+chroot "$ROOT" chroot --userspec=m2mlat:m2mlat / sh -c 'cd /var/lib/m2mlat && exec m2mlat agent \
   --config /etc/m2mlat/agent.toml.example --store /var/lib/m2mlat/smoke.db --listen 127.0.0.1:0 --source sim' \
   >"$ROOT/tmp/agent.out" 2>"$ROOT/tmp/agent.err" &
 AGENT_PID=$!
@@ -121,7 +124,7 @@ sleep 1
 kill -TERM "$AGENT_PID"
 wait "$AGENT_PID" || { cat "$ROOT/tmp/agent.err" >&2; fail "the agent did not stop cleanly on SIGTERM"; }
 AGENT_PID=
-[ "$(stat -c %U "$ROOT/var/lib/m2mlat/smoke.db")" = m2mlat ] || fail "the agent's store is not the user m2mlat's"
+[ "$(in_root stat -c %U /var/lib/m2mlat/smoke.db)" = m2mlat ] || fail "the agent's store is not the user m2mlat's"
 rm -f "$ROOT"/var/lib/m2mlat/smoke.db*
 
 log "systemd-analyze verify on an instance of the unit, in the root"
@@ -139,15 +142,16 @@ echo "# edited by the administrator" >>"$ROOT/etc/m2mlat/agent.toml.example"
 echo 'node = "vehicle"' >"$ROOT/etc/m2mlat/vehicle.toml"
 same_data() {  # same_data WHEN
   [ -f "$ROOT/var/lib/m2mlat/vehicle.db" ] || fail "$1: /var/lib/m2mlat/vehicle.db is gone"
-  [ "$(stat -c %U "$ROOT/var/lib/m2mlat/vehicle.db")" = m2mlat ] || fail "$1: the store changed owner"
+  [ "$(in_root stat -c %U /var/lib/m2mlat/vehicle.db)" = m2mlat ] || fail "$1: the store changed owner"
   [ -f "$ROOT/etc/m2mlat/vehicle.toml" ] || fail "$1: /etc/m2mlat/vehicle.toml is gone"
   # Read with the host's own sqlite3 when the package (and its m2mlat) is gone.
   if [ -x "$ROOT/usr/bin/m2mlat" ]; then
     in_root m2mlat export /var/lib/m2mlat/vehicle.db -o - >"$ROOT/tmp/after.csv"
     cmp -s "$ROOT/tmp/before.csv" "$ROOT/tmp/after.csv" || fail "$1: the store's events changed"
   else
+    # The export's rows: all but its "# format" line and its header.
     [ "$(sqlite3 "$ROOT/var/lib/m2mlat/vehicle.db" 'SELECT count(*) FROM events')" -eq \
-      "$(($(wc -l <"$ROOT/tmp/before.csv") - 1))" ] || fail "$1: the store's events changed"
+      "$(grep -cvE '^(#|node,)' "$ROOT/tmp/before.csv")" ] || fail "$1: the store's events changed"
   fi
 }
 
