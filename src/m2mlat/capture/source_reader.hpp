@@ -11,8 +11,9 @@
 // When events come faster than one per `coalesce` (two reads that found events less than that
 // apart), the thread waits `coalesce` after each read before it looks again, so that one wake-up
 // reads many events (one read(2) of up to 1024) instead of one. A read is then late by at most
-// coalesce plus scheduling delay, far less than the time the kernel's buffer of 1024 events lasts at
-// any rate a sensor produces (10 ms at 100,000 edges/s). Slower events are read as they come.
+// coalesce plus scheduling delay, less than the time the kernel's buffer of 1024 events lasts at
+// any rate a sensor produces (10 ms at 100,000 edges/s; a Hall sensor on a steering wheel gives
+// well under 1,000). Slower events are read as they come.
 #pragma once
 
 #include <pthread.h>
@@ -35,7 +36,7 @@ namespace m2mlat::capture {
 struct SourceReaderOptions {
   std::size_t chunk_events = 1024;                         // events per chunk, at most this many per read
   std::size_t chunks = 16;                                 // the queue's bound, in chunks
-  core::Duration coalesce = std::chrono::milliseconds(1);  // pause after a read that found events (0: none)
+  core::Duration coalesce = std::chrono::milliseconds(5);  // pause after a read that found events (0: none)
   std::size_t wake_events = 512;  // the consumer's descriptor turns readable once this many are queued
 };
 
