@@ -24,12 +24,12 @@ for arch in amd64 arm64; do
   [ "$(field Package)" = m2mlat ] || fail "$deb: Package $(field Package)"
   [ "$(field Architecture)" = "$arch" ] || fail "$deb: Architecture $(field Architecture), expected $arch"
   depends=$(field Depends)
+  # The package names alone, one a line, compared as fixed strings ("libstdc++6" is no regex).
+  tr ',' '\n' <<<"$depends" | sed 's/^ *//; s/ .*//' | sort >"$WORK/$arch.depends"
   for lib in libc6 libstdc++6 libgcc-s1 libsqlite3-0 libfmt9 libcpp-httplib0.11 adduser; do
-    # Package names compared as fixed strings ("libstdc++6" is not a regular expression).
-    echo "$depends" | tr ',' '\n' | sed 's/^ *//; s/ .*//' | grep -qxF "$lib" || fail "$deb: Depends lacks $lib: $depends"
+    grep -qxF "$lib" "$WORK/$arch.depends" || fail "$deb: Depends lacks $lib: $depends"
   done
   case $depends in *-cross*) fail "$deb: Depends names the cross toolchain: $depends" ;; esac
-  echo "$depends" | tr ',' '\n' | sed 's/^ *//; s/ .*//' | sort >"$WORK/$arch.depends"
   # Outputs are captured before grep -q looks at them: grep stops at its first match, and under
   # pipefail the writer's SIGPIPE would fail the check.
   info=$(dpkg-deb -I "$deb")

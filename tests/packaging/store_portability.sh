@@ -32,6 +32,7 @@ read_all() {  # read_all amd|arm STORE PREFIX
   cat "$p".pairs-*.csv >"$p.pairs.csv"
   $run stats "$store" --json --seed 1 >"$p.stats.json"
 }
+rows() { grep -cvE '^#|^(node|cause_node),' "$1"; }  # a CSV export's rows: no format line, no header
 same() {  # same A B WHAT
   cmp -s "$1" "$2" || { diff -u "$1" "$2" | head -n 20 >&2; fail "$3: $1 and $2 differ"; }
 }
@@ -45,10 +46,10 @@ for store in amd arm; do
   read_all amd "$store.db" "$store-by-amd"
   read_all arm "$store.db" "$store-by-arm"
 done
-[ "$(wc -l <amd-by-amd.events.csv)" -gt 100 ] || fail "the simulated store has too few events"
+[ "$(rows amd-by-amd.events.csv)" -gt 100 ] || fail "the simulated store has too few events"
 for f in events.csv events.jsonl pairs.csv stats.json; do
   same "amd-by-amd.$f" "amd-by-arm.$f" "the amd64 store read on arm64 ($f)"
   same "arm-by-arm.$f" "arm-by-amd.$f" "the arm64 store read on amd64 ($f)"
   same "amd-by-amd.$f" "arm-by-arm.$f" "the simulator on amd64 and arm64 with one seed ($f)"
 done
-echo "store_portability: $(($(wc -l <amd-by-amd.events.csv) - 1)) events, $(($(grep -cvE '^(#|cause_node,)' amd-by-amd.pairs.csv))) pairs: identical on amd64 and arm64 in both directions"
+echo "store_portability: $(rows amd-by-amd.events.csv) events, $(rows amd-by-amd.pairs.csv) pairs: identical on amd64 and arm64 in both directions"

@@ -21,6 +21,7 @@
 #include "m2mlat/capture/refractory_gate.hpp"
 #include "m2mlat/capture/session_control.hpp"
 #include "m2mlat/capture/source.hpp"
+#include "m2mlat/capture/source_reader.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/store/records.hpp"
 #include "m2mlat/store/store.hpp"
@@ -53,13 +54,10 @@ struct RecorderOptions {
   std::map<std::string, core::Duration> refractory;                 // per channel; missing = none
   std::size_t batch = 512;                                          // events per commit
   core::Duration commit_interval = std::chrono::milliseconds(100);  // longest an event waits for its commit
-  std::size_t read_batch = 1024;  // events per read of the source (the kernel's largest buffer)
-  std::size_t read_chunks = 16;   // the reading queue's bound, in reads of read_batch (SourceReader)
-  // When events come faster than one per read_coalesce, the reader pauses this long after each
-  // read, so that one wake-up takes many (SourceReaderOptions::coalesce). 5 ms rather than 1: at
-  // 10,000 edges/s in the guest it took record's CPU per event from 1.3-1.8x gpiomon's to
-  // 0.5-0.8x (docs/testing.md); the commit interval (100 ms) still dominates the latency.
-  core::Duration read_coalesce = std::chrono::milliseconds(5);
+  // The reading thread's settings (SourceReaderOptions: chunk_events, chunks, coalesce).
+  std::size_t read_batch = SourceReaderOptions{}.chunk_events;  // events per read of the source
+  std::size_t read_chunks = SourceReaderOptions{}.chunks;       // the reading queue's bound, in reads
+  core::Duration read_coalesce = SourceReaderOptions{}.coalesce;  // pause after a read when events come fast
   std::uint64_t max_events = 0;    // stop after this many stored events (0: no limit)
   core::Duration max_duration{0};  // stop after this long (0: no limit)
   // Called at most every progress_interval and once at the end (live counters).

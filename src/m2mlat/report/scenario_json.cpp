@@ -1,7 +1,6 @@
 // Scenario results as JSON. NaN (undefined statistics) becomes null; exact values stay integer ns.
 #include "m2mlat/report/scenario_json.hpp"
 
-
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/report/json_number.hpp"
 

@@ -14,7 +14,6 @@ constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
 // so the last bounces and spurious edges have room.
 constexpr std::int64_t kTailNs = 1'000'000'000;
 
-
 const RigConfig& validated(const RigConfig& config) {
   validate(config);
   return config;
