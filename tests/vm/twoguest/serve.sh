@@ -3,8 +3,9 @@
 # each gets exactly one answer line, "ok ..." or "err ...". Everything else goes to the console.
 #
 #   ping TAG             -> pong ROLE TAG
-#   chrony-start         chronyd with this role's configuration (operator: serves its own clock,
-#                        `local stratum 5`; vehicle: follows 10.0.0.1, polls every 0.25 s, steps)
+#   chrony-start         chronyd with the configuration `m2mlat setup chrony` writes for this role
+#                        (operator: the reference, serves its own clock at `local stratum 5`;
+#                        vehicle: the peer, follows 10.0.0.1, polls every 0.25 s, steps)
 #   chrony-wait SECONDS  until chronyc says synchronised and |system time offset| < 100 us three
 #                        times in a row (1 s apart) -> ok <chronyc -c tracking line>
 #   tracking             -> ok <chronyc -c tracking line>
@@ -23,19 +24,23 @@ AGENT=""
 tracking() { chronyc -c -n tracking 2>&1 | head -n 1; }
 
 chrony_start() {
-  mkdir -p /run/chrony /var/lib/chrony
+  mkdir -p /run/chrony /var/lib/chrony /var/log/chrony
   chmod 750 /run/chrony
+  # The configurations `m2mlat setup chrony` writes for the two co-referenced roles, so that this test
+  # also shows them synchronising two kernels. Operator: local stratum 5 (as a reference without an
+  # upstream server). Vehicle: minpoll/maxpoll -2, a request every 0.25 s (the reference rig polls
+  # every 4 s; the test has seconds, not minutes, to converge); makestep 0.1 -1: the guest boots with
+  # the host's RTC, up to a second off the operator's clock, and is stepped at once. Both keep
+  # rtcsync: once synchronised, chronyd clears the kernel's STA_UNSYNC, so the vehicle's adjtimex
+  # samples say synchronised. The operator's never do: chronyd serving its own clock leaves
+  # STA_UNSYNC set (m2mlat's uncertainty then uses chrony's samples).
   if [ "$ROLE" = operator ]; then
-    printf '%s\n' 'local stratum 5' 'allow 10.0.0.0/24' 'rtcsync' >/etc/chrony.conf
+    m2mlat setup chrony --mode co-referenced --role reference --allow 10.0.0.0/24 --local-stratum 5 \
+      --output /etc/chrony.conf >/dev/console 2>&1
   else
-    # minpoll/maxpoll -2: a request every 0.25 s (the reference rig polls every 4 s; the test has
-    # seconds, not minutes, to converge). makestep 0.1 -1: the guest boots with the host's RTC, up to
-    # a second off the operator's clock, and is stepped at once. rtcsync (on both, as in every
-    # configuration `m2mlat setup chrony` writes): once synchronised, chronyd clears the kernel's
-    # STA_UNSYNC, so the vehicle's adjtimex samples say synchronised. The operator's never do: chronyd
-    # serving its own clock leaves STA_UNSYNC set (m2mlat's uncertainty then uses chrony's samples).
-    printf '%s\n' 'server 10.0.0.1 iburst minpoll -2 maxpoll -2' 'makestep 0.1 -1' 'rtcsync' >/etc/chrony.conf
-  fi
+    m2mlat setup chrony --mode co-referenced --role peer --reference 10.0.0.1 --minpoll -2 --maxpoll -2 \
+      --makestep "0.1 -1" --output /etc/chrony.conf >/dev/console 2>&1
+  fi || return 1
   chronyd -u root -f /etc/chrony.conf >/dev/console 2>&1
 }
 
@@ -91,7 +96,7 @@ while IFS= read -r line; do
   console "command: $cmd $*"
   case $cmd in
     ping) echo "pong $ROLE $*" ;;
-    chrony-start) chrony_start && echo ok || echo "err chronyd did not start" ;;
+    chrony-start) chrony_start && echo ok || echo "err m2mlat setup chrony or chronyd failed (see the console)" ;;
     chrony-wait) chrony_wait "${1:-30}" ;;
     tracking) echo "ok $(tracking)" ;;
     chrony-stop) kill "$(cat /run/chrony/chronyd.pid)" && sleep 0.5 && echo ok || echo "err no chronyd" ;;
