@@ -6,7 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <numeric>
+#include <thread>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/stats/quantile.hpp"
@@ -145,10 +148,17 @@ class RankCounter {
 
 namespace detail {
 
+std::size_t bootstrap_threads(std::size_t n, std::size_t resamples) {
+  // Below ~16 M draws (tens of ms) a thread's start costs more than it saves.
+  if (n * resamples < (std::size_t{1} << 24)) return 1;
+  const std::size_t cores = std::max(1u, std::thread::hardware_concurrency());
+  return std::min<std::size_t>(cores, kMaxBootstrapThreads);
+}
+
 BootstrapQuantiles bootstrap_quantiles(std::span<const std::int64_t> sorted_ns,
                                        std::span<const double> probabilities, std::size_t resamples,
                                        std::uint64_t seed, RankCounting how, std::size_t half_width,
-                                       std::size_t* fallbacks) {
+                                       std::size_t* fallbacks, std::size_t threads) {
   const std::size_t n = sorted_ns.size();
   if (n == 0) throw core::Error(core::ErrorKind::internal, "bootstrap_quantiles: empty sample");
   // A rank's count is at most n; 32-bit counts halve the memory the draws scatter over.
@@ -180,19 +190,49 @@ BootstrapQuantiles bootstrap_quantiles(std::span<const std::int64_t> sorted_ns,
   out.resamples = resamples;
   out.values.resize(resamples * probabilities.size());
 
-  RankCounter counter(sorted_ns, ranks, how, half_width);
-  std::vector<std::int64_t> order_stats(ranks.size());
-  for (std::size_t b = 0; b < resamples; ++b) {
-    counter.resample(Rng::stream(seed, b), order_stats);
-    for (std::size_t k = 0; k < positions.size(); ++k) {
-      const QuantilePosition& at = positions[k];
-      const std::int64_t a = order_stats[slot(at.lower)];
-      out.values[b * positions.size() + k] =
-          at.fraction == 0.0 ? static_cast<double>(a)
-                             : interpolate(a, order_stats[slot(at.lower + 1)], at.fraction);
+  // Resamples b = first .. last-1 into out.values; returns how many fell back to full counting.
+  // Each resample draws from its own stream (seed, b), so how they are shared among threads
+  // changes nothing in the result.
+  const auto run = [&](std::size_t first, std::size_t last) {
+    RankCounter counter(sorted_ns, ranks, how, half_width);
+    std::vector<std::int64_t> order_stats(ranks.size());
+    for (std::size_t b = first; b < last; ++b) {
+      counter.resample(Rng::stream(seed, b), order_stats);
+      for (std::size_t k = 0; k < positions.size(); ++k) {
+        const QuantilePosition& at = positions[k];
+        const std::int64_t a = order_stats[slot(at.lower)];
+        out.values[b * positions.size() + k] =
+            at.fraction == 0.0 ? static_cast<double>(a)
+                               : interpolate(a, order_stats[slot(at.lower + 1)], at.fraction);
+      }
     }
-  }
-  if (fallbacks != nullptr) *fallbacks = counter.fallbacks();
+    return counter.fallbacks();
+  };
+
+  if (threads == 0) threads = bootstrap_threads(n, resamples);
+  threads = std::clamp<std::size_t>(threads, 1, std::max<std::size_t>(resamples, 1));
+  std::vector<std::size_t> fallback_counts(threads, 0);
+  std::vector<std::exception_ptr> errors(threads);
+  {
+    std::vector<std::jthread> workers;
+    for (std::size_t t = 1; t < threads; ++t) {
+      workers.emplace_back([&, t] {
+        try {
+          fallback_counts[t] = run(resamples * t / threads, resamples * (t + 1) / threads);
+        } catch (...) {
+          errors[t] = std::current_exception();
+        }
+      });
+    }
+    try {
+      fallback_counts[0] = run(0, resamples / threads);
+    } catch (...) {
+      errors[0] = std::current_exception();
+    }
+  }  // the workers join here
+  for (const std::exception_ptr& e : errors)
+    if (e) std::rethrow_exception(e);
+  if (fallbacks != nullptr) *fallbacks = std::accumulate(fallback_counts.begin(), fallback_counts.end(), std::size_t{0});
   return out;
 }
 

@@ -11,6 +11,8 @@
 //
 // Cost: about n * B draws at ~1 ns each (measured on x86-64), i.e. 2 s for n = 1e7 with
 // B = 200. B = 2000 suits samples up to ~1e6; for 1e7 samples choose B of a few hundred.
+// Large bootstraps (n * B >= 2^24) share the resamples among up to four threads, one a core;
+// the result does not depend on the number of threads (each resample has its own stream).
 #pragma once
 
 #include <cstddef>
@@ -56,12 +58,17 @@ namespace detail {
 // Exposed for tests and measurements: automatic picks windowed when the windows cover at most
 // an eighth of the sample. half_width 0 means 3 ceil(sqrt(n)) + 32 ranks either side of each
 // wanted order statistic. `fallbacks`, if given, receives the number of resamples that fell
-// outside the windows and were counted in full.
+// outside the windows and were counted in full. `threads` 0 means bootstrap_threads(n, B).
 enum class RankCounting { automatic, full, windowed };
 BootstrapQuantiles bootstrap_quantiles(std::span<const std::int64_t> sorted_ns,
                                        std::span<const double> probabilities, std::size_t resamples,
                                        std::uint64_t seed, RankCounting how, std::size_t half_width = 0,
-                                       std::size_t* fallbacks = nullptr);
+                                       std::size_t* fallbacks = nullptr, std::size_t threads = 0);
+
+// Threads for n samples and B resamples: 1 below 2^24 draws, else one a core, at most
+// kMaxBootstrapThreads (each thread has its own counts: up to 4 n bytes with full counting).
+inline constexpr std::size_t kMaxBootstrapThreads = 4;
+std::size_t bootstrap_threads(std::size_t n, std::size_t resamples);
 }  // namespace detail
 
 struct Interval {

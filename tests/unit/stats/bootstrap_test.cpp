@@ -82,6 +82,28 @@ TEST(Bootstrap, WindowedCountingEqualsFullCounting) {
   EXPECT_EQ(narrow.values, full.values);
 }
 
+TEST(Bootstrap, TheNumberOfThreadsChangesNothing) {
+  // Each resample draws from its own stream, so sharing them among threads (unevenly: 61
+  // resamples among 2 and 3) gives the same values, and the same fallbacks in total.
+  const auto sorted = sorted_copy(lcg_sample(20'000, 78));
+  const std::vector<double> probs = {0.25, 0.5, 0.75, 0.99};
+  using detail::RankCounting;
+  std::size_t one_fallbacks = 0;
+  const BootstrapQuantiles one =
+      detail::bootstrap_quantiles(sorted, probs, 61, 6, RankCounting::windowed, 20, &one_fallbacks, 1);
+  EXPECT_GT(one_fallbacks, 10u);
+  for (const std::size_t threads : {2u, 3u, 100u}) {
+    std::size_t fallbacks = 0;
+    const BootstrapQuantiles many =
+        detail::bootstrap_quantiles(sorted, probs, 61, 6, RankCounting::windowed, 20, &fallbacks, threads);
+    EXPECT_EQ(many.values, one.values) << threads;
+    EXPECT_EQ(fallbacks, one_fallbacks) << threads;
+  }
+  EXPECT_EQ(detail::bootstrap_threads(20'000, 61), 1u);  // 1.2 M draws: one thread
+  EXPECT_GE(detail::bootstrap_threads(10'000'000, 2000), 1u);
+  EXPECT_LE(detail::bootstrap_threads(10'000'000, 2000), detail::kMaxBootstrapThreads);
+}
+
 TEST(Bootstrap, MatchesIndependentPythonImplementation) {
   // reference_values.py: "Bootstrap of lcg_sample(25, 7), B = 300, seed = 2024, level 0.95",
   // computed by drawing with a Python xoshiro256**, sorting, and numpy.percentile.
