@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <future>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/formats/import_file.hpp"
@@ -119,8 +121,12 @@ std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags,
 
   std::vector<analysis::ScenarioResult> results;
   if (!flags.cause_file.empty()) {
+    // The two files are read side by side (reading is a quarter of `stats` on two large logs); an
+    // error in the cause file is still the one reported when both have one.
+    auto effect_read = std::async(std::launch::async, lean_side, std::cref(flags.effect_file), format,
+                                  "effect", std::cref(selection.effect));
     auto cause = lean_side(flags.cause_file, format, "cause", selection.cause);
-    auto effect = lean_side(flags.effect_file, format, "effect", selection.effect);
+    auto effect = effect_read.get();
     const auto scenario = std::filesystem::path(flags.cause_file).stem().string();
     if (cause && effect) {
       results.push_back(
