@@ -10,6 +10,29 @@
 
 namespace m2mlat::stats {
 
+namespace {
+
+// P(U <= u) under the null hypothesis without ties, for samples of m and n values: the number of
+// orderings of the pooled sample with U <= u over all C(m + n, m) of them. The counts by U are the
+// coefficients of the Gaussian binomial [m + n choose m]_q = prod_{i=1..m} (1 - q^(n+i)) / (1 - q^i);
+// only those up to q^u are needed. Dividing by (1 - q^i) first (partitions into parts <= m: running
+// sums of positive terms), multiplying after. Long double: the counts are ~C(m + n, m) at most.
+double exact_cdf(std::size_t m, std::size_t n, std::size_t u) {
+  std::vector<long double> count(u + 1, 0.0L);
+  count[0] = 1.0L;
+  for (std::size_t i = 1; i <= m; ++i)
+    for (std::size_t k = i; k <= u; ++k) count[k] += count[k - i];
+  for (std::size_t i = 1; i <= m; ++i)
+    for (std::size_t k = u + 1; k > n + i; --k) count[k - 1] -= count[k - 1 - (n + i)];  // k - 1 = u .. n + i
+  long double below = 0.0L, total = 1.0L;
+  for (const long double c : count) below += c;
+  for (std::size_t i = 1; i <= m; ++i)
+    total = total * static_cast<long double>(n + i) / static_cast<long double>(i);
+  return static_cast<double>(below / total);
+}
+
+}  // namespace
+
 MannWhitney mann_whitney(std::span<const std::int64_t> a_ns, std::span<const std::int64_t> b_ns) {
   MannWhitney r;
   r.n_a = a_ns.size();
@@ -46,7 +69,16 @@ MannWhitney mann_whitney(std::span<const std::int64_t> a_ns, std::span<const std
   const double variance = na * nb / 12.0 * ((n + 1.0) - tie_term / (n * (n - 1.0)));
   if (!(variance > 0.0)) return r;  // every value equal (or n = 1 + 1 with a tie): no evidence
   r.z = (u - mu - 0.5) / std::sqrt(variance);
-  r.p = std::min(1.0, 2.0 * normal_sf(r.z));
+  // SciPy's rule: the exact distribution when a sample has at most kExactMaxSize values and there
+  // are no ties (tie_term 0). The tail P(U <= min(U_a, U_b)) is summed term by term, so its length
+  // is bounded too (a larger tail means a large p, where the normal approximation is close).
+  const auto u_min = static_cast<std::size_t>(na * nb - u);
+  if (std::min(r.n_a, r.n_b) <= kExactMaxSize && tie_term == 0.0 && u_min < kExactMaxTail) {
+    r.exact = true;
+    r.p = std::min(1.0, 2.0 * exact_cdf(std::min(r.n_a, r.n_b), std::max(r.n_a, r.n_b), u_min));
+  } else {
+    r.p = std::min(1.0, 2.0 * normal_sf(r.z));
+  }
   return r;
 }
 
