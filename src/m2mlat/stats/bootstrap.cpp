@@ -232,7 +232,8 @@ BootstrapQuantiles bootstrap_quantiles(std::span<const std::int64_t> sorted_ns,
   }  // the workers join here
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
-  if (fallbacks != nullptr) *fallbacks = std::accumulate(fallback_counts.begin(), fallback_counts.end(), std::size_t{0});
+  if (fallbacks != nullptr)
+    *fallbacks = std::accumulate(fallback_counts.begin(), fallback_counts.end(), std::size_t{0});
   return out;
 }
 

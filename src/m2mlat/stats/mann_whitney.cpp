@@ -22,8 +22,8 @@ double exact_cdf(std::size_t m, std::size_t n, std::size_t u) {
   count[0] = 1.0L;
   for (std::size_t i = 1; i <= m; ++i)
     for (std::size_t k = i; k <= u; ++k) count[k] += count[k - i];
-  for (std::size_t i = 1; i <= m; ++i)
-    for (std::size_t k = u + 1; k > n + i; --k) count[k - 1] -= count[k - 1 - (n + i)];  // k - 1 = u .. n + i
+  for (std::size_t i = 1; i <= m; ++i)  // downwards: count[k - 1] for k - 1 = u .. n + i
+    for (std::size_t k = u + 1; k > n + i; --k) count[k - 1] -= count[k - 1 - (n + i)];
   long double below = 0.0L, total = 1.0L;
   for (const long double c : count) below += c;
   for (std::size_t i = 1; i <= m; ++i)
