@@ -9,6 +9,7 @@
 #include <exception>
 #include <limits>
 #include <numeric>
+#include <system_error>
 #include <thread>
 
 #include "m2mlat/core/error.hpp"
@@ -211,24 +212,26 @@ BootstrapQuantiles bootstrap_quantiles(std::span<const std::int64_t> sorted_ns,
 
   if (threads == 0) threads = bootstrap_threads(n, resamples);
   threads = std::clamp<std::size_t>(threads, 1, std::max<std::size_t>(resamples, 1));
+  // Share t is resamples [B t / threads, B (t + 1) / threads).
   std::vector<std::size_t> fallback_counts(threads, 0);
   std::vector<std::exception_ptr> errors(threads);
+  const auto run_share = [&](std::size_t t) {
+    try {
+      fallback_counts[t] = run(resamples * t / threads, resamples * (t + 1) / threads);
+    } catch (...) {
+      errors[t] = std::current_exception();
+    }
+  };
   {
     std::vector<std::jthread> workers;
-    for (std::size_t t = 1; t < threads; ++t) {
-      workers.emplace_back([&, t] {
-        try {
-          fallback_counts[t] = run(resamples * t / threads, resamples * (t + 1) / threads);
-        } catch (...) {
-          errors[t] = std::current_exception();
-        }
-      });
-    }
+    std::size_t started = 1;  // share 0 is this thread's
     try {
-      fallback_counts[0] = run(0, resamples / threads);
-    } catch (...) {
-      errors[0] = std::current_exception();
+      for (; started < threads; ++started) workers.emplace_back(run_share, started);
+    } catch (const std::system_error&) {
+      // No more threads to be had (a resource limit): this thread takes the shares left.
     }
+    run_share(0);
+    for (std::size_t t = started; t < threads; ++t) run_share(t);
   }  // the workers join here
   for (const std::exception_ptr& e : errors)
     if (e) std::rethrow_exception(e);
