@@ -179,10 +179,8 @@ RecordCounters Recorder::run(int stop_fd, const std::function<std::string()>& st
     }
   };
 
-  SourceReaderOptions reader_options;
-  reader_options.chunk_events = std::max<std::size_t>(options_.read_batch, 1);
-  reader_options.chunks = options_.read_chunks;
-  reader_options.coalesce = options_.read_coalesce;
+  SourceReaderOptions reader_options = options_.reader;
+  reader_options.chunk_events = std::max<std::size_t>(reader_options.chunk_events, 1);
   reader_options.wake_events = writer_options.max_batch;
   std::vector<std::unique_ptr<ReadResult>> chunks;
   std::optional<SourceReader> reader;

@@ -54,10 +54,9 @@ struct RecorderOptions {
   std::map<std::string, core::Duration> refractory;                 // per channel; missing = none
   std::size_t batch = 512;                                          // events per commit
   core::Duration commit_interval = std::chrono::milliseconds(100);  // longest an event waits for its commit
-  // The reading thread's settings (SourceReaderOptions: chunk_events, chunks, coalesce).
-  std::size_t read_batch = SourceReaderOptions{}.chunk_events;  // events per read of the source
-  std::size_t read_chunks = SourceReaderOptions{}.chunks;       // the reading queue's bound, in reads
-  core::Duration read_coalesce = SourceReaderOptions{}.coalesce;  // pause after a read when events come fast
+  // The reading thread's settings (events per read, queue bound, pause when events come fast); its
+  // wake_events is set from `batch`.
+  SourceReaderOptions reader;
   std::uint64_t max_events = 0;    // stop after this many stored events (0: no limit)
   core::Duration max_duration{0};  // stop after this long (0: no limit)
   // Called at most every progress_interval and once at the end (live counters).
