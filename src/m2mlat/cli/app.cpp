@@ -8,6 +8,7 @@
 
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/core/version.hpp"
 
 namespace m2mlat::cli {
@@ -42,10 +43,11 @@ int run(int argc, char** argv) {
     for (auto& [sub, runner] : runners)
       if (sub->parsed()) return runner();
   } catch (const core::Error& e) {
-    std::cerr << "m2mlat: error: " << e.what() << '\n';
+    // Messages quote input (file names, node names, fields): shown escaped (core/printable.hpp).
+    std::cerr << "m2mlat: error: " << core::printable(e.what()) << '\n';
     return core::exit_code(e.kind());
   } catch (const std::exception& e) {
-    std::cerr << "m2mlat: internal error: " << e.what() << '\n';
+    std::cerr << "m2mlat: internal error: " << core::printable(e.what()) << '\n';
     return core::exit_code(core::ErrorKind::internal);
   }
   return core::exit_code(core::ErrorKind::usage);

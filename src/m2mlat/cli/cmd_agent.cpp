@@ -6,7 +6,6 @@
 #include <fmt/format.h>
 
 #include <cstdio>
-#include <fstream>
 #include <memory>
 
 #include "m2mlat/agent/agent.hpp"
@@ -15,6 +14,8 @@
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/cli/record_setup.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/output_file.hpp"
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/net/auth.hpp"
 
 namespace m2mlat::cli {
@@ -58,7 +59,7 @@ int run_agent(AgentCommand& c) {
   flags.sim_set.insert(flags.sim_set.begin(), "manoeuvres=1000000000");  // years of manoeuvres
   auto setup = prepare_record(flags);
   if (!flags.quiet)
-    for (const auto& line : setup.source->describe()) fmt::print(stderr, "m2mlat: {}\n", line);
+    for (const auto& line : setup.source->describe()) fmt::print(stderr, "m2mlat: {}\n", core::printable(line));
 
   agent::AgentOptions options;
   options.store_path = flags.store_path;
@@ -76,21 +77,19 @@ int run_agent(AgentCommand& c) {
   agent::Agent agent(options, *setup.source);
   agent.start();
   if (!c.port_file.empty()) {
-    std::ofstream out(c.port_file);
-    out << agent.port() << '\n';
-    if (!out) throw core::Error(core::ErrorKind::io, fmt::format("{}: cannot write the port", c.port_file));
+    core::write_output_file(c.port_file, fmt::format("{}\n", agent.port()));
   }
   fmt::print("listening {}\n", agent.address());
   std::fflush(stdout);
   if (!flags.quiet)
-    fmt::print(stderr, "m2mlat: agent of node {} on {}://{}{}\n", setup.node, agent.tls() ? "https" : "http",
+    fmt::print(stderr, "m2mlat: agent of node {} on {}://{}{}\n", core::printable(setup.node), agent.tls() ? "https" : "http",
                agent.address(), options.server.token ? " (bearer token required)" : "");
   apply_rt(setup, flags.quiet);
   const auto counters = agent.run(stop.fd(), [&] { return stop.take(); });
   warn_after_run(setup);
   if (!flags.quiet)
     fmt::print(stderr, "m2mlat: {}: {} events stored, {} dropped, last seq {}, stopped by {}\n",
-               flags.store_path, counters.events, counters.dropped, counters.last_committed_seq,
+               core::printable(flags.store_path), counters.events, counters.dropped, counters.last_committed_seq,
                counters.stop_reason);
   return 0;
 }

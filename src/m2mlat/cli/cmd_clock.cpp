@@ -13,6 +13,7 @@
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/store/store.hpp"
 #include "m2mlat/sync/clock_monitor.hpp"
 
@@ -54,7 +55,7 @@ void print_sample(const store::ClockSample& s) {
   const char* sync = s.synchronised ? "synchronised" : "NOT synchronised";
   if (s.source == "adjtimex") {
     if (d.contains("error")) {
-      fmt::print("kernel:  {}\n", d["error"].get<std::string>());
+      fmt::print("kernel:  {}\n", core::printable(d["error"].get<std::string>()));
       return;
     }
     std::string bits;
@@ -68,14 +69,14 @@ void print_sample(const store::ClockSample& s) {
     fmt::print(
         "chrony:  {} to {} ({}), stratum {}, offset {}, max error {}, est error {}, freq {:+.3f} ppm, leap "
         "{}\n",
-        sync, d["ref_name"].get<std::string>().empty() ? "-" : d["ref_name"].get<std::string>(),
-        d["ref_id"].get<std::string>(), d["stratum"].get<int>(), ns_text(s.offset_ns),
+        sync, d["ref_name"].get<std::string>().empty() ? "-" : core::printable(d["ref_name"].get<std::string>()),
+        core::printable(d["ref_id"].get<std::string>()), d["stratum"].get<int>(), ns_text(s.offset_ns),
         ns_text(s.max_error_ns), ns_text(s.est_error_ns), d["freq_ppm"].get<double>(),
         d["leap_status"].get<std::string>());
     for (const auto& src : d["sources"])
       fmt::print("         {}{} {} stratum {} poll {} reach {:o} offset {} +/- {}\n",
                  src["mode"].get<std::string>(), src["state"].get<std::string>(),
-                 src["name"].get<std::string>(), src["stratum"].get<int>(), src["poll"].get<int>(),
+                 core::printable(src["name"].get<std::string>()), src["stratum"].get<int>(), src["poll"].get<int>(),
                  src["reach"].get<int>(), ns_text(src["adjusted_offset_ns"].get<std::int64_t>()),
                  ns_text(src["error_ns"].get<std::int64_t>()));
   } else if (s.source == "ptp") {

@@ -18,6 +18,7 @@
 #include "m2mlat/collect/coordinator.hpp"
 #include "m2mlat/collect/live_view.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/core/time.hpp"
 
 namespace m2mlat::cli {
@@ -66,13 +67,14 @@ void print_summary(const std::vector<collect::NodeHealth>& health, const std::st
     print_json(j);
     return;
   }
-  fmt::print("{}: {} agent(s)\n", store_path, health.size());
+  fmt::print("{}: {} agent(s)\n", core::printable(store_path), health.size());
   fmt::print("  {:<12} {:<7} {:<12} {:>10} {:>12} {:>12} {:>8}  {}\n", "node", "role", "state", "events",
              "stored up to", "agent last", "lost", "url");
   for (const auto& h : health)
-    fmt::print("  {:<12} {:<7} {:<12} {:>10} {:>12} {:>12} {:>8}  {}\n", h.node.empty() ? "?" : h.node,
+    fmt::print("  {:<12} {:<7} {:<12} {:>10} {:>12} {:>12} {:>8}  {}\n",
+               h.node.empty() ? "?" : core::printable(h.node),
                core::to_string(h.role), collect::to_string(h.state), h.events, h.cursor_seq, h.agent_last_seq,
-               h.lost, h.url);
+               h.lost, core::printable(h.url));
 }
 
 int run_collect(const CollectCommand& c) {
@@ -99,7 +101,7 @@ int run_collect(const CollectCommand& c) {
 
   const bool quiet = c.quiet;
   const auto on_error = [](const std::string& /*url*/, const std::string& message) {
-    fmt::print(stderr, "m2mlat: collect: {}\n", message);
+    fmt::print(stderr, "m2mlat: collect: {}\n", core::printable(message));
   };
 
   // Signals are blocked before any thread starts, so that every thread inherits the mask and
@@ -115,8 +117,8 @@ int run_collect(const CollectCommand& c) {
 
   for (const auto& session : coordinator.start())
     if (!quiet)
-      fmt::print(stderr, "m2mlat: collect: {} began session {} ('{}', '{}')\n", session.node, session.id,
-                 session.label, session.scenario);
+      fmt::print(stderr, "m2mlat: collect: {} began session {} ('{}', '{}')\n", core::printable(session.node),
+                 session.id, core::printable(session.label), core::printable(session.scenario));
 
   // ---- The live views: live pairing of the campaign store, the terminal block (not with --json,
   // whose stdout is the summary) and the dashboard, fed with the agents' health every --refresh.
@@ -136,7 +138,8 @@ int run_collect(const CollectCommand& c) {
       if (!seen[i] && h.state == collect::NodeState::unreachable && h.last_error.empty()) continue;
       if (!quiet || h.state != collect::NodeState::ok)
         fmt::print(
-            stderr, "m2mlat: collect: {} ({}) is {}{}\n", h.url, h.node.empty() ? "?" : h.node,
+            stderr, "m2mlat: collect: {} ({}) is {}{}\n", core::printable(h.url),
+            h.node.empty() ? "?" : core::printable(h.node),
             collect::to_string(h.state),
             h.state == collect::NodeState::stale
                 ? fmt::format(" (no answer for {})", core::format_duration(core::Duration(

@@ -10,6 +10,7 @@
 #include "m2mlat/capture/gpio_device.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
+#include "m2mlat/core/printable.hpp"
 
 namespace m2mlat::cli {
 
@@ -55,19 +56,22 @@ int run_doctor(bool json) {
   } else {
     for (const auto& chip : report.chips) {
       if (!chip.error.empty()) {
-        fmt::print("{}: {}\n", chip.chip.path, chip.error);
+        fmt::print("{}: {}\n", core::printable(chip.chip.path), core::printable(chip.error));
         continue;
       }
-      fmt::print("{} [{}] ({} lines)\n", chip.chip.name, chip.chip.label, chip.chip.lines);
+      fmt::print("{} [{}] ({} lines)\n", core::printable(chip.chip.name), core::printable(chip.chip.label),
+                 chip.chip.lines);
       for (const auto& line : chip.lines) {
         if (line.name.empty() && !line.used()) continue;  // unnamed and free: nothing to say
-        fmt::print("  line {:>3}: {:<16} {}\n", line.offset, line.name.empty() ? "unnamed" : line.name,
-                   line.used() ? fmt::format("used by '{}' ({})", line.consumer, line_flags(line)) : "free");
+        fmt::print("  line {:>3}: {:<16} {}\n", line.offset,
+                   line.name.empty() ? "unnamed" : core::printable(line.name),
+                   line.used() ? fmt::format("used by '{}' ({})", core::printable(line.consumer), line_flags(line))
+                               : "free");
       }
     }
     if (!report.chips.empty()) fmt::print("\n");
     for (const auto& f : report.findings) {
-      fmt::print("[{:<4}] {:<11} {}\n", capture::to_string(f.status), f.check, f.detail);
+      fmt::print("[{:<4}] {:<11} {}\n", capture::to_string(f.status), f.check, core::printable(f.detail));
       if (!f.fix.empty() && f.status != capture::Status::ok) fmt::print("       {:<11} fix: {}\n", "", f.fix);
     }
     fmt::print("\n{}\n",

@@ -11,6 +11,7 @@
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/store/store.hpp"
 
@@ -136,10 +137,10 @@ int run_import(const ImportCommand& c) {
   } else {
     for (const auto& f : report)
       for (const auto& s : f["sessions"])
-        fmt::print("{} ({}): {} events of {} ({}) -> scenario '{}'\n", f["file"].get<std::string>(),
-                   f["format"].get<std::string>(), s["events"].get<std::size_t>(),
-                   s["node"].get<std::string>(), s["role"].get<std::string>(),
-                   s["scenario"].get<std::string>());
+        fmt::print("{} ({}): {} events of {} ({}) -> scenario '{}'\n",
+                   core::printable(f["file"].get<std::string>()), f["format"].get<std::string>(),
+                   s["events"].get<std::size_t>(), core::printable(s["node"].get<std::string>()),
+                   s["role"].get<std::string>(), core::printable(s["scenario"].get<std::string>()));
   }
   return 0;
 }

@@ -8,6 +8,7 @@
 #include "m2mlat/campaign/merge.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::cli {
@@ -32,7 +33,8 @@ int run_merge(const MergeCommand& c) {
                       {"clock_samples", r.clock_samples},
                       {"losses", r.losses}});
     if (!c.json)
-      fmt::print("{} ({}): {} new events, {} clock samples, {} losses\n", r.path, fmt::join(r.nodes, ", "),
+      fmt::print("{} ({}): {} new events, {} clock samples, {} losses\n", core::printable(r.path),
+                 core::printable(fmt::format("{}", fmt::join(r.nodes, ", "))),
                  r.events, r.clock_samples, r.losses);
   }
   if (c.json) print_json({{"campaign", c.campaign}, {"merged", report}});

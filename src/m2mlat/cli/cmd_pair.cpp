@@ -9,8 +9,8 @@
 #include "m2mlat/cli/inputs.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/output_file.hpp"
 #include "m2mlat/formats/import_file.hpp"
-#include "m2mlat/formats/output_text.hpp"
 #include "m2mlat/report/scenario_json.hpp"
 #include "m2mlat/report/scenario_text.hpp"
 
@@ -30,7 +30,7 @@ struct PairCommand {
 // Unmatched events as CSV: side, index in the side's input, source id (store seq or file index), time,
 // reason.
 void write_unmatched(const std::string& path, const std::vector<analysis::ScenarioResult>& results) {
-  formats::write_file_atomically(path, [&](std::ostream& out) {
+  core::write_output_file(path, [&](std::ostream& out) {
     out << "scenario,side,node,channel,source_id,time_ns,reason\n";
     for (const auto& r : results)
       for (const auto& u : r.match.unmatched) {

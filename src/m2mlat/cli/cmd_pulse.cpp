@@ -15,6 +15,7 @@
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/rt/scheduling.hpp"
 #include "m2mlat/store/event_writer.hpp"
 #include "m2mlat/store/store.hpp"
@@ -109,7 +110,9 @@ int run_pulse(const PulseCommand& c) {
         "most\n",
         summary.edges, core::format_duration(options.period), summary.stop_reason,
         core::format_duration(mean_late), core::format_duration(summary.max_late));
-    if (store) fmt::print("{}: session {} (node {}, channel pulse)\n", c.store_path, session_id, c.node);
+    if (store)
+      fmt::print("{}: session {} (node {}, channel pulse)\n", core::printable(c.store_path), session_id,
+                 core::printable(c.node));
   }
   return 0;
 }

@@ -14,6 +14,7 @@
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/cli/record_setup.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::cli {
@@ -33,7 +34,7 @@ int run_record(RecordFlags& c) {
   const auto& source_kind = setup.source_kind;
   auto& source = setup.source;
   if (!c.quiet)
-    for (const auto& line : source->describe()) fmt::print(stderr, "m2mlat: {}\n", line);
+    for (const auto& line : source->describe()) fmt::print(stderr, "m2mlat: {}\n", core::printable(line));
   auto options = setup.options;
   if (!c.quiet && stderr_is_terminal()) options.on_progress = print_counters;
 
@@ -65,12 +66,12 @@ int run_record(RecordFlags& c) {
     }
     print_json(j);
   } else {
-    fmt::print("{}: session {} of node {} ({}), {} events, stopped by {}\n", c.store_path,
-               counters.session_id, node, core::to_string(role), counters.events, counters.stop_reason);
+    fmt::print("{}: session {} of node {} ({}), {} events, stopped by {}\n", core::printable(c.store_path),
+               counters.session_id, core::printable(node), core::to_string(role), counters.events, counters.stop_reason);
     fmt::print("  {:<16} {:>10} {:>10} {:>8}  {}\n", "channel", "events", "suppressed", "losses",
                "last timestamp");
     for (const auto& ch : counters.channels)
-      fmt::print("  {:<16} {:>10} {:>10} {:>8}  {}\n", ch.channel, ch.events, ch.suppressed, ch.lost,
+      fmt::print("  {:<16} {:>10} {:>10} {:>8}  {}\n", core::printable(ch.channel), ch.events, ch.suppressed, ch.lost,
                  ch.last ? core::format_seconds(ch.last->ns()) : "-");
     if (counters.node_lost > 0) fmt::print("  {} kernel-log records lost (node-wide)\n", counters.node_lost);
     if (const auto& h = counters.commit_latency; h.count() > 0)

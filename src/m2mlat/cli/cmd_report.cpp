@@ -16,6 +16,7 @@
 #include "m2mlat/cli/inputs.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/output_file.hpp"
 #include "m2mlat/core/version.hpp"
 #include "m2mlat/report/html_report.hpp"
 #include "m2mlat/report/pgfplots.hpp"
@@ -71,13 +72,6 @@ std::string command_line() {
     start = end + 1;
   }
   return out.empty() ? "m2mlat report" : out;
-}
-
-void write_file(const std::filesystem::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << text;
-  out.close();
-  if (!out) throw core::Error(core::ErrorKind::io, fmt::format("{}: cannot write", path.string()));
 }
 
 std::vector<std::pair<std::string, std::vector<std::string>>> parse_groups(
@@ -221,14 +215,14 @@ Runner attach_report(CLI::App& sub) {
       if (ec)
         throw core::Error(core::ErrorKind::io,
                           fmt::format("{}: cannot create: {}", c->out_dir, ec.message()));
-      write_file(dir / "report.html", report::report_html(r));
-      write_file(dir / "report.md", report::report_markdown(r));
-      write_file(dir / "report.json", report::report_document(r).dump(2) + "\n");
-      write_file(dir / "scenarios.csv", report::scenarios_csv(r));
-      write_file(dir / "comparisons.csv", report::comparisons_csv(r));
+      core::write_output_file((dir / "report.html").string(), report::report_html(r));
+      core::write_output_file((dir / "report.md").string(), report::report_markdown(r));
+      core::write_output_file((dir / "report.json").string(), report::report_document(r).dump(2) + "\n");
+      core::write_output_file((dir / "scenarios.csv").string(), report::scenarios_csv(r));
+      core::write_output_file((dir / "comparisons.csv").string(), report::comparisons_csv(r));
       report::write_pgfplots(r, dir / "pgfplots");
     }
-    if (!c->html.empty()) write_file(c->html, report::report_html(r));
+    if (!c->html.empty()) core::write_output_file(c->html, report::report_html(r));
     if (!c->pgfplots_dir.empty()) report::write_pgfplots(r, c->pgfplots_dir);
     if (c->format == "json")
       print_json(report::report_document(r));

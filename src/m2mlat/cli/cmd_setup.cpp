@@ -5,7 +5,6 @@
 //                 prints the configuration; --dry-run prints every change without making it.
 //   setup gpio | irq | pin-chrony | agent | board: setup_parts.cpp; their plans are in src/m2mlat/setup/.
 #include <fmt/format.h>
-#include <sys/stat.h>
 
 #include <algorithm>
 #include <array>
@@ -17,6 +16,7 @@
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/setup_parts.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/setup/apply.hpp"
 #include "m2mlat/sync/chrony_config.hpp"
 
 namespace m2mlat::cli {
@@ -34,7 +34,7 @@ std::string read_file_if_any(const std::string& path) {
 }
 
 // Prints what it is about to do, then (unless dry_run) does it: a backup of a different existing
-// file (<path>.m2mlat-backup), then the new content (written to a temporary file and renamed).
+// file (<path>.m2mlat-backup), then the new content (setup::replace_file).
 void write_file(const std::string& path, const std::string& content, bool dry_run) {
   namespace fs = std::filesystem;
   const bool exists = fs::exists(path);
@@ -51,24 +51,7 @@ void write_file(const std::string& path, const std::string& content, bool dry_ru
   std::istringstream lines(content);
   for (std::string line; std::getline(lines, line);) fmt::print("  | {}\n", line);
   if (dry_run) return;
-  std::error_code ec;
-  if (!dir.empty()) fs::create_directories(dir, ec);
-  if (ec)
-    throw core::Error(core::ErrorKind::io, fmt::format("{}: cannot create: {}", dir.string(), ec.message()));
-  if (exists) {
-    fs::copy_file(path, path + ".m2mlat-backup", fs::copy_options::overwrite_existing, ec);
-    if (ec) throw core::Error(core::ErrorKind::io, fmt::format("{}: cannot back up: {}", path, ec.message()));
-  }
-  const std::string tmp = path + ".m2mlat-new";
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    out << content;
-    out.close();
-    if (!out) throw core::Error(core::ErrorKind::io, fmt::format("{}: cannot write", tmp));
-  }
-  ::chmod(tmp.c_str(), 0644);
-  fs::rename(tmp, path, ec);
-  if (ec) throw core::Error(core::ErrorKind::io, fmt::format("{}: cannot write: {}", path, ec.message()));
+  setup::replace_file(path, content, 0644);
 }
 
 // ---- setup chrony ----

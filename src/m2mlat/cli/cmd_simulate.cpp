@@ -3,13 +3,14 @@
 #include <fmt/format.h>
 
 #include <filesystem>
-#include <fstream>
 #include <memory>
 
 #include "m2mlat/campaign/sim_to_store.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/output_file.hpp"
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/formats/format.hpp"
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/formats/kernel_log_writer.hpp"
@@ -66,20 +67,23 @@ void write_files(const sim::RigConfig& config, const std::string& dir, formats::
   };
   std::vector<sim::TruePair> truth;
   if (format == formats::Format::kernel_log) {
-    std::ofstream cause(name(config.cause_node, ".log")), effect(name(config.effect_node, ".log"));
-    if (!cause || !effect) throw core::Error(core::ErrorKind::io, fmt::format("cannot write in {}", dir));
-    formats::KernelLogWriter cause_log(cause, pin), effect_log(effect, pin);
-    sim::Generator generator(config);
-    sim::Chunk chunk;
-    std::int64_t total = 0;
-    while (generator.next(chunk, 1 << 18)) {
-      cause_log.write(chunk.cause_events);
-      effect_log.write(chunk.effect_events);
-      truth.insert(truth.end(), chunk.pairs.begin(), chunk.pairs.end());
-      total += static_cast<std::int64_t>(chunk.event_count());
-      progress(fmt::format("simulating: {} events", total));
-    }
-    progress_done();
+    // Both logs are written at once, chunk by chunk: the effect's file inside the cause's.
+    core::write_output_file(name(config.cause_node, ".log"), [&](std::ostream& cause) {
+      core::write_output_file(name(config.effect_node, ".log"), [&](std::ostream& effect) {
+        formats::KernelLogWriter cause_log(cause, pin), effect_log(effect, pin);
+        sim::Generator generator(config);
+        sim::Chunk chunk;
+        std::int64_t total = 0;
+        while (generator.next(chunk, 1 << 18)) {
+          cause_log.write(chunk.cause_events);
+          effect_log.write(chunk.effect_events);
+          truth.insert(truth.end(), chunk.pairs.begin(), chunk.pairs.end());
+          total += static_cast<std::int64_t>(chunk.event_count());
+          progress(fmt::format("simulating: {} events", total));
+        }
+        progress_done();
+      });
+    });
   } else {
     const auto run = sim::simulate(config);
     const char* ext = format == formats::Format::events_jsonl ? ".jsonl" : ".csv";
@@ -87,7 +91,7 @@ void write_files(const sim::RigConfig& config, const std::string& dir, formats::
     formats::export_events(name(config.effect_node, ext), format, run.effect_events);
     truth = run.pairs;
   }
-  formats::write_file_atomically(name("truth", ".csv"), [&](std::ostream& out) { write_truth(out, truth); });
+  core::write_output_file(name("truth", ".csv"), [&](std::ostream& out) { write_truth(out, truth); });
 }
 
 int run_simulate(const SimulateCommand& c) {
@@ -114,13 +118,14 @@ int run_simulate(const SimulateCommand& c) {
         });
     progress_done();
     fmt::print("{}: scenario {} recorded: {} events on {} (session {}), {} on {} (session {})\n",
-               c.store_path, config.scenario, run.cause_events, config.cause_node, run.cause_session,
-               run.effect_events, config.effect_node, run.effect_session);
+               core::printable(c.store_path), core::printable(config.scenario), run.cause_events,
+               core::printable(config.cause_node), run.cause_session, run.effect_events,
+               core::printable(config.effect_node), run.effect_session);
   }
   if (!c.out_dir.empty()) {
     write_files(config, c.out_dir, format, c.pin);
-    fmt::print("{}: {} and {} events ({}), truth.csv\n", c.out_dir, config.cause_node, config.effect_node,
-               c.format);
+    fmt::print("{}: {} and {} events ({}), truth.csv\n", core::printable(c.out_dir),
+               core::printable(config.cause_node), core::printable(config.effect_node), c.format);
   }
   return 0;
 }

@@ -7,6 +7,7 @@
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/inputs.hpp"
 #include "m2mlat/cli/output.hpp"
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/report/scenario_json.hpp"
 #include "m2mlat/report/scenario_text.hpp"
@@ -45,7 +46,7 @@ std::string sync_text(const std::string& path, const formats::SyncImport& sync,
                    s.min ? report::ms_text(s.min->ms(), 3) : "-", report::ms_text(s.median_ms, 3),
                    report::ms_text(s.p95_ms, 3), s.max ? report::ms_text(s.max->ms(), 3) : "-"});
   }
-  return fmt::format("synchronisation test {}\n{}", path, table.render());
+  return fmt::format("synchronisation test {}\n{}", core::printable(path), table.render());
 }
 
 struct StatsCommand {

@@ -14,8 +14,9 @@
 #include "m2mlat/cli/inputs.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/output_file.hpp"
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/formats/import_file.hpp"
-#include "m2mlat/formats/output_text.hpp"
 #include "m2mlat/report/svg_plot.hpp"
 #include "m2mlat/report/table.hpp"
 #include "m2mlat/selftest/synctest.hpp"
@@ -173,7 +174,8 @@ selftest::SyncTestResult run(const SynctestCommand& c) {
 std::string us(double ns) { return std::isnan(ns) ? "-" : fmt::format("{:.1f}", ns / 1e3); }
 
 std::string text(const selftest::SyncTestResult& r) {
-  std::string out = fmt::format("synchronisation test: {}\n{} pulses paired", r.source, r.series.size());
+  std::string out =
+      fmt::format("synchronisation test: {}\n{} pulses paired", core::printable(r.source), r.series.size());
   if (r.period.count() > 0)
     out += fmt::format(" (period {}; {} on A only, {} on B only)", core::format_duration(r.period),
                        r.unmatched_a, r.unmatched_b);
@@ -259,10 +261,10 @@ Runner attach_synctest(CLI::App& sub) {
   return [c] {
     const auto r = run(*c);
     if (!c->csv_out.empty())
-      formats::write_file_atomically(c->csv_out,
+      core::write_output_file(c->csv_out,
                                      [&](std::ostream& out) { selftest::write_series_csv(out, r); });
     if (!c->svg_out.empty())
-      formats::write_file_atomically(c->svg_out, [&](std::ostream& out) { out << svg(r); });
+      core::write_output_file(c->svg_out, [&](std::ostream& out) { out << svg(r); });
     if (c->json)
       print_json(selftest::synctest_json(r, c->series));
     else if (c->csv_out != "-")

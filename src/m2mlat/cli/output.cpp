@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include "m2mlat/core/printable.hpp"
+
 namespace m2mlat::cli {
 
 void print_json(const nlohmann::json& document) { std::cout << document.dump(2) << '\n'; }
@@ -14,13 +16,13 @@ void print_json(const nlohmann::json& document) { std::cout << document.dump(2) 
 bool stderr_is_terminal() { return isatty(STDERR_FILENO) == 1; }
 
 void progress(std::string_view text) {
-  if (stderr_is_terminal()) fmt::print(stderr, "\r\x1b[2K{}", text);
+  if (stderr_is_terminal()) fmt::print(stderr, "\r\x1b[2K{}", core::printable(text));
 }
 
 void progress_done() {
   if (stderr_is_terminal()) fmt::print(stderr, "\r\x1b[2K");
 }
 
-void warn(std::string_view text) { fmt::print(stderr, "m2mlat: warning: {}\n", text); }
+void warn(std::string_view text) { fmt::print(stderr, "m2mlat: warning: {}\n", core::printable(text)); }
 
 }  // namespace m2mlat::cli

@@ -12,6 +12,8 @@ bool stderr_is_terminal();
 // "\r<text>" on stderr when it is a terminal (long work shows progress); nothing otherwise.
 void progress(std::string_view text);
 void progress_done();              // ends the progress line
-void warn(std::string_view text);  // "m2mlat: warning: ..." on stderr
+// "m2mlat: warning: ..." on stderr. progress() and warn() escape control characters
+// (core::printable): their text quotes input.
+void warn(std::string_view text);
 
 }  // namespace m2mlat::cli

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/output_file.hpp"
 #include "m2mlat/formats/events_csv.hpp"
 #include "m2mlat/formats/events_jsonl.hpp"
 #include "m2mlat/formats/fields.hpp"
@@ -110,7 +111,7 @@ void export_events(const std::string& path, Format format, std::span<const core:
     throw core::Error(
         core::ErrorKind::usage,
         fmt::format("events cannot be exported as {} (use events-csv or events-jsonl)", to_string(format)));
-  write_file_atomically(path, [&](std::ostream& out) {
+  core::write_output_file(path, [&](std::ostream& out) {
     if (format == Format::events_csv)
       write_events_csv(out, events);
     else
@@ -125,7 +126,7 @@ void export_pairs(const std::string& path, Format format, std::span<const pairin
         core::ErrorKind::usage,
         fmt::format("pairs cannot be exported as {} (use pairs-csv, pairs-jsonl or rig-paired-csv)",
                     to_string(format)));
-  write_file_atomically(path, [&](std::ostream& out) {
+  core::write_output_file(path, [&](std::ostream& out) {
     if (format == Format::pairs_csv)
       write_pairs_csv(out, pairs, options);
     else if (format == Format::pairs_jsonl)

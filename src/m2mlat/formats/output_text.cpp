@@ -1,13 +1,7 @@
-// Output blocks, JSON string escaping, and atomic file writing for the exporters.
+// Output blocks and JSON string escaping for the exporters.
 #include "m2mlat/formats/output_text.hpp"
 
 #include <fmt/format.h>
-
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
-#include <fstream>
-#include <iostream>
 
 #include "m2mlat/core/error.hpp"
 
@@ -37,31 +31,6 @@ void append_json_string(std::string& out, std::string_view s) {
     }
   }
   out.push_back('"');
-}
-
-void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
-  if (path == "-") {
-    write(std::cout);
-    std::cout.flush();
-    if (!std::cout) throw core::Error(core::ErrorKind::io, "<stdout>: write failed");
-    return;
-  }
-  const std::string temporary = path + ".tmp";
-  try {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw core::Error(core::ErrorKind::io,
-                        fmt::format("{}: cannot create: {}", temporary, std::strerror(errno)));
-    write(out);
-    out.close();
-    if (!out) throw core::Error(core::ErrorKind::io, fmt::format("{}: write failed", temporary));
-    if (std::rename(temporary.c_str(), path.c_str()) != 0)
-      throw core::Error(core::ErrorKind::io,
-                        fmt::format("{}: cannot rename to {}: {}", temporary, path, std::strerror(errno)));
-  } catch (...) {
-    std::remove(temporary.c_str());
-    throw;
-  }
 }
 
 }  // namespace m2mlat::formats

@@ -1,10 +1,9 @@
-// Writing exports: a buffer that goes to a stream in large blocks, integer and JSON-string
-// formatting without locale or double, and writing a file atomically.
+// Writing exports: a buffer that goes to a stream in large blocks, and integer and JSON-string
+// formatting without locale or double. Files are written by core::write_output_file.
 #pragma once
 
 #include <charconv>
 #include <cstdint>
-#include <functional>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -51,9 +50,5 @@ class OutputBuffer {
 
 // Appends `s` as a JSON string: quoted, with ", \ and control characters escaped.
 void append_json_string(std::string& out, std::string_view s);
-
-// Writes a file through `write`: to "<path>.tmp" first, renamed over `path` once complete, so that
-// a failure never leaves a half-written export; "-" writes to standard output. Throws core::Error(io).
-void write_file_atomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
 }  // namespace m2mlat::formats

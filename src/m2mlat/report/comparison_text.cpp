@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/report/table.hpp"
 
 namespace m2mlat::report {
@@ -48,7 +49,7 @@ std::string p_text(double p) {
 
 std::string comparison_sentence(const ComparisonReport& r) {
   const auto& c = r.comparison;
-  std::string s = fmt::format("{} vs {}: ", r.subject, r.baseline);
+  std::string s = fmt::format("{} vs {}: ", core::printable(r.subject), core::printable(r.baseline));
   s += ratio_words("IQR", c.iqr_ratio, c.iqr_ratio_ci, c.level, "narrower", "wider");
   s += fmt::format(", {} (Brown-Forsythe, {})", p_text(c.brown_forsythe.p),
                    verdict(c.brown_forsythe.p, c.alpha));

@@ -6,9 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/output_file.hpp"
 #include "m2mlat/report/plot_data.hpp"
 
 namespace m2mlat::report {
@@ -23,11 +23,7 @@ class Writer {
  public:
   explicit Writer(std::filesystem::path dir) : dir_(std::move(dir)) {}
   void file(const std::string& name, const std::string& text) {
-    const auto path = dir_ / name;
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) throw core::Error(core::ErrorKind::io, fmt::format("{}: cannot write", path.string()));
+    core::write_output_file((dir_ / name).string(), text);
     names_.push_back(name);
   }
   std::vector<std::string> names_;

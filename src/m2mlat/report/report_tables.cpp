@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/report/comparison_text.hpp"
 #include "m2mlat/report/scenario_text.hpp"
 #include "m2mlat/report/table.hpp"
@@ -39,9 +40,10 @@ std::vector<analysis::ScenarioResult> results_of(const Report& r) {
 std::string md_cell(double x, int decimals = 1) {
   return std::isnan(x) ? "–" : fmt::format("{:.{}f}", x, decimals);
 }
+// Markdown-escaped and printable (the report is read on a terminal too: core/printable.hpp).
 std::string md_escape(const std::string& s) {
   std::string out;
-  for (char ch : s) {
+  for (char ch : core::printable(s)) {
     if (ch == '|' || ch == '_' || ch == '*' || ch == '\\') out += '\\';
     out += ch;
   }
@@ -119,7 +121,7 @@ std::string report_markdown(const Report& report) {
     out += "\n";
     for (const auto& r : report.comparisons) out += "- " + md_escape(comparison_sentence(r)) + "\n";
   }
-  out += fmt::format("\nProduced by `{}`", report.command);
+  out += fmt::format("\nProduced by `{}`", core::printable(report.command));
   for (const auto& [name, version] : report.versions) out += fmt::format(", {} {}", name, version);
   out += ".\n";
   return out;

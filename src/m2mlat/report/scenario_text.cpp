@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/report/table.hpp"
 
@@ -95,8 +96,9 @@ std::string uncertainty_table(std::span<const analysis::ScenarioResult> results)
 std::string scenario_detail(const analysis::ScenarioResult& r) {
   const auto& s = r.summary;
   std::string out =
-      fmt::format("scenario {}: {} -> {}, {} pairs{}\n", r.input.scenario, core::to_string(r.input.cause_ref),
-                  core::to_string(r.input.effect_ref), s.n,
+      fmt::format("scenario {}: {} -> {}, {} pairs{}\n", core::printable(r.input.scenario),
+                  core::printable(core::to_string(r.input.cause_ref)),
+                  core::printable(core::to_string(r.input.effect_ref)), s.n,
                   r.include_ambiguous ? " (ambiguous included)"
                                       : fmt::format(" ({} ambiguous left out)", r.ambiguous_pairs()));
   Table table({"statistic", "value (ms)", "note"});

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/printable.hpp"
 
 namespace m2mlat::report {
 
@@ -25,6 +26,8 @@ std::size_t width(const std::string& s) {
 void Table::add_row(std::vector<std::string> cells) {
   if (cells.size() != header_.size())
     throw core::Error(core::ErrorKind::internal, "table row of the wrong width");
+  // Cells hold names from input: control characters would drive the terminal (core/printable.hpp).
+  for (auto& cell : cells) cell = core::printable(cell);
   rows_.push_back(std::move(cells));
 }
 

@@ -9,7 +9,8 @@ namespace m2mlat::report {
 class Table {
  public:
   explicit Table(std::vector<std::string> header) : header_(std::move(header)) {}
-  void add_row(std::vector<std::string> cells);  // cells.size() must equal the header's
+  // cells.size() must equal the header's; control characters in a cell are escaped (core::printable).
+  void add_row(std::vector<std::string> cells);
   std::string render() const;                    // ends with a newline
 
  private:

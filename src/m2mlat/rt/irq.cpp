@@ -109,6 +109,9 @@ std::vector<int> find_irq_by_consumer(std::string_view consumer, const std::stri
 
 Outcome pin_irq(int irq, int cpu, const std::string& proc_root) {
   const auto path = fmt::format("{}/irq/{}/smp_affinity_list", proc_root, irq);
+  // A kernel file, written in place on purpose: it is not a regular file, and the value only takes
+  // effect when written into this very inode (core::write_output_file would refuse it, and a rename
+  // over it is not possible in /proc).
   std::FILE* file = std::fopen(path.c_str(), "w");
   int err = 0;
   if (file == nullptr) {

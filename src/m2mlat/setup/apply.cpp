@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/output_file.hpp"
 #include "m2mlat/setup/diff.hpp"
 #include "m2mlat/sync/command_runner.hpp"
 
@@ -37,27 +38,8 @@ void print_indented(std::FILE* out, std::string_view text, std::string_view pref
   }
 }
 
-void write_whole(const std::string& target, const std::string& content, unsigned mode) {
-  const fs::path dir = fs::path(target).parent_path();
-  std::error_code ec;
-  if (!dir.empty()) fs::create_directories(dir, ec);
-  if (ec) io_error(dir.string(), "cannot create: " + ec.message());
-  if (fs::exists(target)) {
-    fs::copy_file(target, target + ".m2mlat-backup", fs::copy_options::overwrite_existing, ec);
-    if (ec) io_error(target, "cannot back up: " + ec.message());
-  }
-  const std::string tmp = target + ".m2mlat-new";
-  {
-    std::ofstream file(tmp, std::ios::trunc | std::ios::binary);
-    file << content;
-    file.close();
-    if (!file) io_error(tmp, "cannot write");
-  }
-  ::chmod(tmp.c_str(), static_cast<mode_t>(mode));
-  fs::rename(tmp, target, ec);
-  if (ec) io_error(target, "cannot write: " + ec.message());
-}
-
+// Kernel files (sysfs, procfs) are not regular files and take a value only when it is written into
+// that very inode: core::write_output_file would refuse them, and they cannot be renamed over.
 void write_in_place(const std::string& target, const std::string& content) {
   std::ofstream file(target, std::ios::out | std::ios::binary);  // no trunc/rename: a kernel file
   file << content;
@@ -66,6 +48,23 @@ void write_in_place(const std::string& target, const std::string& content) {
 }
 
 }  // namespace
+
+void replace_file(const std::string& target, const std::string& content, int mode) {
+  const fs::path dir = fs::path(target).parent_path();
+  std::error_code ec;
+  if (!dir.empty()) fs::create_directories(dir, ec);
+  if (ec) io_error(dir.string(), "cannot create: " + ec.message());
+  if (core::check_output_target(target)) {  // a regular file (anything else is refused)
+    struct stat st {};
+    std::string current;
+    if (::stat(target.c_str(), &st) != 0 || !read_target("/", target, current))
+      io_error(target, "cannot read it to back it up");
+    // The backup keeps the original's mode: a file readable by root only stays so.
+    core::write_output_file(target + ".m2mlat-backup", current,
+                            core::OutputFileOptions{.mode = static_cast<int>(st.st_mode & 07777)});
+  }
+  core::write_output_file(target, content, core::OutputFileOptions{.mode = mode});
+}
 
 std::string under_root(const std::string& root, const std::string& path) {
   if (root.empty() || root == "/") return path;
@@ -114,7 +113,7 @@ ApplyResult apply_plan(const Plan& plan, const ApplyOptions& options) {
       if (step.in_place)
         write_in_place(target, step.content);
       else
-        write_whole(target, step.content, step.mode);
+        replace_file(target, step.content, static_cast<int>(step.mode));
     } else {
       const std::string line = sync::command_line(step.argv);
       if (!step.after.empty() && changed.count(step.after) == 0) continue;  // its file did not change

@@ -1,0 +1,175 @@
+// The output-file writer (output_file.hpp): temporary beside the target, fsync, rename.
+#include "m2mlat/core/output_file.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <iostream>
+#include <random>
+#include <streambuf>
+
+#include "m2mlat/core/error.hpp"
+
+namespace m2mlat::core {
+
+namespace {
+
+[[noreturn]] void io_error(const std::string& path, const std::string& what, int err = 0) {
+  throw Error(ErrorKind::io, err != 0 ? fmt::format("{}: {}: {}", path, what, std::strerror(err))
+                                      : fmt::format("{}: {}", path, what));
+}
+
+const char* type_name(mode_t mode) {
+  if (S_ISLNK(mode)) return "a symbolic link";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+// lstat() of the target: false when nothing is there, true for a regular file (its status in
+// `st`); throws for anything else.
+bool examine(const std::string& path, struct stat& st) {
+  if (::lstat(path.c_str(), &st) != 0) {
+    if (errno == ENOENT) return false;
+    io_error(path, "cannot examine the output file", errno);
+  }
+  if (!S_ISREG(st.st_mode))
+    io_error(path, fmt::format("refusing to replace it: it is {}; give a regular file, a new name, or '-' for "
+                               "standard output",
+                               type_name(st.st_mode)));
+  return true;
+}
+
+// A stream buffer over a file descriptor, so that `write` can stream any amount of text; it
+// keeps the first write(2) error for the message.
+class FdBuffer : public std::streambuf {
+ public:
+  explicit FdBuffer(int fd) : fd_(fd) { setp(buffer_, buffer_ + sizeof buffer_); }
+  int error() const { return error_; }
+
+ protected:
+  int_type overflow(int_type ch) override {
+    if (!drain()) return traits_type::eof();
+    if (!traits_type::eq_int_type(ch, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(ch);
+      pbump(1);
+    }
+    return traits_type::not_eof(ch);
+  }
+  int sync() override { return drain() ? 0 : -1; }
+
+ private:
+  bool drain() {
+    const char* p = pbase();
+    while (p < pptr()) {
+      const ssize_t n = ::write(fd_, p, static_cast<std::size_t>(pptr() - p));
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        if (error_ == 0) error_ = n < 0 ? errno : EIO;
+        return false;
+      }
+      p += n;
+    }
+    setp(buffer_, buffer_ + sizeof buffer_);
+    return true;
+  }
+
+  int fd_;
+  int error_ = 0;
+  char buffer_[1 << 16];
+};
+
+// A name for the temporary in the target's folder: hidden, recognisable, and random, so that
+// nobody can plant a file or link under it in advance (O_EXCL refuses one anyway).
+std::string temporary_name(const std::string& dir, const std::string& base) {
+  static constexpr char kAlphabet[] = "abcdefghijklmnopqrstuvwxyz0123456789";
+  std::random_device device;  // getrandom(2)
+  std::string suffix(12, 'x');
+  for (auto& c : suffix) c = kAlphabet[device() % (sizeof kAlphabet - 1)];
+  // 200 bytes of the name at most: with the suffix, the name stays under NAME_MAX (255).
+  return fmt::format("{}.{}.{}.tmp", dir, base.substr(0, 200), suffix);
+}
+
+void write_stdout(const std::function<void(std::ostream&)>& write) {
+  write(std::cout);
+  std::cout.flush();
+  if (!std::cout) throw Error(ErrorKind::io, "<stdout>: write failed");
+}
+
+}  // namespace
+
+bool check_output_target(const std::string& path) {
+  struct stat st {};
+  return examine(path, st);
+}
+
+void write_output_file(const std::string& path, const std::function<void(std::ostream&)>& write,
+                       const OutputFileOptions& options) {
+  if (path == "-") return write_stdout(write);
+  if (path.empty()) throw Error(ErrorKind::usage, "an empty output file name");
+  struct stat target {};
+  const bool replacing = examine(path, target);
+
+  const auto slash = path.rfind('/');
+  const std::string dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+  const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+  std::string temporary;
+  int fd = -1;
+  for (int attempt = 0; fd < 0; ++attempt) {
+    temporary = temporary_name(dir, base);
+    // 0666: the umask takes its share, as for any file a program creates.
+    fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+    if (fd < 0 && (errno != EEXIST || attempt >= 16))
+      io_error(path, fmt::format("cannot create a file in {}", dir.empty() ? "." : dir), errno);
+  }
+  try {
+    if (options.mode >= 0) {
+      if (::fchmod(fd, static_cast<mode_t>(options.mode)) != 0) io_error(temporary, "cannot set its mode", errno);
+    } else if (replacing) {
+      if (::fchmod(fd, target.st_mode & 07777) != 0) io_error(temporary, "cannot set its mode", errno);
+    }
+    // As root, a replaced file keeps its owner (root's files stay root's, a user's stay theirs).
+    if (replacing && ::geteuid() == 0 && ::fchown(fd, target.st_uid, target.st_gid) != 0)
+      io_error(temporary, "cannot set its owner", errno);
+    {
+      FdBuffer buffer(fd);
+      std::ostream out(&buffer);
+      write(out);
+      out.flush();
+      if (!out || buffer.error() != 0) io_error(path, "write failed", buffer.error());
+    }
+    if (::fsync(fd) != 0) io_error(path, "write failed (fsync)", errno);
+    const int closed = ::close(fd);
+    fd = -1;
+    if (closed != 0) io_error(path, "write failed (close)", errno);
+    // Again just before the rename: the target may have been swapped for a link or a device
+    // meanwhile. (rename(2) itself never follows a link: it would replace the link, not its target.)
+    examine(path, target);
+    if (::rename(temporary.c_str(), path.c_str()) != 0) io_error(path, "cannot replace it", errno);
+  } catch (...) {
+    if (fd >= 0) ::close(fd);
+    ::unlink(temporary.c_str());
+    throw;
+  }
+  // The new name on disk too (power loss); a folder that cannot be synced still holds a complete
+  // file under the new name, so a failure here is not an error.
+  const int dir_fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir_fd >= 0) {
+    (void)::fsync(dir_fd);
+    ::close(dir_fd);
+  }
+}
+
+void write_output_file(const std::string& path, std::string_view content, const OutputFileOptions& options) {
+  write_output_file(path, [&](std::ostream& out) { out.write(content.data(), static_cast<std::streamsize>(content.size())); },
+                    options);
+}
+
+}  // namespace m2mlat::core
