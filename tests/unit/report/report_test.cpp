@@ -202,5 +202,27 @@ TEST(Pgfplots, WritesFiguresAndData) {
   std::filesystem::remove_all(dir);
 }
 
+// A link planted in the figures folder under a figure's name is not written through.
+TEST(Pgfplots, PlantedSymlinkRefused) {
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("m2mlat-pgf-link-test-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "victim") << "precious\n";
+  std::filesystem::create_symlink(dir / "victim", dir / "box.tex");
+  try {
+    write_pgfplots(sample_report(), dir);
+    ADD_FAILURE() << "written through box.tex";
+  } catch (const core::Error& e) {
+    EXPECT_NE(std::string(e.what()).find((dir / "box.tex").string()), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("a symbolic link"), std::string::npos) << e.what();
+  }
+  std::ifstream victim(dir / "victim");
+  std::stringstream text;
+  text << victim.rdbuf();
+  EXPECT_EQ(text.str(), "precious\n");
+  EXPECT_TRUE(std::filesystem::is_symlink(dir / "box.tex"));
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace m2mlat::report

@@ -25,3 +25,16 @@ TEST(Table, NumberText) {
   EXPECT_EQ(report::ms_text(std::nan(""), 1), "-");
   EXPECT_EQ(report::percent_text(0.1364, 1), "13.6 %");
 }
+
+// A name from input with an ESC sequence and a newline neither drives the terminal nor breaks the
+// table's lines, and the columns stay aligned on the escaped text.
+TEST(Table, ControlCharactersInCellsEscaped) {
+  report::Table t({"scenario", "n"});
+  t.add_row({"a\x1b[2J\nb", "1"});
+  t.add_row({"plain", "22"});
+  EXPECT_EQ(t.render(),
+            "scenario     n\n"
+            "---------------\n"
+            "a\\x1b[2J\\nb   1\n"
+            "plain        22\n");
+}
