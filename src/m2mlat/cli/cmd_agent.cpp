@@ -59,7 +59,8 @@ int run_agent(AgentCommand& c) {
   flags.sim_set.insert(flags.sim_set.begin(), "manoeuvres=1000000000");  // years of manoeuvres
   auto setup = prepare_record(flags);
   if (!flags.quiet)
-    for (const auto& line : setup.source->describe()) fmt::print(stderr, "m2mlat: {}\n", core::printable(line));
+    for (const auto& line : setup.source->describe())
+      fmt::print(stderr, "m2mlat: {}\n", core::printable(line));
 
   agent::AgentOptions options;
   options.store_path = flags.store_path;
@@ -82,15 +83,16 @@ int run_agent(AgentCommand& c) {
   fmt::print("listening {}\n", agent.address());
   std::fflush(stdout);
   if (!flags.quiet)
-    fmt::print(stderr, "m2mlat: agent of node {} on {}://{}{}\n", core::printable(setup.node), agent.tls() ? "https" : "http",
-               agent.address(), options.server.token ? " (bearer token required)" : "");
+    fmt::print(stderr, "m2mlat: agent of node {} on {}://{}{}\n", core::printable(setup.node),
+               agent.tls() ? "https" : "http", agent.address(),
+               options.server.token ? " (bearer token required)" : "");
   apply_rt(setup, flags.quiet);
   const auto counters = agent.run(stop.fd(), [&] { return stop.take(); });
   warn_after_run(setup);
   if (!flags.quiet)
     fmt::print(stderr, "m2mlat: {}: {} events stored, {} dropped, last seq {}, stopped by {}\n",
-               core::printable(flags.store_path), counters.events, counters.dropped, counters.last_committed_seq,
-               counters.stop_reason);
+               core::printable(flags.store_path), counters.events, counters.dropped,
+               counters.last_committed_seq, counters.stop_reason);
   return 0;
 }
 

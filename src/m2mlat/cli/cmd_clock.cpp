@@ -69,14 +69,16 @@ void print_sample(const store::ClockSample& s) {
     fmt::print(
         "chrony:  {} to {} ({}), stratum {}, offset {}, max error {}, est error {}, freq {:+.3f} ppm, leap "
         "{}\n",
-        sync, d["ref_name"].get<std::string>().empty() ? "-" : core::printable(d["ref_name"].get<std::string>()),
+        sync,
+        d["ref_name"].get<std::string>().empty() ? "-" : core::printable(d["ref_name"].get<std::string>()),
         core::printable(d["ref_id"].get<std::string>()), d["stratum"].get<int>(), ns_text(s.offset_ns),
         ns_text(s.max_error_ns), ns_text(s.est_error_ns), d["freq_ppm"].get<double>(),
         d["leap_status"].get<std::string>());
     for (const auto& src : d["sources"])
       fmt::print("         {}{} {} stratum {} poll {} reach {:o} offset {} +/- {}\n",
                  src["mode"].get<std::string>(), src["state"].get<std::string>(),
-                 core::printable(src["name"].get<std::string>()), src["stratum"].get<int>(), src["poll"].get<int>(),
+                 core::printable(src["name"].get<std::string>()), src["stratum"].get<int>(),
+                 src["poll"].get<int>(),
                  src["reach"].get<int>(), ns_text(src["adjusted_offset_ns"].get<std::int64_t>()),
                  ns_text(src["error_ns"].get<std::int64_t>()));
   } else if (s.source == "ptp") {

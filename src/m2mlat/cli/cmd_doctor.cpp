@@ -65,8 +65,9 @@ int run_doctor(bool json) {
         if (line.name.empty() && !line.used()) continue;  // unnamed and free: nothing to say
         fmt::print("  line {:>3}: {:<16} {}\n", line.offset,
                    line.name.empty() ? "unnamed" : core::printable(line.name),
-                   line.used() ? fmt::format("used by '{}' ({})", core::printable(line.consumer), line_flags(line))
-                               : "free");
+                   line.used()
+                       ? fmt::format("used by '{}' ({})", core::printable(line.consumer), line_flags(line))
+                       : "free");
       }
     }
     if (!report.chips.empty()) fmt::print("\n");

@@ -67,12 +67,13 @@ int run_record(RecordFlags& c) {
     print_json(j);
   } else {
     fmt::print("{}: session {} of node {} ({}), {} events, stopped by {}\n", core::printable(c.store_path),
-               counters.session_id, core::printable(node), core::to_string(role), counters.events, counters.stop_reason);
+               counters.session_id, core::printable(node), core::to_string(role), counters.events,
+               counters.stop_reason);
     fmt::print("  {:<16} {:>10} {:>10} {:>8}  {}\n", "channel", "events", "suppressed", "losses",
                "last timestamp");
     for (const auto& ch : counters.channels)
-      fmt::print("  {:<16} {:>10} {:>10} {:>8}  {}\n", core::printable(ch.channel), ch.events, ch.suppressed, ch.lost,
-                 ch.last ? core::format_seconds(ch.last->ns()) : "-");
+      fmt::print("  {:<16} {:>10} {:>10} {:>8}  {}\n", core::printable(ch.channel), ch.events, ch.suppressed,
+                 ch.lost, ch.last ? core::format_seconds(ch.last->ns()) : "-");
     if (counters.node_lost > 0) fmt::print("  {} kernel-log records lost (node-wide)\n", counters.node_lost);
     if (const auto& h = counters.commit_latency; h.count() > 0)
       fmt::print("  edge -> durable commit: p50 {}, p99 {}, max {} ({} events)\n",

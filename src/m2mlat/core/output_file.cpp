@@ -41,9 +41,10 @@ bool examine(const std::string& path, struct stat& st) {
     io_error(path, "cannot examine the output file", errno);
   }
   if (!S_ISREG(st.st_mode))
-    io_error(path, fmt::format("refusing to replace it: it is {}; give a regular file, a new name, or '-' for "
-                               "standard output",
-                               type_name(st.st_mode)));
+    io_error(path,
+             fmt::format("refusing to replace it: it is {}; give a regular file, a new name, or '-' for "
+                         "standard output",
+                         type_name(st.st_mode)));
   return true;
 }
 
@@ -131,7 +132,8 @@ void write_output_file(const std::string& path, const std::function<void(std::os
   }
   try {
     if (options.mode >= 0) {
-      if (::fchmod(fd, static_cast<mode_t>(options.mode)) != 0) io_error(temporary, "cannot set its mode", errno);
+      if (::fchmod(fd, static_cast<mode_t>(options.mode)) != 0)
+        io_error(temporary, "cannot set its mode", errno);
     } else if (replacing) {
       if (::fchmod(fd, target.st_mode & 07777) != 0) io_error(temporary, "cannot set its mode", errno);
     }
@@ -168,8 +170,10 @@ void write_output_file(const std::string& path, const std::function<void(std::os
 }
 
 void write_output_file(const std::string& path, std::string_view content, const OutputFileOptions& options) {
-  write_output_file(path, [&](std::ostream& out) { out.write(content.data(), static_cast<std::streamsize>(content.size())); },
-                    options);
+  write_output_file(
+      path,
+      [&](std::ostream& out) { out.write(content.data(), static_cast<std::streamsize>(content.size())); },
+      options);
 }
 
 }  // namespace m2mlat::core

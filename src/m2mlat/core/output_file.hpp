@@ -32,7 +32,8 @@ struct OutputFileOptions {
 // thrown by `write` is passed on after the temporary file is removed.
 void write_output_file(const std::string& path, const std::function<void(std::ostream&)>& write,
                        const OutputFileOptions& options = {});
-void write_output_file(const std::string& path, std::string_view content, const OutputFileOptions& options = {});
+void write_output_file(const std::string& path, std::string_view content,
+                       const OutputFileOptions& options = {});
 
 // Checks a target before anything is written: true when a regular file is there, false when
 // nothing is; throws core::Error(io) naming the path and its type for anything else.

@@ -58,14 +58,9 @@ std::string printable(std::string_view text) {
       out.push_back(text[i++]);
       continue;
     }
-    switch (b) {
-      case '\n': out += "\\n"; ++i; continue;
-      case '\r': out += "\\r"; ++i; continue;
-      case '\t': out += "\\t"; ++i; continue;
-      default: break;
-    }
-    if (b < 0x80) {  // other C0 controls and DEL
-      out += fmt::format("\\x{:02x}", b);
+    if (b < 0x80) {  // C0 controls and DEL
+      const char* named = b == '\n' ? "\\n" : b == '\r' ? "\\r" : b == '\t' ? "\\t" : nullptr;
+      out += named != nullptr ? std::string(named) : fmt::format("\\x{:02x}", b);
       ++i;
       continue;
     }

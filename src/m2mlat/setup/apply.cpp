@@ -13,6 +13,7 @@
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/output_file.hpp"
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/setup/diff.hpp"
 #include "m2mlat/sync/command_runner.hpp"
 
@@ -33,7 +34,8 @@ void print_indented(std::FILE* out, std::string_view text, std::string_view pref
   while (pos < text.size()) {
     auto end = text.find('\n', pos);
     if (end == std::string_view::npos) end = text.size();
-    fmt::print(out, "    {}{}\n", prefix, text.substr(pos, end - pos));
+    // A file on the system may hold anything: each line shown escaped (core/printable.hpp).
+    fmt::print(out, "    {}{}\n", prefix, core::printable(text.substr(pos, end - pos)));
     pos = end + 1;
   }
 }
@@ -133,11 +135,13 @@ ApplyResult apply_plan(const Plan& plan, const ApplyOptions& options) {
       const auto r = runner.run(step.argv, kCommandTimeout);
       if (!r.ok()) {
         ++result.commands_failed;
+        std::string_view said = r.err.empty() ? r.out : r.err;
+        while (!said.empty() && (said.back() == '\n' || said.back() == '\r')) said.remove_suffix(1);
         fmt::print(out, "    FAILED ({}): {}\n",
                    !r.started    ? "not started"
                    : r.timed_out ? "timed out"
                                  : fmt::format("exit {}", r.exit_code),
-                   r.err.empty() ? r.out : r.err);
+                   core::printable(said));
       }
     }
   }

@@ -118,7 +118,8 @@ TEST_F(OutputFile, PlantedTemporaryNamesAreNotFollowed) {
     write_output_file(path("out.csv"), [&](std::ostream& out) {
       out << "new\n";
       for (const auto& name : names()) {
-        if (name == "victim" || name == "out.csv" || name == "out.csv.tmp" || name == ".out.csv.tmp") continue;
+        if (name == "victim" || name == "out.csv" || name == "out.csv.tmp" || name == ".out.csv.tmp")
+          continue;
         temporaries.insert(name);
         EXPECT_TRUE(S_ISREG(mode_of(path(name)))) << name;
         EXPECT_EQ(name.rfind(".out.csv.", 0), 0u) << name;  // hidden, beside the target

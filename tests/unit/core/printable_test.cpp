@@ -20,16 +20,26 @@ TEST(Printable, C0ControlsAndDelEscaped) {
 }
 
 TEST(Printable, C1ControlsAndBidiOverridesEscaped) {
-  EXPECT_EQ(printable("x\xc2\x9b" "31mred"), "x\\u009b31mred");  // U+009B: an 8-bit CSI
-  EXPECT_EQ(printable("\xc2\x85"), "\\u0085");                   // NEL
-  EXPECT_EQ(printable("abc\xe2\x80\xae" "fed"), "abc\\u202efed");  // right-to-left override
-  EXPECT_EQ(printable("\xe2\x81\xa6" "x"), "\\u2066x");           // left-to-right isolate
+  EXPECT_EQ(printable("x\xc2\x9b"
+                      "31mred"),
+            "x\\u009b31mred");                  // U+009B: an 8-bit CSI
+  EXPECT_EQ(printable("\xc2\x85"), "\\u0085");  // NEL
+  EXPECT_EQ(printable("abc\xe2\x80\xae"
+                      "fed"),
+            "abc\\u202efed");  // right-to-left override
+  EXPECT_EQ(printable("\xe2\x81\xa6"
+                      "x"),
+            "\\u2066x");  // left-to-right isolate
 }
 
 TEST(Printable, InvalidUtf8BytesEscaped) {
-  EXPECT_EQ(printable("\x9b" "31m"), "\\x9b31m");      // a raw C1 byte: CSI on 8-bit terminals
-  EXPECT_EQ(printable("a\xff" "b"), "a\\xffb");
-  EXPECT_EQ(printable("\xc3"), "\\xc3");               // a cut sequence
-  EXPECT_EQ(printable("\xc0\xaf"), "\\xc0\\xaf");      // an overlong '/'
+  EXPECT_EQ(printable("\x9b"
+                      "31m"),
+            "\\x9b31m");  // a raw C1 byte: CSI on 8-bit terminals
+  EXPECT_EQ(printable("a\xff"
+                      "b"),
+            "a\\xffb");
+  EXPECT_EQ(printable("\xc3"), "\\xc3");                    // a cut sequence
+  EXPECT_EQ(printable("\xc0\xaf"), "\\xc0\\xaf");           // an overlong '/'
   EXPECT_EQ(printable("\xed\xa0\x80"), "\\xed\\xa0\\x80");  // a surrogate
 }

@@ -69,3 +69,19 @@ TEST(ReplaceFile, SymlinkedBackupRefusedAndTargetKept) {
   EXPECT_EQ(root.read("/victim"), "precious\n");
   EXPECT_EQ(root.read("/etc/chrony.conf"), "old\n");
 }
+
+// apply_plan shows the file it replaces: a hostile byte in it is shown escaped, not sent to the
+// terminal; the file is still backed up and replaced.
+TEST(ReplaceFile, ApplyShowsTheOldContentEscaped) {
+  TempRoot root;
+  root.write("/etc/m2mlat/agent.toml", "node = \"op\x1b]0;owned\x07\"\n");
+  setup::Plan plan;
+  plan.part = "agent";
+  plan.steps.push_back(
+      setup::file_step("/etc/m2mlat/agent.toml", "node = \"operator\"\n", "the agent's configuration"));
+  const auto applied = setup::testing::apply_into(plan, root.path());
+  EXPECT_EQ(applied.text.find('\x1b'), std::string::npos) << applied.text;
+  EXPECT_NE(applied.text.find("op\\x1b]0;owned\\x07"), std::string::npos) << applied.text;
+  EXPECT_EQ(root.read("/etc/m2mlat/agent.toml"), "node = \"operator\"\n");
+  EXPECT_EQ(root.read("/etc/m2mlat/agent.toml.m2mlat-backup"), "node = \"op\x1b]0;owned\x07\"\n");
+}
