@@ -52,6 +52,15 @@ chmod 600 out.csv
 expect_exit 74 "$M2MLAT" export s.db -o no/such/out.csv
 grep -qF "no/such/out.csv: cannot create a file in no/such/: No such file or directory" err.txt ||
   fail "missing folder: $(cat err.txt)"
+# simulate --out-dir: a file planted in the folder is not written through; a node name cannot lead
+# the file out of the folder.
+mkdir sim && ln -s ../victim sim/operator.log
+expect_refused "a symbolic link" sim/operator.log \
+  "$M2MLAT" simulate --out-dir sim --format kernel-log --manoeuvres 3
+[ ! -e sim/vehicle.log ] || fail "vehicle.log written although operator.log was refused"
+expect_exit 2 "$M2MLAT" simulate --out-dir sim2 --manoeuvres 3 --set cause_node=../escaped
+[ ! -e escaped.csv ] && [ ! -e sim2 ] || fail "simulate wrote outside its folder"
+[ "$(cat victim)" = precious ] || fail "written through a symlink"
 # No temporary is left behind by any of the above.
 leftover=$(find . -name '.*.tmp')
 [ -z "$leftover" ] || fail "temporaries left behind: $leftover"

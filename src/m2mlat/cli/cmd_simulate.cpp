@@ -58,9 +58,22 @@ void list_presets() {
   for (const auto& f : sim::settable_fields()) fmt::print("  {:<40} {}\n", f.key, f.help);
 }
 
+// The node names become file names in the folder: one that is not a plain name would write
+// elsewhere ("../x.csv" beside the folder, "/etc/x" anywhere).
+void check_file_name(const std::string& key, const std::string& node) {
+  if (node.empty() || node == "." || node == ".." || node.find('/') != std::string::npos ||
+      node.find('\0') != std::string::npos)
+    throw core::Error(core::ErrorKind::usage,
+                      fmt::format("{} '{}': with --out-dir the node name is a file name: it cannot be empty, "
+                                  "'.', '..' or hold a '/'",
+                                  key, node));
+}
+
 // Files: kernel-log streams chunk by chunk (any length); the event formats are written whole.
 void write_files(const sim::RigConfig& config, const std::string& dir, formats::Format format,
                  std::uint32_t pin) {
+  check_file_name("cause_node", config.cause_node);
+  check_file_name("effect_node", config.effect_node);
   std::filesystem::create_directories(dir);
   const auto name = [&](const std::string& node, const char* ext) {
     return (std::filesystem::path(dir) / (node + ext)).string();
