@@ -90,6 +90,13 @@ grep -qF 'scenario s1\x1b]0;owned\x07: op\x1b[31m\nfake/gpio16 -> vehicle/gpio16
   fail "stats --detail heading: $(cat stats.txt)"
 "$M2MLAT" stats n.db --bootstrap 0 --json > stats.json
 grep -qF 'op\u001b[31m\nfake' stats.json || fail "JSON escaping: $(cat stats.json)"
+# A name that is not UTF-8: escaped on the terminal, U+FFFD in JSON (it used to end in exit 70).
+"$M2MLAT" import --store u.db cause.log --node $'op\xffx' --role cause --scenario s2 > /dev/null
+"$M2MLAT" import --store u.db effect.log --node vehicle --role effect --scenario s2 > /dev/null
+"$M2MLAT" stats u.db --bootstrap 0 | grep -qF 'op\xffx/gpio16' || fail "invalid UTF-8 not escaped"
+"$M2MLAT" stats u.db --bootstrap 0 --json | grep -qF "op"$'\xef\xbf\xbd'"x/gpio16" || fail "no U+FFFD in JSON"
+"$M2MLAT" report u.db --out u-report > /dev/null
+[ -s u-report/report.json ] && [ -s u-report/comparisons.csv ] || fail "report --out incomplete"
 # Error messages quoting input are escaped too.
 expect_exit 66 "$M2MLAT" import --store n.db $'no\e[2Jsuch.csv'
 if grep -q $'\e' err.txt; then fail "raw ESC in the error: $(cat -A err.txt)"; fi

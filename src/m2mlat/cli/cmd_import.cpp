@@ -61,7 +61,8 @@ std::vector<PendingSession> sessions_of(const ImportCommand& c, const std::strin
       p.session.label = c.label;
       p.session.scenario = c.scenario.empty() ? std::filesystem::path(path).stem().string() : c.scenario;
       p.session.config_json =
-          nlohmann::json{{"source", "import"}, {"file", path}, {"format", formats::to_string(format)}}.dump();
+          nlohmann::json{{"source", "import"}, {"file", path}, {"format", formats::to_string(format)}}.dump(
+              -1, ' ', false, nlohmann::json::error_handler_t::replace);  // a file name need not be UTF-8
       out.push_back(std::move(p));
     }
     out[it->second].events.push_back(std::move(e));

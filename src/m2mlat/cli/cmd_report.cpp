@@ -217,7 +217,7 @@ Runner attach_report(CLI::App& sub) {
                           fmt::format("{}: cannot create: {}", c->out_dir, ec.message()));
       core::write_output_file((dir / "report.html").string(), report::report_html(r));
       core::write_output_file((dir / "report.md").string(), report::report_markdown(r));
-      core::write_output_file((dir / "report.json").string(), report::report_document(r).dump(2) + "\n");
+      core::write_output_file((dir / "report.json").string(), json_text(report::report_document(r)) + "\n");
       core::write_output_file((dir / "scenarios.csv").string(), report::scenarios_csv(r));
       core::write_output_file((dir / "comparisons.csv").string(), report::comparisons_csv(r));
       report::write_pgfplots(r, dir / "pgfplots");

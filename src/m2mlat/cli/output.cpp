@@ -11,7 +11,11 @@
 
 namespace m2mlat::cli {
 
-void print_json(const nlohmann::json& document) { std::cout << document.dump(2) << '\n'; }
+std::string json_text(const nlohmann::json& document) {
+  return document.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+void print_json(const nlohmann::json& document) { std::cout << json_text(document) << '\n'; }
 
 bool stderr_is_terminal() { return isatty(STDERR_FILENO) == 1; }
 

@@ -7,7 +7,10 @@
 
 namespace m2mlat::cli {
 
-void print_json(const nlohmann::json& document);  // pretty, to stdout
+// Pretty JSON text. Names from input may hold bytes that are not UTF-8 (a node name, a file
+// name): each is written as U+FFFD instead of failing the whole document.
+std::string json_text(const nlohmann::json& document);
+void print_json(const nlohmann::json& document);  // json_text, to stdout
 bool stderr_is_terminal();
 // "\r<text>" on stderr when it is a terminal (long work shows progress); nothing otherwise.
 void progress(std::string_view text);
