@@ -143,8 +143,14 @@ void write_output_file(const std::string& path, const std::function<void(std::os
     {
       FdBuffer buffer(fd);
       std::ostream out(&buffer);
-      write(out);
-      out.flush();
+      try {
+        write(out);
+        out.flush();
+      } catch (...) {
+        // A writer that gave up because the stream failed: the system's reason, with the path.
+        if (buffer.error() != 0) io_error(path, "write failed", buffer.error());
+        throw;
+      }
       if (!out || buffer.error() != 0) io_error(path, "write failed", buffer.error());
     }
     if (::fsync(fd) != 0) io_error(path, "write failed (fsync)", errno);

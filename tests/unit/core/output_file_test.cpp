@@ -23,6 +23,29 @@ using m2mlat::core::write_output_file;
 
 namespace {
 
+// A real write(2) failure for the tests: a file size limit, so that writing past `bytes` fails
+// with EFBIG (the signal that would come with it is ignored meanwhile).
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    EXPECT_EQ(::getrlimit(RLIMIT_FSIZE, &old_), 0);
+    old_handler_ = std::signal(SIGXFSZ, SIG_IGN);
+    struct rlimit limit = old_;
+    limit.rlim_cur = bytes;
+    EXPECT_EQ(::setrlimit(RLIMIT_FSIZE, &limit), 0);
+  }
+  ~FileSizeLimit() {
+    ::setrlimit(RLIMIT_FSIZE, &old_);
+    std::signal(SIGXFSZ, old_handler_);
+  }
+  FileSizeLimit(const FileSizeLimit&) = delete;
+  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
+
+ private:
+  struct rlimit old_ {};
+  void (*old_handler_)(int) = nullptr;
+};
+
 class OutputFile : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -173,25 +196,34 @@ TEST_F(OutputFile, FailingWriterLeavesTargetAndNoTemporary) {
 // A real write(2) failure: a file size limit (EFBIG) in the middle of the content.
 TEST_F(OutputFile, WriteErrorReportedAndNothingLeftBehind) {
   write_plain(path("out.csv"), "old\n");
-  struct rlimit old {};
-  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old), 0);
-  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);  // EFBIG instead of the signal
-  struct rlimit small = old;
-  small.rlim_cur = 100000;
-  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
   std::string message;
   try {
+    const FileSizeLimit limit(100000);  // only while writing: gtest's own output may be a file
     write_output_file(path("out.csv"), std::string(1 << 20, 'x'));
   } catch (const Error& e) {
     message = e.what();
     EXPECT_EQ(e.kind(), ErrorKind::io);
   }
-  ::setrlimit(RLIMIT_FSIZE, &old);
-  std::signal(SIGXFSZ, old_handler);
   EXPECT_NE(message.find(path("out.csv")), std::string::npos) << message;
   EXPECT_NE(message.find("File too large"), std::string::npos) << message;
   EXPECT_EQ(read(path("out.csv")), "old\n");
   EXPECT_EQ(names(), std::set<std::string>{"out.csv"});
+}
+
+// A writer that stops on the failed stream with its own error: the message says why, with the path.
+TEST_F(OutputFile, WriterStoppedByAWriteErrorReportsTheReason) {
+  std::string message;
+  try {
+    const FileSizeLimit limit(100000);
+    write_output_file(path("out.csv"), [](std::ostream& out) {
+      for (int i = 0; i < 100 && out; ++i) out << std::string(1 << 16, 'x');
+      if (!out) throw Error(ErrorKind::io, "writing the export failed");
+    });
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find(path("out.csv") + ": write failed: File too large"), std::string::npos) << message;
+  EXPECT_TRUE(names().empty());
 }
 
 TEST_F(OutputFile, DashIsStandardOutput) {
