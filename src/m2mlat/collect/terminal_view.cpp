@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "m2mlat/core/printable.hpp"
+
 namespace m2mlat::collect {
 
 namespace {
@@ -83,16 +85,18 @@ void TerminalView::finish(const LiveSummary& summary, const std::vector<NodeHeal
 }
 
 void TerminalView::draw(const std::vector<std::string>& lines) {
+  // Node and scenario names come from the agents: escaped (core/printable.hpp), so that none can
+  // drive the terminal or, with a newline, throw off the count of lines to redraw.
   std::string text;
   if (tty_) {
     // Back to the first line of the previous block (CPL), then each line cleared to its end (EL),
     // then everything below cleared (ED) in case the block got shorter.
     if (drawn_lines_ > 0) text += fmt::format("\x1b[{}F", drawn_lines_);
-    for (const auto& line : lines) text += line + "\x1b[K\n";
+    for (const auto& line : lines) text += core::printable(line) + "\x1b[K\n";
     text += "\x1b[J";
     drawn_lines_ = lines.size();
   } else {
-    for (const auto& line : lines) text += line + "\n";
+    for (const auto& line : lines) text += core::printable(line) + "\n";
     text += "\n";  // a blank line between blocks
   }
   std::fwrite(text.data(), 1, text.size(), out_);

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <stdio.h>
 
+#include <algorithm>
 #include <cstdlib>
 
 using namespace m2mlat;
@@ -151,4 +152,24 @@ TEST(TerminalView, PlainBlocksAtMostEveryInterval) {
   view.finish(summary_with_samples(), two_nodes(), kViewNow + 5'001 * kMs);  // always written
   const auto final_text = out.text();
   EXPECT_GT(final_text.size(), text.size());
+}
+
+// A node name sent by an agent with an ESC sequence and a newline: shown escaped, and the redraw
+// still goes back over exactly the block's 5 lines.
+TEST(TerminalView, ControlCharactersInNamesEscaped) {
+  auto nodes = two_nodes();
+  nodes[0].node = "op\x1b[2J\nx";
+  auto summary = summary_with_samples();
+  summary.scenario = "s\x1b]0;owned\x07";
+  Capture out;
+  collect::TerminalView view(out.file(), true);
+  view.show(summary, nodes, kViewNow);
+  view.show(summary, nodes, kViewNow + 250 * kMs);
+  const auto text = out.text();
+  EXPECT_EQ(text.find("\x1b[2J"), std::string::npos);
+  EXPECT_EQ(text.find("\x1b]0"), std::string::npos);
+  EXPECT_NE(text.find("op\\x1b[2J\\nx"), std::string::npos) << text;
+  EXPECT_NE(text.find("s\\x1b]0;owned\\x07: "), std::string::npos) << text;
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 10);  // two blocks of 5 lines
+  EXPECT_NE(text.find("\x1b[5F"), std::string::npos);
 }
