@@ -2,6 +2,7 @@
 #include "m2mlat/net/auth.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -16,7 +17,10 @@ namespace {
 struct TokenFile {
   std::string path =
       (std::filesystem::temp_directory_path() / ("m2mlat-token-" + std::to_string(::getpid()))).string();
-  explicit TokenFile(const std::string& text) { std::ofstream(path) << text; }
+  explicit TokenFile(const std::string& text, ::mode_t mode = 0600) {
+    std::ofstream(path) << text;
+    ::chmod(path.c_str(), mode);
+  }
   ~TokenFile() { std::filesystem::remove(path); }
 };
 
@@ -47,6 +51,25 @@ TEST(Auth, ShortOrUnsendableTokensAndMissingFilesAreRefused) {
     FAIL();
   } catch (const core::Error& e) {
     EXPECT_EQ(e.kind(), core::ErrorKind::no_input);
+  }
+}
+
+// A token file others could read (or write) is refused with the way to fix it; the owner's alone
+// (0600, 0400) is taken.
+TEST(Auth, ATokenFileOthersCanAccessIsRefused) {
+  for (const ::mode_t mode : {0644, 0640, 0604, 0620, 0602, 0660}) {
+    TokenFile file("file-token-0123456789abcdef\n", mode);
+    try {
+      load_token(file.path);
+      FAIL() << "mode " << std::oct << mode << " accepted";
+    } catch (const core::Error& e) {
+      EXPECT_EQ(e.kind(), core::ErrorKind::usage);
+      EXPECT_NE(std::string(e.what()).find("chmod 600 " + file.path), std::string::npos) << e.what();
+    }
+  }
+  for (const ::mode_t mode : {0600, 0400}) {
+    TokenFile file("file-token-0123456789abcdef\n", mode);
+    EXPECT_EQ(load_token(file.path), "file-token-0123456789abcdef");
   }
 }
 
