@@ -117,9 +117,9 @@ grep -q 'chmod 600 token' err.txt || fail "the refusal does not say how to fix i
 expect_exit 2 "$M2MLAT" watch a.db --dashboard 127.0.0.1:0 --token-file token --no-live --duration 1s
 grep -q 'mode 0644' err.txt || fail "watch took a world-readable token: $(cat err.txt)"
 openssl req -x509 -newkey rsa:2048 -nodes -keyout key.pem -out cert.pem -days 1 -subj /CN=localhost 2> /dev/null
-chmod 640 key.pem
+chmod 660 key.pem
 expect_exit 2 "$M2MLAT" agent --store refused.db --node v --source sim --listen 127.0.0.1:0 \
   --tls-cert cert.pem --tls-key key.pem --quiet
-grep -q 'chmod 600 key.pem' err.txt || fail "a group-readable key was not refused: $(cat err.txt)"
+grep -q 'chmod 600 key.pem' err.txt || fail "a group-writable key was not refused: $(cat err.txt)"
 [ ! -e refused.db ] || fail "a refused agent created its store"
 echo "server_abuse: ok"

@@ -27,10 +27,13 @@ std::string read_secret_file(const std::string& path, std::string_view what) {
     throw core::Error(core::ErrorKind::no_input,
                       fmt::format("{} {}: cannot stat: {}", what, path, std::strerror(errno)));
   const auto mode = st.st_mode & 07777;
-  if ((mode & (S_IRWXG | S_IRWXO)) != 0)
+  // Group read is allowed only on a file of root's: root keeps the secret and lets a service's own
+  // group (the agent's user) read it, as the field guide sets up /etc/m2mlat/token.
+  const bool group_ok = (mode & (S_IWGRP | S_IXGRP)) == 0 && ((mode & S_IRGRP) == 0 || st.st_uid == 0);
+  if ((mode & S_IRWXO) != 0 || !group_ok)
     throw core::Error(core::ErrorKind::usage,
                       fmt::format("{} {}: the file is accessible by group or others (mode {:04o}); a secret "
-                                  "must be the owner's alone: chmod 600 {}",
+                                  "must be the owner's alone: chmod 600 {} (a file of root's may be 0640)",
                                   what, path, mode, path));
   std::string text;
   char buffer[4096];
