@@ -10,6 +10,7 @@
 #include "m2mlat/collect/web_assets.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/net/auth.hpp"
+#include "m2mlat/net/query.hpp"
 #include "m2mlat/net/wire.hpp"
 
 namespace m2mlat::collect {
@@ -158,8 +159,8 @@ Dashboard::Dashboard(DashboardOptions options) : options_(checked(std::move(opti
     if (!need_token || req.path.rfind("/api/", 0) != 0) return R::Unhandled;
     std::string given;
     const auto auth = req.get_header_value("Authorization");
-    if (auth.rfind("Bearer ", 0) == 0)
-      given = auth.substr(7);
+    if (const auto bearer = net::parse_bearer(auth))
+      given = *bearer;
     else if (req.has_param("token"))
       given = req.get_param_value("token");
     if (net::tokens_equal(given, options_.token)) return R::Unhandled;

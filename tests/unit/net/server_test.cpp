@@ -354,6 +354,13 @@ TEST_F(ServerTest, SlowConnectionsDoNotDelayValidClientsAndAreCutAtTheDeadline) 
   std::this_thread::sleep_until(t0 + 2s);
   EXPECT_EQ(loris.closed_within(1000ms), 50u);
   EXPECT_EQ(server_->counts().timed_out, 50u);
+  auto c = client();
+  c.set_bearer_token_auth(token.c_str());
+  const auto metrics = c.Get("/metrics");
+  ASSERT_TRUE(metrics);
+  EXPECT_NE(metrics->body.find("m2mlat_http_connections_total{node=\"vehicle\",outcome=\"timed_out\"} 50\n"),
+            std::string::npos)
+      << metrics->body;
 }
 
 TEST_F(ServerTest, EventStreamsAreLimited) {
