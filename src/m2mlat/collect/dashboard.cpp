@@ -184,8 +184,7 @@ Dashboard::Dashboard(DashboardOptions options) : options_(checked(std::move(opti
     auto sent = std::make_shared<std::uint64_t>(0);
     res.set_header("X-Accel-Buffering", "no");
     res.set_chunked_content_provider(
-        "text/event-stream",
-        [this, sent, slot](std::size_t, httplib::DataSink& sink) {
+        "text/event-stream", [this, sent, slot](std::size_t, httplib::DataSink& sink) {
           std::unique_lock lock(mutex_);
           const bool fresh = changed_.wait_for(
               lock, options_.ping_interval, [&] { return stopping_ || (version_ > 0 && version_ != *sent); });

@@ -130,9 +130,7 @@ bool ConnectionStream::fill() {
   }
 }
 
-bool ConnectionStream::is_readable() const {
-  return buffered() || poll_socket(socket_, POLLIN, deadline_);
-}
+bool ConnectionStream::is_readable() const { return buffered() || poll_socket(socket_, POLLIN, deadline_); }
 
 bool ConnectionStream::is_writable() const {
   return poll_socket(socket_, POLLOUT, std::chrono::steady_clock::now() + write_timeout_);

@@ -108,13 +108,15 @@ class GuardedServer final : public httplib::Server {
   void refuse(socket_t sock) {
     table_.count_refused();
     if (tls_ == nullptr) {
-      const auto body = error_body(503, fmt::format("{} has {} connections open, all of them serving; try again",
-                                                    options_.what, options_.max_connections));
+      const auto body =
+          error_body(503, fmt::format("{} has {} connections open, all of them serving; try again",
+                                      options_.what, options_.max_connections));
       const auto response = fmt::format(
           "HTTP/1.1 503 Service Unavailable\r\nContent-Type: application/json\r\nContent-Length: {}\r\n"
           "Retry-After: 1\r\nConnection: close\r\n\r\n{}",
           body.size(), body);
-      [[maybe_unused]] const auto n = ::send(sock, response.data(), response.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+      [[maybe_unused]] const auto n =
+          ::send(sock, response.data(), response.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
     }
     ::shutdown(sock, SHUT_RDWR);
     ::close(sock);
@@ -216,11 +218,12 @@ HttpServer::HttpServer(HttpServerOptions options) : impl_(std::make_unique<Impl>
     ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
   });
   // Errors httplib makes itself (400 malformed request, 413, 414, ...) get the JSON error body.
-  s.set_error_handler(httplib::Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {
-    if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
-    res.set_content(error_body(res.status, reason_phrase(res.status)), "application/json");
-    return httplib::Server::HandlerResponse::Handled;
-  }));
+  s.set_error_handler(
+      httplib::Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {
+        if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+        res.set_content(error_body(res.status, reason_phrase(res.status)), "application/json");
+        return httplib::Server::HandlerResponse::Handled;
+      }));
   s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
     res.status = 500;
     res.set_content(error_body(500, "internal error"), "application/json");
@@ -241,9 +244,10 @@ void HttpServer::start() {
     i.port = i.options.port;
   }
   if (i.port == 0)
-    throw core::Error(core::ErrorKind::io,
-                      fmt::format("{} cannot listen on {} port {} (in use, or not an address of this machine)",
-                                  i.options.what, i.options.host, i.options.port));
+    throw core::Error(
+        core::ErrorKind::io,
+        fmt::format("{} cannot listen on {} port {} (in use, or not an address of this machine)",
+                    i.options.what, i.options.host, i.options.port));
   s.widen_backlog();
   i.thread = std::thread([&i] {
     i.server->listen_after_bind();

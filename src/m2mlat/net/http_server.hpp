@@ -36,27 +36,27 @@ namespace m2mlat::net {
 
 // What happened to the server's connections (since it started); for tests, logs and metrics.
 struct ConnectionCounts {
-  std::size_t open = 0;        // connections with a thread now
-  std::uint64_t accepted = 0;  // connections given a thread
-  std::uint64_t evicted = 0;   // closed to make room for a newer one
-  std::uint64_t refused = 0;   // answered 503 at once: every connection was serving a request
-  std::uint64_t timed_out = 0; // closed because a request's head or body missed its deadline
-  std::uint64_t idle = 0;      // closed because no request began within the idle timeout
+  std::size_t open = 0;         // connections with a thread now
+  std::uint64_t accepted = 0;   // connections given a thread
+  std::uint64_t evicted = 0;    // closed to make room for a newer one
+  std::uint64_t refused = 0;    // answered 503 at once: every connection was serving a request
+  std::uint64_t timed_out = 0;  // closed because a request's head or body missed its deadline
+  std::uint64_t idle = 0;       // closed because no request began within the idle timeout
 };
 
 struct HttpServerOptions {
-  std::string host = "127.0.0.1";  // an address literal; IPv6 with or without brackets
-  int port = 0;                    // 0: any free port (see port())
-  std::string tls_cert, tls_key;   // PEM files; both or neither (TLS)
-  std::string what = "the server"; // names the server in error messages ("the dashboard")
-  std::size_t max_connections = 256;                              // connections open at once (one thread each)
-  std::size_t max_streams = 16;                                   // event streams open at once
-  core::Duration request_timeout = std::chrono::seconds(5);       // a request's head and body, from its first byte
-  core::Duration idle_timeout = std::chrono::seconds(5);          // wait for a request to begin
-  core::Duration write_timeout = std::chrono::seconds(5);         // wait for room to write
-  std::size_t max_head = 64 * 1024;                               // bytes of request line and header fields
-  std::size_t max_body = 64 * 1024;                               // bytes of a request body (413 beyond)
-  std::size_t keep_alive_max = 100;                               // requests on one connection
+  std::string host = "127.0.0.1";     // an address literal; IPv6 with or without brackets
+  int port = 0;                       // 0: any free port (see port())
+  std::string tls_cert, tls_key;      // PEM files; both or neither (TLS)
+  std::string what = "the server";    // names the server in error messages ("the dashboard")
+  std::size_t max_connections = 256;  // connections open at once (one thread each)
+  std::size_t max_streams = 16;       // event streams open at once
+  core::Duration request_timeout = std::chrono::seconds(5);  // a request's head and body, from its first byte
+  core::Duration idle_timeout = std::chrono::seconds(5);     // wait for a request to begin
+  core::Duration write_timeout = std::chrono::seconds(5);    // wait for room to write
+  std::size_t max_head = 64 * 1024;                          // bytes of request line and header fields
+  std::size_t max_body = 64 * 1024;                          // bytes of a request body (413 beyond)
+  std::size_t keep_alive_max = 100;                          // requests on one connection
 };
 
 class HttpServer {

@@ -56,11 +56,12 @@ std::string render_metrics(const Status& s, const ConnectionCounts& connections)
   family("m2mlat_http_connections_total", "counter",
          "Connections to the API by how they ended early: evicted (to make room), refused (503, all "
          "busy), timed_out (request deadline), idle (no request began); accepted: all given a thread.");
-  for (const auto& [outcome, n] : {std::pair<std::string_view, std::uint64_t>{"accepted", connections.accepted},
-                                   {"evicted", connections.evicted},
-                                   {"refused", connections.refused},
-                                   {"timed_out", connections.timed_out},
-                                   {"idle", connections.idle}})
+  for (const auto& [outcome, n] :
+       {std::pair<std::string_view, std::uint64_t>{"accepted", connections.accepted},
+        {"evicted", connections.evicted},
+        {"refused", connections.refused},
+        {"timed_out", connections.timed_out},
+        {"idle", connections.idle}})
     out += fmt::format("m2mlat_http_connections_total{{{},outcome=\"{}\"}} {}\n", node, outcome, n);
   family("m2mlat_start_time_seconds", "gauge", "When the agent started, CLOCK_REALTIME seconds.");
   out += fmt::format("m2mlat_start_time_seconds{{{}}} {}\n", node, core::format_seconds(s.started_ns));

@@ -45,8 +45,9 @@ std::string read_secret_file(const std::string& path, std::string_view what) {
                         fmt::format("{} {}: cannot read: {}", what, path, std::strerror(errno)));
     if (n == 0) break;
     if (text.size() + static_cast<std::size_t>(n) > kMaxSecretFileBytes)
-      throw core::Error(core::ErrorKind::usage, fmt::format("{} {}: larger than {} bytes; is it the right file?",
-                                                            what, path, kMaxSecretFileBytes));
+      throw core::Error(
+          core::ErrorKind::usage,
+          fmt::format("{} {}: larger than {} bytes; is it the right file?", what, path, kMaxSecretFileBytes));
     text.append(buffer, static_cast<std::size_t>(n));
   }
   return text;

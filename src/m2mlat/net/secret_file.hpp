@@ -16,7 +16,8 @@ inline constexpr std::size_t kMaxSecretFileBytes = 1 << 20;  // bytes: a token o
 
 // The whole contents of `path`. Throws core::Error: no_input if it cannot be opened or read; usage
 // if it grants others any permission, or its group more than read on a file of root's (the message
-// gives the mode and `chmod 600`), or is larger than kMaxSecretFileBytes. `what` names the file's role in messages (e.g. "--token-file").
+// gives the mode and `chmod 600`), or is larger than kMaxSecretFileBytes. `what` names the file's role in
+// messages (e.g. "--token-file").
 std::string read_secret_file(const std::string& path, std::string_view what);
 
 }  // namespace m2mlat::net

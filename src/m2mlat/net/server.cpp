@@ -323,7 +323,8 @@ struct AgentServer::Impl {
             id_page(req, res, &store::Store::losses_after);
           }));
     s.Get("/metrics", wrap([this](const httplib::Request&, httplib::Response& res) {
-            res.set_content(render_metrics(status(), http.counts()), std::string(kMetricsContentType).c_str());
+            res.set_content(render_metrics(status(), http.counts()),
+                            std::string(kMetricsContentType).c_str());
           }));
   }
 

@@ -47,7 +47,7 @@ struct ServerOptions : HttpServerOptions {
   }
   std::string store_path;            // the node's store (must exist: the recorder creates it)
   std::optional<std::string> token;  // required unless host is a loopback address
-  std::size_t max_headers = 64;                                  // header fields of a request (431 beyond)
+  std::size_t max_headers = 64;      // header fields of a request (431 beyond)
   core::Duration ping_interval = std::chrono::seconds(1);        // SSE comment when idle
   core::Duration poll_interval = std::chrono::milliseconds(50);  // SSE store poll without a wake-up
   core::Duration session_timeout = std::chrono::seconds(5);      // longest a session request waits

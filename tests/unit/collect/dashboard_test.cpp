@@ -11,13 +11,13 @@
 #include <future>
 #include <thread>
 
+#include "../net/raw_client.hpp"
 #include "m2mlat/campaign/sim_to_store.hpp"
 #include "m2mlat/collect/live_view.hpp"
 #include "m2mlat/collect/web_assets.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/sim/presets.hpp"
 #include "m2mlat/store/store.hpp"
-#include "../net/raw_client.hpp"
 
 using namespace m2mlat;
 

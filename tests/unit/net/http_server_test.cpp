@@ -46,7 +46,8 @@ std::unique_ptr<HttpServer> hello_server(HttpServerOptions o) {
     if (!r) return ::testing::AssertionFailure() << "request " << i << ": no answer (" << r.error() << ")";
     if (r->status != 200 || r->body != "hello")
       return ::testing::AssertionFailure() << "request " << i << ": " << r->status << " " << r->body;
-    if (took > limit) return ::testing::AssertionFailure() << "request " << i << " took " << took.count() << " ms";
+    if (took > limit)
+      return ::testing::AssertionFailure() << "request " << i << " took " << took.count() << " ms";
   }
   return ::testing::AssertionSuccess();
 }
@@ -73,7 +74,7 @@ TEST(HttpServer, SlowClientsAreCutAtTheRequestDeadlineWhileValidOnesAreServed) {
 }
 
 TEST(HttpServer, IdleConnectionsMakeRoomForNewOnes) {
-  HttpServerOptions o;  // the default budget: 256 connections
+  HttpServerOptions o;   // the default budget: 256 connections
   o.idle_timeout = 30s;  // they would stay for long
   const auto server = hello_server(o);
   std::vector<test::RawClient> idle;
@@ -115,7 +116,8 @@ TEST(HttpServer, KeepAliveServesManyRequestsOnOneConnection) {
   EXPECT_EQ(server->counts().accepted, 1u);
   // Two requests in one write (pipelined) get two answers.
   test::RawClient raw(server->port());
-  ASSERT_TRUE(raw.send("GET /hello HTTP/1.1\r\nHost: x\r\n\r\nGET /hello HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"));
+  ASSERT_TRUE(raw.send(
+      "GET /hello HTTP/1.1\r\nHost: x\r\n\r\nGET /hello HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"));
   const auto got = raw.read_until_closed(2000ms);
   EXPECT_EQ(got.find("HTTP/1.1 200"), 0u) << got;
   EXPECT_NE(got.find("HTTP/1.1 200", 1), std::string::npos) << got;
@@ -221,15 +223,16 @@ TEST(HttpServer, NoOtherSocketCanShareThePort) {
 // A temporary folder with a self-signed certificate and its key (mode 0600), made by the openssl
 // command (the test is skipped where it is missing).
 struct TlsFiles {
-  std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                              ("m2mlat-tls-" + std::to_string(::getpid()));
+  std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("m2mlat-tls-" + std::to_string(::getpid()));
   std::string cert = (dir / "cert.pem").string(), key = (dir / "key.pem").string();
   bool made = false;
   TlsFiles() {
     std::filesystem::create_directories(dir);
-    const auto command = "openssl req -x509 -newkey rsa:2048 -nodes -days 1 -subj /CN=127.0.0.1 "
-                         "-addext subjectAltName=IP:127.0.0.1 -keyout " + key + " -out " + cert +
-                         " >/dev/null 2>&1";
+    const auto command =
+        "openssl req -x509 -newkey rsa:2048 -nodes -days 1 -subj /CN=127.0.0.1 "
+        "-addext subjectAltName=IP:127.0.0.1 -keyout " +
+        key + " -out " + cert + " >/dev/null 2>&1";
     made = std::system(command.c_str()) == 0 && ::chmod(key.c_str(), 0600) == 0;
   }
   ~TlsFiles() { std::filesystem::remove_all(dir); }
