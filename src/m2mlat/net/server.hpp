@@ -66,7 +66,7 @@ class AgentServer {
   // Binds and starts serving on a thread of its own. Throws core::Error(io) if the address cannot be
   // bound.
   void start();
-  // Stops accepting, ends the streams and waits for the worker threads. Idempotent.
+  // Stops accepting, ends the streams and waits for every connection's thread. Idempotent.
   void stop();
   int port() const;             // the bound port (after start)
   std::string address() const;  // "host:port" ("[::1]:port" for IPv6)
