@@ -161,7 +161,7 @@ PY
 
 # --- Token-protected agent ------------------------------------------------------------------------------
 HOST=$(ip -4 -o addr show scope global 2>/dev/null | awk '{split($4, a, "/"); print a[1]; exit}' || true)
-openssl rand -hex 24 > token.txt
+openssl rand -hex 24 > token.txt && chmod 600 token.txt
 TOKEN=$(cat token.txt)
 if [ -n "$HOST" ]; then
   # Off loopback without a token: refused before anything is recorded.
@@ -192,6 +192,7 @@ stop_agent "$PID"
 # --- TLS with a self-signed certificate -----------------------------------------------------------------
 openssl req -x509 -newkey rsa:2048 -nodes -keyout key.pem -out cert.pem -days 1 -subj /CN=localhost \
   -addext subjectAltName=IP:127.0.0.1 2> /dev/null
+chmod 600 key.pem
 start_agent s --listen 127.0.0.1:0 --tls-cert cert.pem --tls-key key.pem
 [ "$(status_of --cacert cert.pem "https://127.0.0.1:$PORT/v1/status")" = 200 ] || fail "TLS status"
 [ "$(status_of --cacert cert.pem "https://127.0.0.1:$PORT/v1/events?after=x")" = 400 ] || fail "TLS 400"

@@ -1,6 +1,6 @@
 // The agent: one node's recorder and its HTTP API in one process. The recorder (capture::Recorder)
 // runs in a thread of its own, writing to the node's store; the API server (net::AgentServer)
-// serves from its worker threads, each with its own read-only store. They meet in three places:
+// serves from a thread per connection, reading through leased read-only stores. They meet in three places:
 // the recorder's progress callback fills a mutex-protected snapshot of the live counters
 // (/v1/status, /metrics); a commit wakes the SSE streams; session requests from the API go to the
 // recorder through a capture::SessionControl and are carried out between batches.

@@ -26,7 +26,7 @@ struct AgentCommand {
   RecordFlags record;
   std::string listen = "127.0.0.1:8470";
   std::string token_file, tls_cert, tls_key, port_file;
-  std::size_t max_connections = 16;
+  std::size_t max_connections = 256;
 };
 
 // "HOST:PORT" or "[V6]:PORT" -> host, port.
@@ -72,7 +72,7 @@ int run_agent(AgentCommand& c) {
   options.server.token = net::load_token(c.token_file.empty() ? std::nullopt : std::optional(c.token_file));
   options.server.tls_cert = c.tls_cert;
   options.server.tls_key = c.tls_key;
-  options.server.threads = c.max_connections;
+  options.server.max_connections = c.max_connections;
 
   capture::StopSignal stop;  // before any thread starts, so that every thread blocks the signals
   agent::Agent agent(options, *setup.source);
@@ -108,8 +108,9 @@ Runner attach_agent(CLI::App& sub) {
   sub.add_option("--tls-cert", c->tls_cert, "PEM certificate: serve HTTPS");
   sub.add_option("--tls-key", c->tls_key, "PEM private key of --tls-cert");
   sub.add_option("--port-file", c->port_file, "Write the bound port to this file");
-  sub.add_option("--max-connections", c->max_connections, "Connections served at once (worker threads)")
-      ->check(CLI::Range(std::size_t{1}, std::size_t{256}))
+  sub.add_option("--max-connections", c->max_connections,
+                 "Connections open at once (a thread each); beyond, the longest idle one is closed")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{4096}))
       ->capture_default_str();
   return [c] { return run_agent(*c); };
 }

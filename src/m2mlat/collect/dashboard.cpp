@@ -10,6 +10,8 @@
 #include "m2mlat/collect/web_assets.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/net/auth.hpp"
+#include "m2mlat/net/query.hpp"
+#include "m2mlat/net/wire.hpp"
 
 namespace m2mlat::collect {
 
@@ -76,8 +78,18 @@ constexpr const char* kSecurityPolicy =
 
 void error_body(httplib::Response& res, int status, const std::string& message) {
   res.status = status;
-  res.set_content(nlohmann::json{{"error", {{"status", status}, {"message", message}}}}.dump(),
-                  "application/json");
+  res.set_content(net::error_body(status, message), "application/json");
+}
+
+// Refuses an address off loopback without a token, before anything is bound.
+DashboardOptions checked(DashboardOptions o) {
+  if (!net::is_loopback(o.host) && o.token.empty())
+    throw core::Error(
+        core::ErrorKind::usage,
+        fmt::format("the dashboard on {} (not a loopback address) needs a token: give --token-file "
+                    "or set M2MLAT_TOKEN",
+                    o.host));
+  return o;
 }
 
 }  // namespace
@@ -129,22 +141,8 @@ void parse_listen_address(std::string_view text, DashboardOptions& options) {
   options.port = port;
 }
 
-Dashboard::Dashboard(DashboardOptions options)
-    : options_(std::move(options)), server_(std::make_unique<httplib::Server>()) {
-  if (!net::is_loopback(options_.host) && options_.token.empty())
-    throw core::Error(
-        core::ErrorKind::usage,
-        fmt::format("the dashboard on {} (not a loopback address) needs a token: give --token-file "
-                    "or set M2MLAT_TOKEN",
-                    options_.host));
-  auto& svr = *server_;
-  svr.set_read_timeout(std::chrono::seconds(5));
-  svr.set_write_timeout(std::chrono::seconds(5));
-  svr.set_payload_max_length(64 * 1024);
-  svr.set_keep_alive_max_count(100);
-  // Streams each hold a worker; leave some for the page and /api/live.
-  const auto workers = options_.max_streams + 4;
-  svr.new_task_queue = [workers] { return new httplib::ThreadPool(workers); };
+Dashboard::Dashboard(DashboardOptions options) : options_(checked(std::move(options))), server_(options_) {
+  auto& svr = server_.routes();
   svr.set_default_headers({{"Cache-Control", "no-store"},
                            {"X-Content-Type-Options", "nosniff"},
                            {"Content-Security-Policy", kSecurityPolicy},
@@ -161,8 +159,8 @@ Dashboard::Dashboard(DashboardOptions options)
     if (!need_token || req.path.rfind("/api/", 0) != 0) return R::Unhandled;
     std::string given;
     const auto auth = req.get_header_value("Authorization");
-    if (auth.rfind("Bearer ", 0) == 0)
-      given = auth.substr(7);
+    if (const auto bearer = net::parse_bearer(auth))
+      given = *bearer;
     else if (req.has_param("token"))
       given = req.get_param_value("token");
     if (net::tokens_equal(given, options_.token)) return R::Unhandled;
@@ -177,20 +175,16 @@ Dashboard::Dashboard(DashboardOptions options)
   });
 
   svr.Get("/api/live/stream", [this](const httplib::Request&, httplib::Response& res) {
-    {
-      std::lock_guard lock(mutex_);
-      if (streams_ >= options_.max_streams || stopping_) {
-        error_body(res, 503, fmt::format("too many event streams (at most {})", options_.max_streams));
-        return;
-      }
-      ++streams_;
+    auto slot = server_.stream_slot();  // held until the stream ends (the provider is dropped)
+    if (!slot) {
+      error_body(res, 503, fmt::format("too many event streams (at most {})", server_.max_streams()));
+      return;
     }
     // 0: nothing sent yet, so the newest snapshot goes out at once.
     auto sent = std::make_shared<std::uint64_t>(0);
     res.set_header("X-Accel-Buffering", "no");
     res.set_chunked_content_provider(
-        "text/event-stream",
-        [this, sent](std::size_t, httplib::DataSink& sink) {
+        "text/event-stream", [this, sent, slot](std::size_t, httplib::DataSink& sink) {
           std::unique_lock lock(mutex_);
           const bool fresh = changed_.wait_for(
               lock, options_.ping_interval, [&] { return stopping_ || (version_ > 0 && version_ != *sent); });
@@ -204,10 +198,6 @@ Dashboard::Dashboard(DashboardOptions options)
           }
           lock.unlock();
           return sink.is_writable() && sink.write(message.data(), message.size());
-        },
-        [this](bool) {
-          std::lock_guard lock(mutex_);
-          --streams_;
         });
   });
 
@@ -216,26 +206,14 @@ Dashboard::Dashboard(DashboardOptions options)
     if (!asset) return error_body(res, 404, fmt::format("no such page: {}", req.path));
     res.set_content(asset->bytes.data(), asset->bytes.size(), std::string(asset->content_type));
   });
-  svr.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
-    if (res.body.empty()) error_body(res, res.status, fmt::format("{} {}", res.status, req.path));
-  });
-
-  if (options_.port == 0) {
-    port_ = svr.bind_to_any_port(options_.host);
-  } else {
-    port_ = svr.bind_to_port(options_.host, options_.port) ? options_.port : -1;
-  }
-  if (port_ <= 0)
-    throw core::Error(core::ErrorKind::io,
-                      fmt::format("the dashboard cannot listen on {}:{}", options_.host, options_.port));
-  thread_ = std::thread([this] { server_->listen_after_bind(); });
+  server_.start();
 }
 
 Dashboard::~Dashboard() { stop(); }
 
 std::string Dashboard::url() const {
   const bool v6 = options_.host.find(':') != std::string::npos;
-  return fmt::format("http://{}{}{}:{}/", v6 ? "[" : "", options_.host, v6 ? "]" : "", port_);
+  return fmt::format("http://{}{}{}:{}/", v6 ? "[" : "", options_.host, v6 ? "]" : "", server_.port());
 }
 
 void Dashboard::publish(const nlohmann::json& snapshot) {
@@ -251,12 +229,10 @@ void Dashboard::publish(const nlohmann::json& snapshot) {
 void Dashboard::stop() {
   {
     std::lock_guard lock(mutex_);
-    if (stopping_ && !thread_.joinable()) return;
     stopping_ = true;
   }
-  changed_.notify_all();
-  server_->stop();
-  if (thread_.joinable()) thread_.join();
+  changed_.notify_all();  // the streams end
+  server_.stop();
 }
 
 }  // namespace m2mlat::collect

@@ -23,15 +23,11 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "m2mlat/collect/health.hpp"
 #include "m2mlat/collect/live_pairing.hpp"
-
-namespace httplib {
-class Server;
-}
+#include "m2mlat/net/http_server.hpp"
 
 namespace m2mlat::collect {
 
@@ -45,11 +41,16 @@ inline constexpr std::string_view kLiveFormat = "m2mlat-live/1";
 nlohmann::json snapshot_json(const LiveSummary& summary, const std::vector<NodeHealth>& nodes,
                              std::int64_t now_ns);
 
-struct DashboardOptions {
-  std::string host = "127.0.0.1";  // address to listen on
-  int port = 8480;                 // 0: an ephemeral port (see Dashboard::port())
-  std::string token;               // required (non-empty) unless host is loopback
-  std::size_t max_streams = 8;     // concurrent event streams; more get 503
+// Where to listen and the connection limits are the HttpServer's (net/http_server.hpp): port 8480
+// (0: an ephemeral port, see Dashboard::port()), at most 8 event streams (503 beyond), no TLS.
+struct DashboardOptions : net::HttpServerOptions {
+  DashboardOptions() {
+    port = 8480;
+    max_streams = 8;
+    max_body = 0;  // the dashboard only reads
+    what = "the dashboard";
+  }
+  std::string token;  // required (non-empty) unless host is loopback
   std::chrono::seconds ping_interval{15};
 };
 
@@ -66,8 +67,9 @@ class Dashboard {
   Dashboard(const Dashboard&) = delete;
   Dashboard& operator=(const Dashboard&) = delete;
 
-  int port() const { return port_; }
+  int port() const { return server_.port(); }
   std::string url() const;  // "http://127.0.0.1:8480/" (the bound port)
+  net::ConnectionCounts counts() const { return server_.counts(); }
 
   // Replaces the snapshot served and pushes it to every open stream.
   void publish(const nlohmann::json& snapshot);
@@ -76,15 +78,12 @@ class Dashboard {
 
  private:
   DashboardOptions options_;
-  std::unique_ptr<httplib::Server> server_;
-  std::thread thread_;
-  int port_ = 0;
+  net::HttpServer server_;
 
   std::mutex mutex_;
   std::condition_variable changed_;
   std::string snapshot_ = "{}";  // serialised
   std::uint64_t version_ = 0;    // publish() count
-  std::size_t streams_ = 0;      // open event streams
   bool stopping_ = false;
 };
 

@@ -5,9 +5,9 @@
 #include <fmt/format.h>
 
 #include <cstdlib>
-#include <fstream>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/net/secret_file.hpp"
 
 namespace m2mlat::net {
 
@@ -30,11 +30,8 @@ std::optional<std::string> load_token(const std::optional<std::string>& token_fi
   std::string token;
   std::string origin;
   if (token_file) {
-    std::ifstream in(*token_file);
-    if (!in)
-      throw core::Error(core::ErrorKind::no_input,
-                        fmt::format("{}: cannot read the token file", *token_file));
-    std::getline(in, token);
+    const auto text = read_secret_file(*token_file, "--token-file");
+    token = text.substr(0, text.find('\n'));
     origin = *token_file;
   } else if (const char* env = std::getenv("M2MLAT_TOKEN"); env != nullptr && *env != '\0') {
     token = env;

@@ -14,8 +14,9 @@ inline constexpr std::size_t kMinTokenLength = 16;  // characters: guessing must
 
 // The token from `token_file` if given (its first line, surrounding blanks removed), else from the
 // environment variable M2MLAT_TOKEN if set and not empty, else nothing. Throws core::Error: no_input
-// if the file cannot be read; usage if the token is shorter than kMinTokenLength or holds
-// characters a Bearer header cannot carry (letters, digits and -._~+/= are allowed).
+// if the file cannot be read; usage if the file is accessible by group or others (secret_file.hpp),
+// or the token is shorter than kMinTokenLength or holds characters a Bearer header cannot carry
+// (letters, digits and -._~+/= are allowed).
 std::optional<std::string> load_token(const std::optional<std::string>& token_file);
 // Checks a token's form as load_token does (throws core::Error(usage) naming `origin`).
 void check_token(std::string_view token, std::string_view origin);

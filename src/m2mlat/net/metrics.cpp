@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <utility>
+
 #include "m2mlat/core/time.hpp"
 
 namespace m2mlat::net {
@@ -23,7 +25,7 @@ std::string escape_label(std::string_view value) {
   return out;
 }
 
-std::string render_metrics(const Status& s) {
+std::string render_metrics(const Status& s, const ConnectionCounts& connections) {
   std::string out;
   const auto family = [&](std::string_view name, std::string_view type, std::string_view help) {
     out += fmt::format("# HELP {} {}\n# TYPE {} {}\n", name, help, name, type);
@@ -49,6 +51,18 @@ std::string render_metrics(const Status& s) {
   out += fmt::format("m2mlat_last_seq{{{}}} {}\n", node, s.last_seq);
   family("m2mlat_session_open", "gauge", "1 while a session is open.");
   out += fmt::format("m2mlat_session_open{{{}}} {}\n", node, s.session ? 1 : 0);
+  family("m2mlat_http_connections_open", "gauge", "Connections to the API open now (a thread each).");
+  out += fmt::format("m2mlat_http_connections_open{{{}}} {}\n", node, connections.open);
+  family("m2mlat_http_connections_total", "counter",
+         "Connections to the API by how they ended early: evicted (to make room), refused (503, all "
+         "busy), timed_out (request deadline), idle (no request began); accepted: all given a thread.");
+  for (const auto& [outcome, n] :
+       {std::pair<std::string_view, std::uint64_t>{"accepted", connections.accepted},
+        {"evicted", connections.evicted},
+        {"refused", connections.refused},
+        {"timed_out", connections.timed_out},
+        {"idle", connections.idle}})
+    out += fmt::format("m2mlat_http_connections_total{{{},outcome=\"{}\"}} {}\n", node, outcome, n);
   family("m2mlat_start_time_seconds", "gauge", "When the agent started, CLOCK_REALTIME seconds.");
   out += fmt::format("m2mlat_start_time_seconds{{{}}} {}\n", node, core::format_seconds(s.started_ns));
   if (s.clock) {

@@ -1,4 +1,4 @@
-// Routes, the pre-routing gate, JSON errors, the SSE loop, and per-thread read-only stores.
+// Routes, the pre-routing gate, the SSE loop, and the leased read-only stores.
 #include "m2mlat/net/server.hpp"
 
 #include <fmt/format.h>
@@ -11,13 +11,13 @@
 #include <iterator>
 #include <map>
 #include <mutex>
-#include <thread>
 #include <type_traits>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/version.hpp"
 #include "m2mlat/net/auth.hpp"
 #include "m2mlat/net/metrics.hpp"
+#include "m2mlat/net/reader_pool.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::net {
@@ -45,24 +45,6 @@ constexpr std::array kRoutes{
     Route{"/v1/losses", true, false},
     Route{"/metrics", true, false},
 };
-
-std::string_view reason(int status) {
-  switch (status) {
-    case 400: return "bad request";
-    case 401: return "a bearer token is required";
-    case 404: return "no such path";
-    case 405: return "method not allowed";
-    case 408: return "request timeout";
-    case 409: return "conflict";
-    case 413: return "request body too large";
-    case 414: return "request line too long";
-    case 415: return "unsupported media type";
-    case 431: return "too many or too large header fields";
-    case 500: return "internal error";
-    case 503: return "service unavailable";
-    default: return status >= 500 ? "server error" : "client error";
-  }
-}
 
 void fail(httplib::Response& res, int status, std::string_view message) {
   res.status = status;
@@ -96,39 +78,40 @@ std::string ndjson(const Items& items) {
   return out;
 }
 
+// Refuses an address off loopback without a token, before anything is bound or loaded.
+ServerOptions checked(ServerOptions o) {
+  if (o.host.size() >= 2 && o.host.front() == '[' && o.host.back() == ']')
+    o.host = o.host.substr(1, o.host.size() - 2);
+  if (o.token) check_token(*o.token, "the token");
+  if (!o.token && !is_loopback(o.host))
+    throw core::Error(core::ErrorKind::usage,
+                      fmt::format("listening on {} (not a loopback address) needs a bearer token: give "
+                                  "--token-file FILE or set M2MLAT_TOKEN",
+                                  o.host));
+  return o;
+}
+
 }  // namespace
 
 struct AgentServer::Impl {
   ServerOptions options;
   AgentBackend& backend;
-  std::unique_ptr<httplib::Server> server;
-  std::thread thread;
-  int port = 0;
-  bool tls = false;
-
-  std::mutex stores_mutex;
-  std::map<std::thread::id, std::unique_ptr<store::Store>> stores;  // one per worker thread
+  HttpServer http;
+  // Stores kept open between requests: about one per request served at once.
+  ReaderPool readers{options.store_path, 8};
 
   std::mutex commit_mutex;
   std::condition_variable commit_cv;
   std::int64_t committed = 0;  // the latest seq notify_commit() gave
   std::atomic<bool> stopping{false};
-  std::atomic<bool> listen_returned{false};
   std::map<std::string, httplib::Server::Handler> post_handlers;  // by path
 
-  Impl(ServerOptions o, AgentBackend& b) : options(std::move(o)), backend(b) {}
-
-  // This thread's own read-only store, opened on first use.
-  store::Store& reader() {
-    std::lock_guard lock(stores_mutex);
-    auto& slot = stores[std::this_thread::get_id()];
-    if (!slot) {
-      store::Options read_only;
-      read_only.read_only = true;
-      slot = std::make_unique<store::Store>(store::Store::open(options.store_path, read_only));
-    }
-    return *slot;
+  Impl(ServerOptions o, AgentBackend& b) : options(checked(std::move(o))), backend(b), http(options) {
+    configure();
   }
+
+  // A read-only store for as long as the lease lives.
+  ReaderPool::Lease reader() { return readers.lease(); }
 
   // The gate every request passes before routing.
   httplib::Server::HandlerResponse gate(const httplib::Request& req, httplib::Response& res) {
@@ -209,11 +192,11 @@ struct AgentServer::Impl {
 
   Status status() {
     auto s = backend.live_status();
-    auto& store = reader();
+    const auto store = reader();
     s.api = std::string(kApiName);
     s.software_version = core::kVersion;
-    s.store_id = store.store_id();
-    s.last_seq = store.last_seq();
+    s.store_id = store->store_id();
+    s.last_seq = store->last_seq();
     s.now_ns = realtime_ns();
     return s;
   }
@@ -221,10 +204,10 @@ struct AgentServer::Impl {
   void events(const httplib::Request& req, httplib::Response& res) {
     const auto after = parse_after(param(req, "after"));
     const auto limit = parse_limit(param(req, "limit"));
-    auto& store = reader();
+    const auto store = reader();
     // The header first, then the page cut at it: a client never sees an event beyond the seq it is told.
-    const auto last = store.last_seq();
-    auto page = store.events_after(after, limit);
+    const auto last = store->last_seq();
+    auto page = store->events_after(after, limit);
     while (!page.empty() && page.back().seq > last) page.pop_back();
     res.set_header(std::string(kLastSeqHeader), std::to_string(last));
     res.set_content(ndjson(page), kNdjson);
@@ -237,12 +220,15 @@ struct AgentServer::Impl {
         throw RequestError(400, "Last-Event-ID given twice");
       cursor = parse_after(req.get_header_value("Last-Event-ID"), "Last-Event-ID");
     }
+    auto slot = http.stream_slot();  // held until the stream ends (the provider is dropped)
+    if (!slot)
+      throw RequestError(503, fmt::format("too many event streams (at most {})", http.max_streams()));
     res.set_header("Cache-Control", "no-cache");
-    res.set_header(std::string(kLastSeqHeader), std::to_string(reader().last_seq()));
+    res.set_header(std::string(kLastSeqHeader), std::to_string(reader()->last_seq()));
     auto next = std::make_shared<std::int64_t>(cursor);
     auto last_write = std::make_shared<core::Duration>(monotonic());
     res.set_chunked_content_provider("text/event-stream",
-                                     [this, next, last_write](std::size_t, httplib::DataSink& sink) {
+                                     [this, next, last_write, slot](std::size_t, httplib::DataSink& sink) {
                                        return stream_step(*next, *last_write, sink);
                                      });
   }
@@ -256,9 +242,8 @@ struct AgentServer::Impl {
   // One step of an SSE stream: the events after `next` if any, else wait for a commit (or the poll
   // interval) and send a ping when idle for ping_interval. False ends the stream.
   bool stream_step(std::int64_t& next, core::Duration& last_write, httplib::DataSink& sink) {
-    auto& store = reader();
     while (!stopping) {
-      const auto page = store.events_after(next, 1000);
+      const auto page = reader()->events_after(next, 1000);
       if (!page.empty()) {
         std::string out;
         for (const auto& e : page) {
@@ -305,11 +290,12 @@ struct AgentServer::Impl {
                Items (store::Store::*read)(std::int64_t, std::size_t) const) {
     const auto after = parse_after(param(req, "after"));
     const auto limit = parse_limit(param(req, "limit"));
-    res.set_content(ndjson((reader().*read)(after, limit)), kNdjson);
+    const auto store = reader();
+    res.set_content(ndjson(((*store).*read)(after, limit)), kNdjson);
   }
 
   void routes() {
-    auto& s = *server;
+    auto& s = http.routes();
     s.Get("/v1/status", wrap([this](const httplib::Request&, httplib::Response& res) {
             res.set_content(to_json(status()).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
                             kJson);
@@ -320,7 +306,7 @@ struct AgentServer::Impl {
           wrap([this](const httplib::Request& req, httplib::Response& res) { stream(req, res); }));
     s.Get("/v1/sessions", wrap([this](const httplib::Request&, httplib::Response& res) {
             nlohmann::json list = nlohmann::json::array();
-            for (const auto& session : reader().sessions()) list.push_back(to_json(session));
+            for (const auto& session : reader()->sessions()) list.push_back(to_json(session));
             res.set_content(nlohmann::json{{"sessions", list}}.dump(-1, ' ', false,
                                                                     nlohmann::json::error_handler_t::replace),
                             kJson);
@@ -337,116 +323,44 @@ struct AgentServer::Impl {
             id_page(req, res, &store::Store::losses_after);
           }));
     s.Get("/metrics", wrap([this](const httplib::Request&, httplib::Response& res) {
-            res.set_content(render_metrics(status()), std::string(kMetricsContentType).c_str());
+            res.set_content(render_metrics(status(), http.counts()),
+                            std::string(kMetricsContentType).c_str());
           }));
   }
 
   void configure() {
-    if (!options.tls_cert.empty()) {
-      auto ssl = std::make_unique<httplib::SSLServer>(options.tls_cert.c_str(), options.tls_key.c_str());
-      if (!ssl->is_valid())
-        throw core::Error(core::ErrorKind::usage,
-                          fmt::format("--tls-cert {} / --tls-key {}: cannot load the certificate and key",
-                                      options.tls_cert, options.tls_key));
-      server = std::move(ssl);
-      tls = true;
-    } else {
-      server = std::make_unique<httplib::Server>();
-    }
-    auto& s = *server;
-    const auto threads = std::max<std::size_t>(options.threads, 1);
-    s.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
-    s.set_payload_max_length(options.max_body);
-    s.set_read_timeout(std::chrono::duration_cast<std::chrono::microseconds>(options.read_timeout));
-    s.set_write_timeout(std::chrono::duration_cast<std::chrono::microseconds>(options.write_timeout));
-    s.set_keep_alive_timeout(5);
-    s.set_keep_alive_max_count(100);
+    auto& s = http.routes();
     s.set_default_headers({{std::string(kApiHeader), "1"}});
-    // SO_REUSEADDR only: httplib's default adds SO_REUSEPORT, which would let another process of the
-    // same user bind the agent's port too and take some of its connections.
-    s.set_socket_options([](socket_t sock) {
-      int yes = 1;
-      ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-    });
     s.set_pre_routing_handler(
         [this](const httplib::Request& req, httplib::Response& res) { return gate(req, res); });
-    // Errors httplib makes itself (400 malformed request, 413, 414, ...) get the same JSON body.
-    s.set_error_handler(
-        httplib::Server::HandlerWithResponse([](const httplib::Request&, httplib::Response& res) {
-          if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
-          fail(res, res.status, reason(res.status));
-          return httplib::Server::HandlerResponse::Handled;
-        }));
-    s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
-      fail(res, 500, "internal error");
-    });
     routes();
   }
 };
 
 AgentServer::AgentServer(ServerOptions options, AgentBackend& backend)
-    : impl_(std::make_unique<Impl>(std::move(options), backend)) {
-  auto& o = impl_->options;
-  if (o.host.size() >= 2 && o.host.front() == '[' && o.host.back() == ']')
-    o.host = o.host.substr(1, o.host.size() - 2);
-  if (o.token) check_token(*o.token, "the token");
-  if (!o.token && !is_loopback(o.host))
-    throw core::Error(core::ErrorKind::usage,
-                      fmt::format("listening on {} (not a loopback address) needs a bearer token: give "
-                                  "--token-file FILE or set M2MLAT_TOKEN",
-                                  o.host));
-  if (o.tls_cert.empty() != o.tls_key.empty())
-    throw core::Error(core::ErrorKind::usage, "TLS needs both --tls-cert and --tls-key");
-  if (o.port < 0 || o.port > 65535)
-    throw core::Error(core::ErrorKind::usage, fmt::format("port {}: use 0 to 65535", o.port));
-}
+    : impl_(std::make_unique<Impl>(std::move(options), backend)) {}
 
 AgentServer::~AgentServer() { stop(); }
 
-void AgentServer::start() {
-  auto& i = *impl_;
-  i.configure();
-  if (i.options.port == 0) {
-    i.port = i.server->bind_to_any_port(i.options.host);
-    if (i.port < 0) i.port = 0;
-  } else if (i.server->bind_to_port(i.options.host, i.options.port)) {
-    i.port = i.options.port;
-  }
-  if (i.port == 0)
-    throw core::Error(core::ErrorKind::io,
-                      fmt::format("cannot listen on {} port {} (in use, or not an address of this machine)",
-                                  i.options.host, i.options.port));
-  i.thread = std::thread([&i] {
-    i.server->listen_after_bind();
-    i.listen_returned = true;
-  });
-  // httplib's stop() does nothing until the listening loop runs: wait for it, so that a stop right
-  // after start cannot be lost (and leave join() waiting forever).
-  while (!i.server->is_running() && !i.listen_returned)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-}
+void AgentServer::start() { impl_->http.start(); }
 
 void AgentServer::stop() {
   auto& i = *impl_;
-  if (!i.server) return;
   {
     std::lock_guard lock(i.commit_mutex);
     i.stopping = true;
   }
   i.commit_cv.notify_all();
-  i.server->stop();
-  if (i.thread.joinable()) i.thread.join();
+  i.http.stop();
 }
 
-int AgentServer::port() const { return impl_->port; }
+int AgentServer::port() const { return impl_->http.port(); }
 
-bool AgentServer::tls() const { return impl_->tls; }
+bool AgentServer::tls() const { return impl_->http.tls(); }
 
-std::string AgentServer::address() const {
-  const auto& host = impl_->options.host;
-  if (host.find(':') != std::string::npos) return fmt::format("[{}]:{}", host, impl_->port);
-  return fmt::format("{}:{}", host, impl_->port);
-}
+std::string AgentServer::address() const { return impl_->http.address(); }
+
+ConnectionCounts AgentServer::counts() const { return impl_->http.counts(); }
 
 void AgentServer::notify_commit(std::int64_t seq) {
   {

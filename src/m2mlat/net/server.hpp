@@ -1,12 +1,13 @@
 // The agent's HTTP API server (docs/api.md) on cpp-httplib: status, committed events (paged and as
 // a Server-Sent Events stream), sessions, clock samples, losses and Prometheus metrics. Events,
 // samples, losses and sessions are read from the store, so only committed data is ever served;
-// each server thread opens its own read-only store::Store. Live counters and session control come
-// from the agent runtime through AgentBackend.
+// handlers lease read-only store::Store connections from a pool. Live counters and session control
+// come from the agent runtime through AgentBackend.
 //
-// Every request passes one gate before routing: header count (431), bearer token when one is set
-// (401), path (404) and method (405 + Allow). Bodies are limited (413), sockets have read and write
-// timeouts, and the thread pool size bounds the connections served at once (more wait in a queue).
+// Connections, deadlines, the connection budget, TLS and SO_REUSEPORT are the HttpServer's
+// (http_server.hpp). Every request passes one gate before routing: header count (431), bearer token
+// when one is set (401), path (404) and method (405 + Allow). Bodies are limited (413); event
+// streams take one of max_streams slots (503 beyond).
 #pragma once
 
 #include <chrono>
@@ -17,6 +18,7 @@
 #include <string>
 
 #include "m2mlat/core/time.hpp"
+#include "m2mlat/net/http_server.hpp"
 #include "m2mlat/net/query.hpp"
 #include "m2mlat/net/wire.hpp"
 #include "m2mlat/store/records.hpp"
@@ -37,17 +39,15 @@ class AgentBackend {
   virtual std::optional<store::Session> stop_session() = 0;
 };
 
-struct ServerOptions {
+// The listening address, TLS files and connection limits are HttpServerOptions' (port 8470 here).
+struct ServerOptions : HttpServerOptions {
+  ServerOptions() {
+    port = 8470;
+    what = "the agent";
+  }
   std::string store_path;            // the node's store (must exist: the recorder creates it)
-  std::string host = "127.0.0.1";    // an address literal; IPv6 with or without brackets
-  int port = 8470;                   // 0: any free port (see AgentServer::port())
   std::optional<std::string> token;  // required unless host is a loopback address
-  std::string tls_cert, tls_key;     // PEM files; both or neither (TLS)
-  std::size_t threads = 16;          // worker threads = connections served at once
-  core::Duration read_timeout = std::chrono::seconds(5);         // per socket read
-  core::Duration write_timeout = std::chrono::seconds(5);        // per socket write
-  std::size_t max_body = 64 * 1024;                              // bytes of a request body (413 beyond)
-  std::size_t max_headers = 64;                                  // header fields of a request (431 beyond)
+  std::size_t max_headers = 64;      // header fields of a request (431 beyond)
   core::Duration ping_interval = std::chrono::seconds(1);        // SSE comment when idle
   core::Duration poll_interval = std::chrono::milliseconds(50);  // SSE store poll without a wake-up
   core::Duration session_timeout = std::chrono::seconds(5);      // longest a session request waits
@@ -55,21 +55,23 @@ struct ServerOptions {
 
 class AgentServer {
  public:
-  // Checks the options: throws core::Error(usage) for a non-loopback host without a token, or a
-  // certificate without a key (or the reverse).
+  // Checks the options and loads the TLS files: throws core::Error(usage) for a non-loopback host
+  // without a token, or as HttpServer does (a certificate without a key, a key file readable by
+  // others ...).
   AgentServer(ServerOptions options, AgentBackend& backend);
   ~AgentServer();  // stops
   AgentServer(const AgentServer&) = delete;
   AgentServer& operator=(const AgentServer&) = delete;
 
-  // Binds and starts serving on a thread of its own. Throws core::Error: io if the address cannot be
-  // bound, usage if the TLS files cannot be loaded.
+  // Binds and starts serving on a thread of its own. Throws core::Error(io) if the address cannot be
+  // bound.
   void start();
-  // Stops accepting, ends the streams and waits for the worker threads. Idempotent.
+  // Stops accepting, ends the streams and waits for every connection's thread. Idempotent.
   void stop();
   int port() const;             // the bound port (after start)
   std::string address() const;  // "host:port" ("[::1]:port" for IPv6)
   bool tls() const;
+  ConnectionCounts counts() const;
   // Wakes the SSE streams: the store has committed up to `seq` (called by the recorder's thread).
   void notify_commit(std::int64_t seq);
 

@@ -11,6 +11,7 @@
 #include <future>
 #include <thread>
 
+#include "../net/raw_client.hpp"
 #include "m2mlat/campaign/sim_to_store.hpp"
 #include "m2mlat/collect/live_view.hpp"
 #include "m2mlat/collect/web_assets.hpp"
@@ -242,6 +243,31 @@ TEST(Dashboard, TokenRule) {
   auto page = c.Get("/");
   ASSERT_TRUE(page);
   EXPECT_EQ(page->status, 200);
+}
+
+// 50 connections trickling request heads (a byte every 100 ms) do not delay the page's data: every
+// /api/live is answered within 1 s, and the slow ones are closed at the request deadline.
+TEST(Dashboard, SlowConnectionsDoNotDelayValidClients) {
+  using namespace std::chrono_literals;
+  auto o = ephemeral();
+  o.request_timeout = 2s;
+  collect::Dashboard d(o);
+  d.publish(collect::snapshot_json(small_summary(), {}, kNow));
+  const auto t0 = std::chrono::steady_clock::now();
+  test::SlowLoris loris(d.port(), 50, 100ms);
+  ASSERT_EQ(loris.connected(), 50u);
+  for (int i = 0; i < 30; ++i) {
+    auto c = client_of(d);
+    const auto begin = std::chrono::steady_clock::now();
+    const auto r = c.Get("/api/live");
+    ASSERT_TRUE(r) << i;
+    EXPECT_EQ(r->status, 200);
+    EXPECT_EQ(nlohmann::json::parse(r->body)["summary"]["scenario"], "bench");
+    EXPECT_LT(std::chrono::steady_clock::now() - begin, 1s) << i;
+  }
+  std::this_thread::sleep_until(t0 + 2s);
+  EXPECT_EQ(loris.closed_within(1000ms), 50u);
+  EXPECT_EQ(d.counts().timed_out, 50u);
 }
 
 TEST(Dashboard, ParsesListenAddresses) {

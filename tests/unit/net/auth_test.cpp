@@ -2,6 +2,7 @@
 #include "m2mlat/net/auth.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -16,7 +17,10 @@ namespace {
 struct TokenFile {
   std::string path =
       (std::filesystem::temp_directory_path() / ("m2mlat-token-" + std::to_string(::getpid()))).string();
-  explicit TokenFile(const std::string& text) { std::ofstream(path) << text; }
+  explicit TokenFile(const std::string& text, ::mode_t mode = 0600) {
+    std::ofstream(path) << text;
+    ::chmod(path.c_str(), mode);
+  }
   ~TokenFile() { std::filesystem::remove(path); }
 };
 
@@ -48,6 +52,35 @@ TEST(Auth, ShortOrUnsendableTokensAndMissingFilesAreRefused) {
   } catch (const core::Error& e) {
     EXPECT_EQ(e.kind(), core::ErrorKind::no_input);
   }
+}
+
+// A token file others could read (or write) is refused with the way to fix it; the owner's alone
+// (0600, 0400) is taken, and 0640 only on a file owned by root.
+TEST(Auth, ATokenFileOthersCanAccessIsRefused) {
+  const auto refused = [](const TokenFile& file) {
+    try {
+      load_token(file.path);
+      return ::testing::AssertionFailure() << "accepted";
+    } catch (const core::Error& e) {
+      if (e.kind() != core::ErrorKind::usage) return ::testing::AssertionFailure() << e.what();
+      if (std::string(e.what()).find("chmod 600 " + file.path) == std::string::npos)
+        return ::testing::AssertionFailure() << "no fix in: " << e.what();
+      return ::testing::AssertionSuccess();
+    }
+  };
+  for (const ::mode_t mode : {0644, 0604, 0602, 0660, 0620, 0610, 0666})
+    EXPECT_TRUE(refused(TokenFile("file-token-0123456789abcdef\n", mode))) << std::oct << mode;
+  for (const ::mode_t mode : {0600, 0400}) {
+    TokenFile file("file-token-0123456789abcdef\n", mode);
+    EXPECT_EQ(load_token(file.path), "file-token-0123456789abcdef");
+  }
+  // Group read: only on a file of root's (root reads any file, so the test can give it away).
+  TokenFile file("file-token-0123456789abcdef\n", 0640);
+  if (::geteuid() == 0) {
+    EXPECT_EQ(load_token(file.path), "file-token-0123456789abcdef");
+    ASSERT_EQ(::chown(file.path.c_str(), 65534, 65534), 0);
+  }
+  EXPECT_TRUE(refused(file));
 }
 
 TEST(Auth, TokensEqualOnlyWhenIdentical) {

@@ -36,7 +36,7 @@ TEST(Metrics, SamplesOfTheStatus) {
   // Every line is a comment or `name{labels} value`, and each family is announced once.
   std::size_t helps = 0;
   for (std::size_t at = 0; (at = text.find("# HELP ", at)) != std::string::npos; ++at) ++helps;
-  EXPECT_EQ(helps, 8u);
+  EXPECT_EQ(helps, 10u);  // 8 of the status, 2 of the connections
   EXPECT_EQ(text.back(), '\n');
 }
 
@@ -55,6 +55,25 @@ TEST(Metrics, ClockFamiliesWithASample) {
   EXPECT_NE(text.find(R"(m2mlat_clock_max_error_seconds{node="veh\"icle",source="chrony"} 0.002000000)"),
             std::string::npos);
   EXPECT_NE(text.find(R"(m2mlat_clock_synchronised{node="veh\"icle",source="chrony"} 1)"), std::string::npos);
+}
+
+TEST(Metrics, ConnectionCountsByOutcome) {
+  ConnectionCounts c;
+  c.open = 3;
+  c.accepted = 120;
+  c.evicted = 7;
+  c.timed_out = 50;
+  const auto text = render_metrics(awkward_status(), c);
+  EXPECT_NE(text.find(R"(m2mlat_http_connections_open{node="veh\"icle"} 3)"), std::string::npos) << text;
+  EXPECT_NE(text.find(R"(m2mlat_http_connections_total{node="veh\"icle",outcome="accepted"} 120)"),
+            std::string::npos);
+  EXPECT_NE(text.find(R"(m2mlat_http_connections_total{node="veh\"icle",outcome="evicted"} 7)"),
+            std::string::npos);
+  EXPECT_NE(text.find(R"(m2mlat_http_connections_total{node="veh\"icle",outcome="timed_out"} 50)"),
+            std::string::npos);
+  EXPECT_NE(text.find(R"(m2mlat_http_connections_total{node="veh\"icle",outcome="refused"} 0)"),
+            std::string::npos);
+  EXPECT_NE(text.find("# TYPE m2mlat_http_connections_total counter\n"), std::string::npos);
 }
 
 }  // namespace

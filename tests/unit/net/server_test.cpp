@@ -7,10 +7,12 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <future>
 #include <mutex>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/store/store.hpp"
+#include "raw_client.hpp"
 
 namespace m2mlat::net {
 namespace {
@@ -78,9 +80,12 @@ class ServerTest : public ::testing::Test {
   }
   void start(std::optional<std::string> token = std::nullopt) {
     ServerOptions o;
+    o.token = std::move(token);
+    start(o);
+  }
+  void start(ServerOptions o) {
     o.store_path = path_;
     o.port = 0;
-    o.token = std::move(token);
     o.ping_interval = std::chrono::milliseconds(200);
     server_ = std::make_unique<AgentServer>(o, *backend_);
     server_->start();
@@ -321,6 +326,74 @@ TEST_F(ServerTest, TheStreamSendsCommittedEventsFromTheResumePointAndPingsWhenId
   EXPECT_EQ(event, store_->events_after(4, 1).at(0));
   EXPECT_LT(received.find("id: 4\n"), five);
   expect_error(c.Get("/v1/events/stream", {{"Last-Event-ID", "abc"}}), 400);
+}
+
+// 50 connections trickling request heads (a byte every 100 ms) hold no worker a valid client
+// needs: every one of its requests is answered within 1 s, and the slow ones are closed at the
+// request deadline.
+TEST_F(ServerTest, SlowConnectionsDoNotDelayValidClientsAndAreCutAtTheDeadline) {
+  using namespace std::chrono_literals;
+  add_events(3);
+  const std::string token = "0123456789abcdef0123456789abcdef";
+  ServerOptions o;
+  o.token = token;
+  o.request_timeout = 2s;
+  start(o);
+  const auto t0 = std::chrono::steady_clock::now();
+  test::SlowLoris loris(server_->port(), 50, 100ms);
+  ASSERT_EQ(loris.connected(), 50u);
+  for (int i = 0; i < 30; ++i) {
+    auto c = client();
+    c.set_bearer_token_auth(token.c_str());
+    const auto begin = std::chrono::steady_clock::now();
+    const auto r = c.Get(i % 2 ? "/v1/status" : "/v1/events?after=1");
+    ASSERT_TRUE(r) << i;
+    EXPECT_EQ(r->status, 200) << r->body;
+    EXPECT_LT(std::chrono::steady_clock::now() - begin, 1s) << i;
+  }
+  std::this_thread::sleep_until(t0 + 2s);
+  EXPECT_EQ(loris.closed_within(1000ms), 50u);
+  EXPECT_EQ(server_->counts().timed_out, 50u);
+  auto c = client();
+  c.set_bearer_token_auth(token.c_str());
+  const auto metrics = c.Get("/metrics");
+  ASSERT_TRUE(metrics);
+  EXPECT_NE(metrics->body.find("m2mlat_http_connections_total{node=\"vehicle\",outcome=\"timed_out\"} 50\n"),
+            std::string::npos)
+      << metrics->body;
+}
+
+TEST_F(ServerTest, EventStreamsAreLimited) {
+  ServerOptions o;
+  o.max_streams = 1;
+  start(o);
+  std::promise<void> open;
+  std::atomic<bool> first{true}, done{false};
+  auto streaming = std::async(std::launch::async, [&] {
+    auto c = client();
+    return c.Get("/v1/events/stream", [&](const char*, std::size_t) {
+      if (first.exchange(false)) open.set_value();
+      return !done.load();
+    });
+  });
+  ASSERT_EQ(open.get_future().wait_for(std::chrono::seconds(5)), std::future_status::ready);
+  auto c = client();
+  const auto refused = c.Get("/v1/events/stream");
+  expect_error(refused, 503);
+  EXPECT_NE(refused->body.find("at most 1"), std::string::npos) << refused->body;
+  EXPECT_EQ(c.Get("/v1/status")->status, 200);  // other requests are not affected
+  done = true;
+  streaming.wait();
+  // The slot is free again once the server has seen the stream end (at its next write).
+  std::string received;
+  for (int i = 0; i < 50 && received.find(": ping") == std::string::npos; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    c.Get("/v1/events/stream", [&](const char* data, std::size_t n) {
+      received.append(data, n);
+      return false;
+    });
+  }
+  EXPECT_NE(received.find(": ping"), std::string::npos) << received;
 }
 
 }  // namespace
