@@ -73,6 +73,7 @@ struct Store::Impl {
   sqlite::Database db;
   Options options;
   int version;
+  bool rows_checked = false;  // row_check::check ran on this connection
   sqlite::Statement insert_event;
   sqlite::Statement insert_events;  // rows::kEventsPerInsert rows
   sqlite::Statement insert_loss;
