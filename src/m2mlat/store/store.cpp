@@ -12,10 +12,10 @@
 
 #include <cerrno>
 #include <chrono>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <random>
 #include <set>
 #include <thread>
 #include <utility>
@@ -53,7 +53,7 @@ void remove_new(const std::string& temp) {
 }
 
 // Creates the store at `path` complete or not at all: the schema is written under a temporary
-// name in the same directory (".NAME.XXXXXX"), the file is closed (its log checkpointed into it),
+// name in the same directory (".NAME.<8 hex digits>"), the file is closed (its log checkpointed into it),
 // and only then is it renamed to `path`, without replacing a file another process created there
 // in the meantime (that one is opened instead). So a failure (a full disk, a signal) leaves nothing
 // half-made at `path`; a kill -9 during creation may leave the hidden temporary file.
@@ -61,8 +61,16 @@ void create_store(const std::string& path, const Options& options) {
   namespace fs = std::filesystem;
   const fs::path target(path);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::string temp = (dir / fmt::format(".{}.XXXXXX", target.filename().string())).string();
-  const int fd = ::mkstemp(temp.data());
+  // Made with open(O_EXCL) and the mode SQLite gives a file it creates (0644 less the umask); mkstemp
+  // would make it 0600, unreadable to a dashboard or backup running as another user.
+  std::string temp;
+  int fd = -1;
+  std::random_device random;
+  for (int attempt = 0; fd < 0 && attempt < 100; ++attempt) {
+    temp = (dir / fmt::format(".{}.{:08x}", target.filename().string(), random())).string();
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0 && errno != EEXIST) break;
+  }
   if (fd < 0)
     throw core::Error(core::ErrorKind::io,
                       fmt::format("{}: cannot create the store: {}", path, std::strerror(errno)));

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -79,8 +80,13 @@ TEST(StoreCreation, AFailedCreationLeavesNothingAtTheName) {
   EXPECT_FALSE(std::filesystem::exists(path));
   EXPECT_TRUE(std::filesystem::is_empty(std::filesystem::path(dir.file(""))))
       << "temporary files left behind";
-  // With room, the same call makes a complete store.
+  // With room, the same call makes a complete store, with the mode SQLite would give it.
+  const mode_t before = ::umask(022);
   auto store = Store::open(path);
+  ::umask(before);
   EXPECT_EQ(store.journal_mode(), "wal");
   EXPECT_TRUE(store.integrity_ok());
+  struct stat st {};
+  ASSERT_EQ(::stat(path.c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0644u);
 }
