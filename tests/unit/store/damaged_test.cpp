@@ -127,3 +127,29 @@ TEST(DamagedStore, NonRegularFilesAreRefusedWithoutOpeningThem) {
   const auto d = open_failure(dir.file(""), true);
   EXPECT_TRUE(contains(d.what(), "a directory")) << d.what();
 }
+
+TEST(DamagedStore, TheResumeBySeqReadRefusesABadRowInsteadOfSkippingIt) {
+  // The agent serves with events_after and a coordinator's cursor moves past what it was given: a
+  // row left out there would be lost for good.
+  TempDir dir;
+  const std::pair<std::string, std::string> cases[] = {
+      {"UPDATE events SET session_id = 77 WHERE seq = 3", "row seq 3: field 'session_id' names session 77"},
+      {"UPDATE events SET flags = 4294967296 WHERE seq = 2", "row seq 2: field 'flags' holds 4294967296"},
+      {"UPDATE events SET channel = '' WHERE seq = 4", "row seq 4: field 'channel' is empty"},
+  };
+  int n = 0;
+  for (const auto& [sql, message] : cases) {
+    const auto path = make_store(dir, "after" + std::to_string(n++) + ".db");
+    edit(path, sql);
+    Options read_only;
+    read_only.read_only = true;
+    const auto store = Store::open(path, read_only);
+    try {
+      store.events_after(0, 100);
+      ADD_FAILURE() << sql << ": no error";
+    } catch (const core::Error& e) {
+      EXPECT_EQ(e.kind(), core::ErrorKind::data);
+      EXPECT_TRUE(contains(e.what(), message)) << e.what();
+    }
+  }
+}
