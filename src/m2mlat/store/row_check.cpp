@@ -34,9 +34,11 @@ constexpr Rule kSessionRules[] = {
     {"role", "typeof(role) <> 'integer' OR role NOT BETWEEN 0 AND 2", "0, 1 or 2"},
     {"start_clock", "typeof(start_clock) <> 'integer' OR start_clock NOT BETWEEN 0 AND 3", "0 to 3"},
     {"start_ns", "typeof(start_ns) <> 'integer'", "an integer"},
-    {"end_clock", "end_clock IS NOT NULL AND (typeof(end_clock) <> 'integer' OR end_clock NOT BETWEEN 0 AND 3)",
+    {"end_clock",
+     "end_clock IS NOT NULL AND (typeof(end_clock) <> 'integer' OR end_clock NOT BETWEEN 0 AND 3)",
      "0 to 3 or NULL"},
-    {"end_ns", "(end_clock IS NULL) <> (end_ns IS NULL) OR (end_ns IS NOT NULL AND typeof(end_ns) <> 'integer')",
+    {"end_ns",
+     "(end_clock IS NULL) <> (end_ns IS NULL) OR (end_ns IS NOT NULL AND typeof(end_ns) <> 'integer')",
      "an integer, NULL exactly when end_clock is"},
 };
 constexpr Rule kEventRules[] = {
@@ -86,8 +88,8 @@ void check(sqlite::Database& db) {
     if (!query.step()) continue;
     const std::int64_t key = query.column_int64(0);
     const Rule& rule = table.rules[static_cast<std::size_t>(query.column_int64(1))];
-    sqlite::Statement value(db, fmt::format("SELECT quote({}) FROM {} WHERE {} = ?1", rule.field, table.name,
-                                            table.key));
+    sqlite::Statement value(
+        db, fmt::format("SELECT quote({}) FROM {} WHERE {} = ?1", rule.field, table.name, table.key));
     value.bind(1, key);
     const std::string shown = value.step() ? std::string(value.column_text(0)) : "?";
     core::throw_data_error({db.path(), 0},

@@ -136,7 +136,8 @@ StoredEvent read_event(const sqlite::Statement& row, const std::string& path) {
   stored.session_id = row.column_int64(1);
   // Rows no m2mlat writes (a file edited by another tool) are refused, not passed on.
   const auto refuse = [&](std::string_view field, std::string_view what) {
-    core::throw_data_error({path, 0}, fmt::format("table 'events' row seq {}: field '{}' {}", stored.seq, field, what));
+    core::throw_data_error({path, 0},
+                           fmt::format("table 'events' row seq {}: field '{}' {}", stored.seq, field, what));
   };
   if (row.column_is_null(2))  // the LEFT JOIN found no session
     refuse("session_id", fmt::format("names session {}, which does not exist", stored.session_id));

@@ -116,7 +116,8 @@ constexpr std::array kMigrations{
 // Table name -> its column names, of the main database of `db` (SQLite's own tables left out).
 std::map<std::string, std::set<std::string>> tables_of(sqlite::Database& db) {
   std::map<std::string, std::set<std::string>> out;
-  sqlite::Statement tables(db, "SELECT name FROM sqlite_schema WHERE type = 'table' AND name NOT LIKE 'sqlite_%'");
+  sqlite::Statement tables(
+      db, "SELECT name FROM sqlite_schema WHERE type = 'table' AND name NOT LIKE 'sqlite_%'");
   while (tables.step()) out[std::string(tables.column_text(0))];
   for (auto& [name, columns] : out) {
     sqlite::Statement info(db, "SELECT name FROM pragma_table_info(?1)");

@@ -2,14 +2,13 @@
 // statements prepared once per connection; filtered reads build their SQL from the filter.
 #include "m2mlat/store/store.hpp"
 
-#include <fmt/format.h>
-
-#include <algorithm>
-#include <array>
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <stdio.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -264,19 +263,21 @@ std::vector<Session> Store::close_cut_sessions(const std::string& node, core::Ti
   sqlite::Transaction transaction(impl_->db);
   std::vector<std::int64_t> open;
   {
-    sqlite::Statement query(impl_->db, "SELECT id FROM sessions WHERE node = ?1 AND end_ns IS NULL ORDER BY id");
+    sqlite::Statement query(impl_->db,
+                            "SELECT id FROM sessions WHERE node = ?1 AND end_ns IS NULL ORDER BY id");
     query.bind(1, node);
     while (query.step()) open.push_back(query.column_int64(0));
   }
   std::vector<Session> cut;
   for (const std::int64_t id : open) {
     // The latest time the session is known to have been alive, on its start's clock (ns).
-    sqlite::Statement last(impl_->db,
-                           "SELECT max(s.start_ns, coalesce((SELECT max(t_ns) FROM events WHERE session_id = s.id "
-                           "AND clock = s.start_clock), s.start_ns), coalesce((SELECT max(t_ns) FROM "
-                           "clock_samples WHERE session_id = s.id AND clock = s.start_clock), s.start_ns)), "
-                           "coalesce((SELECT max(seq) FROM events WHERE session_id = s.id), 0) "
-                           "FROM sessions s WHERE s.id = ?1");
+    sqlite::Statement last(
+        impl_->db,
+        "SELECT max(s.start_ns, coalesce((SELECT max(t_ns) FROM events WHERE session_id = s.id "
+        "AND clock = s.start_clock), s.start_ns), coalesce((SELECT max(t_ns) FROM "
+        "clock_samples WHERE session_id = s.id AND clock = s.start_clock), s.start_ns)), "
+        "coalesce((SELECT max(seq) FROM events WHERE session_id = s.id), 0) "
+        "FROM sessions s WHERE s.id = ?1");
     last.bind(1, id);
     last.step();
     const std::int64_t end_ns = last.column_int64(0);
@@ -290,7 +291,8 @@ std::vector<Session> Store::close_cut_sessions(const std::string& node, core::Ti
     rows::bind_loss(impl_->insert_loss, loss);
     impl_->insert_loss.step();
     impl_->insert_loss.reset();
-    sqlite::Statement update(impl_->db, "UPDATE sessions SET end_clock = start_clock, end_ns = ?2 WHERE id = ?1");
+    sqlite::Statement update(impl_->db,
+                             "UPDATE sessions SET end_clock = start_clock, end_ns = ?2 WHERE id = ?1");
     update.bind(1, id);
     update.bind(2, end_ns);
     update.step();
@@ -542,8 +544,9 @@ bool Store::integrity_ok() const {
 bool is_sqlite_database(const std::string& path) {
   std::error_code error;
   const auto status = std::filesystem::status(path, error);
-  if (error || !std::filesystem::is_regular_file(status) || std::filesystem::file_size(path, error) == 0 || error)
-    return false;
+  if (error || !std::filesystem::is_regular_file(status)) return false;
+  const auto size = std::filesystem::file_size(path, error);  // stat() again: opens nothing
+  if (error || size == 0) return false;                        // an empty file is no store yet
   try {
     auto db = sqlite::Database::open(path, sqlite::Database::Mode::read_only);
     return db.holds_database();

@@ -19,7 +19,9 @@ using namespace m2mlat::store::test;
 
 namespace {
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 // A store of one closed session with five events (seq 1..5).
 std::string make_store(const TempDir& dir, const std::string& name) {
@@ -27,7 +29,8 @@ std::string make_store(const TempDir& dir, const std::string& name) {
   auto store = Store::open(path);
   const auto id = store.begin_session(make_session("vehicle"));
   std::vector<core::Event> events;
-  for (int i = 1; i <= 5; ++i) events.push_back(make_event("vehicle", "wheel", 1'700'000'000'000'000'000 + i));
+  for (int i = 1; i <= 5; ++i)
+    events.push_back(make_event("vehicle", "wheel", 1'700'000'000'000'000'000 + i));
   store.append_events(id, events);
   store.end_session(id, rt(1'700'000'000'000'000'100));
   return path;
@@ -53,8 +56,9 @@ core::Error open_failure(const std::string& path, bool read_only) {
 
 core::Error read_failure(const Store& store) {
   try {
-    store.timestamps(core::TimePoint::from_ns(core::Clock::realtime, std::numeric_limits<std::int64_t>::min()),
-                     core::TimePoint::from_ns(core::Clock::realtime, std::numeric_limits<std::int64_t>::max()));
+    store.timestamps(
+        core::TimePoint::from_ns(core::Clock::realtime, std::numeric_limits<std::int64_t>::min()),
+        core::TimePoint::from_ns(core::Clock::realtime, std::numeric_limits<std::int64_t>::max()));
   } catch (const core::Error& e) {
     return e;
   }
@@ -89,9 +93,11 @@ TEST(DamagedStore, RowsBreakingTheSchemaAreRefusedNotLeftOut) {
       {"UPDATE events SET edge = 2 WHERE seq = 3", "table 'events' row seq 3: field 'edge' holds 2"},
       {"UPDATE events SET clock = 9 WHERE seq = 4", "table 'events' row seq 4: field 'clock' holds 9"},
       {"UPDATE events SET channel = '' WHERE seq = 2", "table 'events' row seq 2: field 'channel' holds ''"},
-      {"UPDATE events SET session_id = 77 WHERE seq = 5", "table 'events' row seq 5: field 'session_id' holds 77"},
+      {"UPDATE events SET session_id = 77 WHERE seq = 5",
+       "table 'events' row seq 5: field 'session_id' holds 77"},
       {"UPDATE events SET flags = -1 WHERE seq = 1", "table 'events' row seq 1: field 'flags' holds -1"},
-      {"UPDATE events SET t_ns = 'soon' WHERE seq = 1", "table 'events' row seq 1: field 't_ns' holds 'soon'"},
+      {"UPDATE events SET t_ns = 'soon' WHERE seq = 1",
+       "table 'events' row seq 1: field 't_ns' holds 'soon'"},
       {"UPDATE sessions SET role = 7", "table 'sessions' row id 1: field 'role' holds 7"},
       {"INSERT INTO losses (session_id, channel, clock, t_ns, first_missing, count, kind) "
        "VALUES (1, 'wheel', 0, 5, 1, 0, 'seqno_gap')",

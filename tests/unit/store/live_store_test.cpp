@@ -6,8 +6,8 @@
 // writer keeps committing while, in this process, further Stores are opened and closed and files
 // are sniffed, and a spawned sqlite3 opens and closes the store each round: the -wal must stay and
 // every committed event must be readable at the end.
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -94,7 +94,8 @@ TEST(LiveStore, OpeningAndClosingElsewhereNeverRemovesTheWalOfALiveWriter) {
     if (!other) GTEST_SKIP() << "the sqlite3 program is not installed";
     EXPECT_EQ(other->first, 0) << "round " << round;
     EXPECT_EQ(other->second, std::to_string(committed)) << "round " << round;
-    ASSERT_TRUE(std::filesystem::exists(wal)) << "round " << round << ": the -wal was removed under the writer";
+    ASSERT_TRUE(std::filesystem::exists(wal))
+        << "round " << round << ": the -wal was removed under the writer";
     writer.append_events(session, events(committed, 10));
     committed += 10;
   }

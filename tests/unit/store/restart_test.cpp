@@ -68,7 +68,8 @@ TEST(StoreCreation, AFailedCreationLeavesNothingAtTheName) {
       Store::open(path);
     } catch (const core::Error& e) {
       const std::string message = e.what();
-      status = e.kind() == core::ErrorKind::io && message.find(path + ": cannot create the store") == 0 ? 0 : 2;
+      status =
+          e.kind() == core::ErrorKind::io && message.find(path + ": cannot create the store") == 0 ? 0 : 2;
       if (status != 0) std::fprintf(stderr, "unexpected: %s\n", e.what());
     }
     std::_Exit(status);
