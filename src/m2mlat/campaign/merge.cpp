@@ -20,6 +20,10 @@ MergeResult merge_store(store::Store& campaign, const std::string& board_path, s
     throw core::Error(core::ErrorKind::usage,
                       fmt::format("{}: is the campaign store itself ({})", board_path, campaign.path()));
 
+  // The chunked reads below select by seq and join sessions: a row breaking the schema's rules (a
+  // file edited by another tool) would be left out without a word. Refuse the file instead.
+  board.check_rows();
+
   store::IngestBatch batch;
   batch.origin = result.origin;
   batch.sessions = board.sessions();  // few; given with every chunk, so each chunk stands alone

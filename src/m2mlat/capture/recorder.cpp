@@ -78,6 +78,10 @@ RecordCounters Recorder::run(int stop_fd, const std::function<std::string()>& st
   // The writer of the open session; empty while none is open (agent only).
   std::optional<store::EventWriter> writer;
   SessionControl* const control = options_.control;
+  // Before this node's first session: a session of it still open was cut by a crash; end it and
+  // record the cut, so that neither stays open for ever nor hides the gap.
+  for (const auto& cut : store_.close_cut_sessions(options_.session.node, realtime_now()))
+    counters.cut_sessions.push_back(cut.id);
   if (options_.start_session || control == nullptr) {
     counters.session_id = begin(options_.session);
     writer.emplace(store_, counters.session_id, writer_options);

@@ -44,6 +44,9 @@ struct RecordCounters {
   std::uint64_t dropped = 0;              // read while no session was open: not stored
   std::int64_t last_committed_seq = 0;    // the store's acknowledged point
   std::string stop_reason;                // "SIGINT", "count", "duration", "source finished", "stop"
+  // Sessions of this node found open at the start (cut by a crash) and closed with a "restart"
+  // loss (Store::close_cut_sessions), in id order.
+  std::vector<std::int64_t> cut_sessions;
   // From each stored event's timestamp to the return of the commit that made it durable (events on
   // CLOCK_REALTIME only: the commit's end is read on that clock), ns.
   LatencyHistogram commit_latency;

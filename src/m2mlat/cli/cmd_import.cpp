@@ -85,7 +85,8 @@ int run_import(const ImportCommand& c) {
   const std::optional<formats::Format> format =
       c.format.empty() ? std::nullopt : std::optional(formats::parse_format(c.format));
 
-  // Read and check everything first.
+  // Read and check everything first, before the store is opened: the files are read raw, and a
+  // process must not open and close a file it holds SQLite connections to (docs/store.md).
   std::vector<PendingSession> pending;
   nlohmann::json report = nlohmann::json::array();
   for (const auto& path : c.files) {

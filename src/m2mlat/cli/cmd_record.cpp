@@ -56,6 +56,7 @@ int run_record(RecordFlags& c) {
                      {"events", counters.events},
                      {"node_losses", counters.node_lost},
                      {"last_committed_seq", counters.last_committed_seq},
+                     {"cut_sessions", counters.cut_sessions},
                      {"commit_latency_ns", commit_latency_json(counters.commit_latency)},
                      {"channels", nlohmann::json::array()}};
     for (const auto& ch : counters.channels) {
@@ -74,6 +75,9 @@ int run_record(RecordFlags& c) {
     for (const auto& ch : counters.channels)
       fmt::print("  {:<16} {:>10} {:>10} {:>8}  {}\n", core::printable(ch.channel), ch.events, ch.suppressed,
                  ch.lost, ch.last ? core::format_seconds(ch.last->ns()) : "-");
+    if (!counters.cut_sessions.empty())
+      fmt::print("  closed session(s) {} of node {}, cut by a crash: each has a 'restart' loss\n",
+                 fmt::join(counters.cut_sessions, ", "), core::printable(node));
     if (counters.node_lost > 0) fmt::print("  {} kernel-log records lost (node-wide)\n", counters.node_lost);
     if (const auto& h = counters.commit_latency; h.count() > 0)
       fmt::print("  edge -> durable commit: p50 {}, p99 {}, max {} ({} events)\n",

@@ -64,6 +64,8 @@ std::optional<analysis::SideInput> lean_side(const std::string& path, std::optio
                                              const std::string& node,
                                              const std::optional<core::ChannelRef>& want) {
   if (!format) {
+    // A raw read of a data file: safe here, before this process opens any store (see docs/store.md
+    // on why a process must never open and close a store file it holds SQLite connections to).
     std::ifstream in(path, std::ios::binary);
     std::string head(64 * 1024, '\0');
     in.read(head.data(), static_cast<std::streamsize>(head.size()));
@@ -94,13 +96,7 @@ void InputFlags::add_to(CLI::App& sub, bool allow_rematch) {
                  "Re-pair the events of a paired-results CSV instead of using its rows");
 }
 
-bool is_sqlite_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char magic[16] = {};
-  in.read(magic, sizeof magic);
-  return in.gcount() == sizeof magic &&
-         std::string_view(magic, sizeof magic) == std::string_view("SQLite format 3\0", 16);
-}
+bool is_sqlite_file(const std::string& path) { return store::is_sqlite_database(path); }
 
 std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags,
                                                      const SelectionFlags& selection_flags,
@@ -159,6 +155,8 @@ std::vector<analysis::ScenarioResult> analyse_inputs(const InputFlags& flags,
       continue;
     }
     const auto scenario = std::filesystem::path(path).stem().string();
+    // Not a store (checked through SQLite), and no store of this loop is open any more: a raw read
+    // of the file cannot drop a lock of a connection of this process.
     auto file = formats::import_file(path, format, import_options);
     if (const auto* paired = std::get_if<formats::PairedImport>(&file.content); paired && !flags.rematch) {
       results.push_back(as_given(scenario, *paired, summary_options));

@@ -21,7 +21,7 @@ struct InputFlags {
   void add_to(CLI::App& sub, bool allow_rematch);
 };
 
-// True if the file starts with SQLite's magic header.
+// True if the file is an SQLite database (store::is_sqlite_database: safe beside open connections).
 bool is_sqlite_file(const std::string& path);
 
 // Loads and analyses every selected scenario. Throws core::Error naming file, line or scenario.

@@ -134,14 +134,24 @@ StoredEvent read_event(const sqlite::Statement& row, const std::string& path) {
   StoredEvent stored;
   stored.seq = row.column_int64(0);
   stored.session_id = row.column_int64(1);
+  // Rows no m2mlat writes (a file edited by another tool) are refused, not passed on.
+  const auto refuse = [&](std::string_view field, std::string_view what) {
+    core::throw_data_error({path, 0},
+                           fmt::format("table 'events' row seq {}: field '{}' {}", stored.seq, field, what));
+  };
+  if (row.column_is_null(2))  // the LEFT JOIN found no session
+    refuse("session_id", fmt::format("names session {}, which does not exist", stored.session_id));
   core::Event& event = stored.event;
   event.node = row.column_text(2);
   event.channel = row.column_text(3);
+  if (event.channel.empty()) refuse("channel", "is empty");
+  if (const auto flags = row.column_int64(9); flags < 0 || flags > 0xFFFF'FFFF)
+    refuse("flags", fmt::format("holds {} (expected 0 to 4294967295)", flags));
   event.edge = read_enum<core::Edge>(row, 4, path, "events", "edge");
   event.time = read_time(row, 5, path, "events");
   event.seqno = from_column(row.column_int64(7));
   event.line_seqno = from_column(row.column_int64(8));
-  event.flags = static_cast<std::uint32_t>(row.column_int64(9));  // CHECK keeps it within 32 bits
+  event.flags = static_cast<std::uint32_t>(row.column_int64(9));  // checked above
   return stored;
 }
 

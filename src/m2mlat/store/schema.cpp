@@ -5,6 +5,9 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <map>
+#include <set>
+#include <string>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/version.hpp"
@@ -110,6 +113,20 @@ constexpr std::array kMigrations{
     Migration{"store identity, origins of a campaign store", kVersion2},
 };
 
+// Table name -> its column names, of the main database of `db` (SQLite's own tables left out).
+std::map<std::string, std::set<std::string>> tables_of(sqlite::Database& db) {
+  std::map<std::string, std::set<std::string>> out;
+  sqlite::Statement tables(
+      db, "SELECT name FROM sqlite_schema WHERE type = 'table' AND name NOT LIKE 'sqlite_%'");
+  while (tables.step()) out[std::string(tables.column_text(0))];
+  for (auto& [name, columns] : out) {
+    sqlite::Statement info(db, "SELECT name FROM pragma_table_info(?1)");
+    info.bind(1, name);
+    while (info.step()) columns.emplace(info.column_text(0));
+  }
+  return out;
+}
+
 }  // namespace
 
 std::span<const Migration> migrations() { return kMigrations; }
@@ -157,6 +174,27 @@ int identify(sqlite::Database& db, std::span<const Migration> steps) {
                                   format, kFormatName));
   }
   return static_cast<int>(version);
+}
+
+void check_tables(sqlite::Database& db, std::span<const Migration> steps, int version) {
+  auto reference = sqlite::Database::open(":memory:", sqlite::Database::Mode::read_write_create);
+  for (int i = 0; i < version && i < static_cast<int>(steps.size()); ++i)
+    reference.exec(steps[static_cast<std::size_t>(i)].sql);
+  const auto want = tables_of(reference);
+  const auto have = tables_of(db);
+  for (const auto& [table, columns] : want) {
+    const auto found = have.find(table);
+    if (found == have.end())
+      throw core::Error(core::ErrorKind::data,
+                        fmt::format("{}: damaged m2mlat store (schema version {}): table '{}' is missing",
+                                    db.path(), version, table));
+    for (const auto& column : columns)
+      if (!found->second.contains(column))
+        throw core::Error(core::ErrorKind::data,
+                          fmt::format("{}: damaged m2mlat store (schema version {}): table '{}' has no "
+                                      "column '{}'",
+                                      db.path(), version, table, column));
+  }
 }
 
 int migrate(sqlite::Database& db, std::span<const Migration> steps) {

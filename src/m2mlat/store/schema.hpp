@@ -34,6 +34,12 @@ int latest_version();
 // version (0 = empty). Throws core::Error(data) naming the file otherwise.
 int identify(sqlite::Database& db, std::span<const Migration> steps);
 
+// Checks that `db`, identified as a store of `version`, has every table and column the first
+// `version` steps create (compared with those steps run on an empty in-memory database), so a
+// damaged or foreign schema is a data error naming the file and what is missing, not a failure of
+// the first statement that needs it. Throws core::Error(data).
+void check_tables(sqlite::Database& db, std::span<const Migration> steps, int version);
+
 // Applies the steps from the store's version up to steps.size(), one transaction each; creating a
 // store (version 0 -> 1) also writes the application id and the meta rows. Safe against a second
 // process migrating at the same time. Returns the version reached.

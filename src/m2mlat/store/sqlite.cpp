@@ -100,6 +100,18 @@ bool Database::last_error_was_busy() const {
   return primary == SQLITE_BUSY || primary == SQLITE_LOCKED;
 }
 
+bool Database::holds_database() {
+  sqlite3_stmt* stmt = nullptr;
+  int rc = sqlite3_prepare_v2(db_, "PRAGMA schema_version", -1, &stmt, nullptr);
+  if (rc == SQLITE_OK) {
+    rc = sqlite3_step(stmt);
+    sqlite3_finalize(stmt);
+  }
+  if (rc == SQLITE_ROW || rc == SQLITE_DONE) return true;
+  if ((rc & 0xff) == SQLITE_NOTADB) return false;
+  throw_error(db_, rc, "reading the database header");
+}
+
 std::int64_t Database::query_int(std::string_view sql) {
   Statement statement(*this, sql);
   return statement.step() ? statement.column_int64(0) : 0;

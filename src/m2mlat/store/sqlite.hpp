@@ -47,6 +47,11 @@ class Database {
   bool in_transaction() const;
   std::int64_t changes() const;      // rows changed by the last INSERT/UPDATE/DELETE
   bool last_error_was_busy() const;  // the last failed call met another connection's lock
+  // Reads the file's header through SQLite: false if the file is not an SQLite database
+  // (SQLITE_NOTADB); an empty file is a new database (true). Other failures throw core::Error.
+  // This is how a store's header is checked: a raw open() and close() of the file would drop every
+  // POSIX lock this process holds on it through its SQLite connections (see docs/store.md).
+  bool holds_database();
   std::int64_t last_insert_rowid() const;
 
  private:

@@ -2,7 +2,10 @@
 // statements prepared once per connection; filtered reads build their SQL from the filter.
 #include "m2mlat/store/store.hpp"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <stdio.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -10,14 +13,15 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
+#include <random>
 #include <set>
 #include <thread>
 #include <utility>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/version.hpp"
+#include "m2mlat/store/row_check.hpp"
 #include "m2mlat/store/rows.hpp"
 #include "m2mlat/store/schema.hpp"
 #include "m2mlat/store/sqlite.hpp"
@@ -28,25 +32,75 @@ namespace m2mlat::store {
 
 namespace {
 
-// Refuses a non-empty file that does not start with SQLite's 16-byte magic, before SQLite sees it.
-// (An empty file is a new database; SQLite in WAL mode may leave the main file empty until the
-// first checkpoint.)
-void check_sqlite_header(const std::string& path) {
+// Refuses a directory or any other non-regular file by stat() alone, which opens nothing. The
+// SQLite header itself is checked by SQLite (Database::holds_database), never by opening the file
+// here: closing any descriptor of a file drops every POSIX lock this process holds on it, SQLite's
+// included, and another process that then opens and closes the store would take it for unused and
+// delete the -wal and -shm under this process's connections (committed events lost).
+void check_regular_file(const std::string& path, const std::filesystem::file_status& status) {
   namespace fs = std::filesystem;
-  std::error_code error;
-  if (fs::is_directory(path, error))
+  if (fs::is_directory(status))
     throw core::Error(core::ErrorKind::data, fmt::format("{}: not an m2mlat store (a directory)", path));
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw core::Error(core::ErrorKind::io, fmt::format("{}: cannot read: {}", path, std::strerror(errno)));
-  constexpr std::string_view kMagic{"SQLite format 3\0", 16};
-  std::array<char, 16> head{};
-  in.read(head.data(), head.size());
-  const auto got = static_cast<std::size_t>(in.gcount());
-  if (got == 0) return;
-  if (got < head.size() || std::string_view(head.data(), head.size()) != kMagic)
+  if (!fs::is_regular_file(status))
     throw core::Error(core::ErrorKind::data,
-                      fmt::format("{}: not an m2mlat store (not an SQLite database)", path));
+                      fmt::format("{}: not an m2mlat store (not a regular file)", path));
+}
+
+// Removes a new store's temporary file and whatever SQLite made beside it. unlink() opens nothing.
+void remove_new(const std::string& temp) {
+  for (const char* suffix : {"", "-wal", "-shm", "-journal"}) ::unlink((temp + suffix).c_str());
+}
+
+// Creates the store at `path` complete or not at all: the schema is written under a temporary
+// name in the same directory (".NAME.<8 hex digits>"), the file is closed (its log checkpointed into it),
+// and only then is it renamed to `path`, without replacing a file another process created there
+// in the meantime (that one is opened instead). So a failure (a full disk, a signal) leaves nothing
+// half-made at `path`; a kill -9 during creation may leave the hidden temporary file.
+void create_store(const std::string& path, const Options& options) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  // Made with open(O_EXCL) and the mode SQLite gives a file it creates (0644 less the umask); mkstemp
+  // would make it 0600, unreadable to a dashboard or backup running as another user.
+  std::string temp;
+  int fd = -1;
+  std::random_device random;
+  for (int attempt = 0; fd < 0 && attempt < 100; ++attempt) {
+    temp = (dir / fmt::format(".{}.{:08x}", target.filename().string(), random())).string();
+    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0 && errno != EEXIST) break;
+  }
+  if (fd < 0)
+    throw core::Error(core::ErrorKind::io,
+                      fmt::format("{}: cannot create the store: {}", path, std::strerror(errno)));
+  ::close(fd);  // a file only this call knows: no connection to it exists
+  try {
+    auto db = sqlite::Database::open(temp, sqlite::Database::Mode::read_write);
+    db.set_busy_timeout(options.busy_timeout_ms);
+    // The schema is written in rollback-journal mode, straight into the file; WAL is switched on
+    // last (a header change), so closing leaves no log that the rename would separate from it.
+    schema::migrate(db, schema::migrations());
+    const auto mode = db.query_text("PRAGMA journal_mode = WAL");
+    if (mode != "wal")
+      throw core::Error(core::ErrorKind::io,
+                        fmt::format("{}: cannot switch to WAL journal mode (got '{}')", path, mode));
+  } catch (const core::Error& e) {
+    remove_new(temp);
+    // SQLite names the temporary file; the user knows the store by its own name.
+    throw core::Error(e.kind(), fmt::format("{}: cannot create the store: {}", path, e.what()));
+  }
+  if (::renameat2(AT_FDCWD, temp.c_str(), AT_FDCWD, path.c_str(), RENAME_NOREPLACE) == 0) {
+    remove_new(temp);  // leftovers beside the old name, if any (empty once closed)
+    return;
+  }
+  int failure = errno;
+  if (failure == EINVAL) {  // a file system without RENAME_NOREPLACE: link() does not replace either
+    failure = ::link(temp.c_str(), path.c_str()) == 0 ? 0 : errno;
+  }
+  remove_new(temp);
+  if (failure != 0 && failure != EEXIST)  // EEXIST: another process created it first; it is opened
+    throw core::Error(core::ErrorKind::io,
+                      fmt::format("{}: cannot create the store: {}", path, std::strerror(failure)));
 }
 
 int synchronous_level(Durability durability) {
@@ -115,19 +169,28 @@ Store& Store::operator=(Store&&) noexcept = default;
 Store::~Store() = default;
 
 Store Store::open(const std::string& path, const Options& options) {
+  namespace fs = std::filesystem;
   std::error_code error;
-  const bool exists = std::filesystem::exists(path, error);
-  if (!exists && (options.read_only || !options.create))
-    throw core::Error(core::ErrorKind::no_input, fmt::format("{}: no such store", path));
-  if (exists) check_sqlite_header(path);
+  auto status = fs::status(path, error);  // stat(): opens nothing
+  if (error && status.type() != fs::file_type::not_found)
+    throw core::Error(core::ErrorKind::io, fmt::format("{}: cannot read: {}", path, error.message()));
+  if (!fs::exists(status)) {
+    if (options.read_only || !options.create)
+      throw core::Error(core::ErrorKind::no_input, fmt::format("{}: no such store", path));
+    create_store(path, options);
+    status = fs::status(path, error);
+  }
+  check_regular_file(path, status);
 
   using Mode = sqlite::Database::Mode;
-  auto db = sqlite::Database::open(path, options.read_only ? Mode::read_only
-                                         : options.create  ? Mode::read_write_create
-                                                           : Mode::read_write);
+  auto db = sqlite::Database::open(path, options.read_only ? Mode::read_only : Mode::read_write);
   db.set_busy_timeout(options.busy_timeout_ms);
+  if (!db.holds_database())
+    throw core::Error(core::ErrorKind::data,
+                      fmt::format("{}: not an m2mlat store (not an SQLite database)", path));
   const auto steps = schema::migrations();
   int version = schema::identify(db, steps);
+  if (version > 0) schema::check_tables(db, steps, version);
   if (options.read_only) {
     if (version == 0)
       throw core::Error(core::ErrorKind::data,
@@ -193,6 +256,50 @@ void Store::end_session(std::int64_t id, core::TimePoint end) {
   update.bind(3, end.ns());
   update.step();
   transaction.commit();
+}
+
+std::vector<Session> Store::close_cut_sessions(const std::string& node, core::TimePoint now) {
+  impl_->require_writable();
+  sqlite::Transaction transaction(impl_->db);
+  std::vector<std::int64_t> open;
+  {
+    sqlite::Statement query(impl_->db,
+                            "SELECT id FROM sessions WHERE node = ?1 AND end_ns IS NULL ORDER BY id");
+    query.bind(1, node);
+    while (query.step()) open.push_back(query.column_int64(0));
+  }
+  std::vector<Session> cut;
+  for (const std::int64_t id : open) {
+    // The latest time the session is known to have been alive, on its start's clock (ns).
+    sqlite::Statement last(
+        impl_->db,
+        "SELECT max(s.start_ns, coalesce((SELECT max(t_ns) FROM events WHERE session_id = s.id "
+        "AND clock = s.start_clock), s.start_ns), coalesce((SELECT max(t_ns) FROM "
+        "clock_samples WHERE session_id = s.id AND clock = s.start_clock), s.start_ns)), "
+        "coalesce((SELECT max(seq) FROM events WHERE session_id = s.id), 0) "
+        "FROM sessions s WHERE s.id = ?1");
+    last.bind(1, id);
+    last.step();
+    const std::int64_t end_ns = last.column_int64(0);
+    const std::int64_t last_seq = last.column_int64(1);
+    Loss loss;
+    loss.session_id = id;
+    loss.detected_at = now;
+    loss.first_missing = static_cast<std::uint64_t>(last_seq + 1);
+    loss.count = 1;
+    loss.kind = "restart";
+    rows::bind_loss(impl_->insert_loss, loss);
+    impl_->insert_loss.step();
+    impl_->insert_loss.reset();
+    sqlite::Statement update(impl_->db,
+                             "UPDATE sessions SET end_clock = start_clock, end_ns = ?2 WHERE id = ?1");
+    update.bind(1, id);
+    update.bind(2, end_ns);
+    update.step();
+    cut.push_back(*session(id));
+  }
+  transaction.commit();
+  return cut;
 }
 
 std::vector<Session> Store::sessions() const {
@@ -304,6 +411,7 @@ std::vector<StoredEvent> Store::events_after(std::int64_t after_seq, std::size_t
 std::vector<StoredEvent> Store::events_in_time(core::TimePoint from, core::TimePoint to,
                                                const EventFilter& filter) const {
   require_same_clock(path(), from, to);
+  if (!impl_->rows_checked) check_rows();
   sqlite::Statement query(impl_->db,
                           fmt::format("SELECT {} FROM events e JOIN sessions s ON s.id = e.session_id "
                                       "WHERE {} ORDER BY e.t_ns, e.seq",
@@ -316,6 +424,7 @@ std::vector<StoredEvent> Store::events_in_time(core::TimePoint from, core::TimeP
 
 Timestamps Store::timestamps(core::TimePoint from, core::TimePoint to, const EventFilter& filter) const {
   require_same_clock(path(), from, to);
+  if (!impl_->rows_checked) check_rows();
   const std::string join = filter.node ? " JOIN sessions s ON s.id = e.session_id" : "";
   sqlite::Statement query(impl_->db, fmt::format("SELECT e.seq, e.t_ns FROM events e{} WHERE {} "
                                                  "ORDER BY e.t_ns, e.seq",
@@ -413,10 +522,37 @@ std::int64_t Store::event_count(std::optional<std::int64_t> session_id) const {
   return query.step() ? query.column_int64(0) : 0;
 }
 
+void Store::check_rows() const {
+  // One read transaction: the tables are checked as of one moment.
+  impl_->db.exec("BEGIN");
+  try {
+    row_check::check(impl_->db);
+  } catch (...) {
+    impl_->db.exec("ROLLBACK");
+    throw;
+  }
+  impl_->db.exec("COMMIT");
+  impl_->rows_checked = true;
+}
+
 bool Store::integrity_ok() const {
   if (impl_->db.query_text("PRAGMA integrity_check") != "ok") return false;
   sqlite::Statement dangling(impl_->db, "PRAGMA foreign_key_check");
   return !dangling.step();
+}
+
+bool is_sqlite_database(const std::string& path) {
+  std::error_code error;
+  const auto status = std::filesystem::status(path, error);
+  if (error || !std::filesystem::is_regular_file(status)) return false;
+  const auto size = std::filesystem::file_size(path, error);  // stat() again: opens nothing
+  if (error || size == 0) return false;                        // an empty file is no store yet
+  try {
+    auto db = sqlite::Database::open(path, sqlite::Database::Mode::read_only);
+    return db.holds_database();
+  } catch (const core::Error&) {
+    return false;  // unreadable: the caller's own open reports why
+  }
 }
 
 }  // namespace m2mlat::store

@@ -49,6 +49,13 @@ class Store {
   // build's; it returns the new id. end_session refuses an unknown or already ended session.
   std::int64_t begin_session(const Session& session);
   void end_session(std::int64_t id, core::TimePoint end);
+  // Sessions of `node` still open when a recorder starts were cut (kill -9, power loss): each is
+  // ended at the latest time it holds (its last committed event or clock sample on its start's
+  // clock; its start if none) and gets a loss of kind "restart" (channel empty, detected_at = now,
+  // first_missing = the session's last committed seq + 1, count 1: how many edges the crash took
+  // is unknown, at most the batch not yet committed), one transaction. Returns the cut sessions,
+  // as now stored. One recorder per node and store: a live recorder's session would be cut too.
+  std::vector<Session> close_cut_sessions(const std::string& node, core::TimePoint now);
   std::vector<Session> sessions() const;  // in id order
   std::optional<Session> session(std::int64_t id) const;
 
@@ -97,6 +104,12 @@ class Store {
 
   std::int64_t last_seq() const;  // the largest committed seq; 0 for no events
   std::int64_t event_count(std::optional<std::int64_t> session_id = {}) const;
+  // Throws core::Error(data) naming the table, row and field of the first row that breaks the
+  // schema's rules (CHECK clauses, references): a file written or edited by another tool. One scan
+  // of every table; events_in_time and timestamps run it once per Store before their first read,
+  // since their selections would leave such rows out without a word.
+  void check_rows() const;
+
   // PRAGMA integrity_check is "ok" and no foreign key is dangling.
   bool integrity_ok() const;
 
@@ -105,5 +118,10 @@ class Store {
   explicit Store(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
+
+// True if `path` is a non-empty regular file that SQLite reads as a database (how the commands tell
+// a store from a data file). Checked by stat() and a read-only SQLite connection, never a raw
+// open(), so it is safe in a process that holds connections to that very file.
+bool is_sqlite_database(const std::string& path);
 
 }  // namespace m2mlat::store

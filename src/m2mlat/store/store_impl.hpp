@@ -40,7 +40,8 @@ struct Store::Impl {
         insert_loss(db, rows::kInsertLoss),
         insert_clock_sample(db, rows::kInsertClockSample),
         session_state(db, "SELECT node, end_ns IS NOT NULL FROM sessions WHERE id = ?1"),
-        events_after(db, fmt::format("SELECT {} FROM events e JOIN sessions s ON s.id = e.session_id "
+        // LEFT JOIN: an event naming a missing session is refused by read_event, not skipped.
+        events_after(db, fmt::format("SELECT {} FROM events e LEFT JOIN sessions s ON s.id = e.session_id "
                                      "WHERE e.seq > ?1 ORDER BY e.seq LIMIT ?2",
                                      rows::kEventColumns)) {}
 
@@ -73,6 +74,7 @@ struct Store::Impl {
   sqlite::Database db;
   Options options;
   int version;
+  bool rows_checked = false;  // row_check::check ran on this connection
   sqlite::Statement insert_event;
   sqlite::Statement insert_events;  // rows::kEventsPerInsert rows
   sqlite::Statement insert_loss;

@@ -1,0 +1,102 @@
+// The schema's rules as queries (see row_check.hpp). Keep them in step with the CHECK clauses and
+// references of schema.cpp; a rule that a valid row could break would stop every analysis, so each
+// one is exactly the negation of a clause there.
+#include "m2mlat/store/row_check.hpp"
+
+#include <fmt/format.h>
+
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "m2mlat/core/error.hpp"
+
+namespace m2mlat::store::row_check {
+
+namespace {
+
+struct Rule {
+  std::string_view field;     // the column named in the message
+  std::string_view broken;    // SQL: true for a row that breaks the rule
+  std::string_view expected;  // for the message
+};
+
+struct Table {
+  std::string_view name;
+  std::string_view key;  // the column that names a row in the message
+  std::span<const Rule> rules;
+};
+
+constexpr std::string_view kClockBroken = "typeof(clock) <> 'integer' OR clock NOT BETWEEN 0 AND 3";
+
+constexpr Rule kSessionRules[] = {
+    {"node", "node = ''", "not empty"},
+    {"role", "typeof(role) <> 'integer' OR role NOT BETWEEN 0 AND 2", "0, 1 or 2"},
+    {"start_clock", "typeof(start_clock) <> 'integer' OR start_clock NOT BETWEEN 0 AND 3", "0 to 3"},
+    {"start_ns", "typeof(start_ns) <> 'integer'", "an integer"},
+    {"end_clock",
+     "end_clock IS NOT NULL AND (typeof(end_clock) <> 'integer' OR end_clock NOT BETWEEN 0 AND 3)",
+     "0 to 3 or NULL"},
+    {"end_ns",
+     "(end_clock IS NULL) <> (end_ns IS NULL) OR (end_ns IS NOT NULL AND typeof(end_ns) <> 'integer')",
+     "an integer, NULL exactly when end_clock is"},
+};
+constexpr Rule kEventRules[] = {
+    {"session_id", "session_id NOT IN (SELECT id FROM sessions)", "an existing session"},
+    {"channel", "channel = ''", "not empty"},
+    {"edge", "typeof(edge) <> 'integer' OR edge NOT IN (0, 1)", "0 or 1"},
+    {"clock", kClockBroken, "0 to 3"},
+    {"t_ns", "typeof(t_ns) <> 'integer'", "an integer"},
+    {"seqno", "typeof(seqno) <> 'integer'", "an integer"},
+    {"line_seqno", "typeof(line_seqno) <> 'integer'", "an integer"},
+    {"flags", "typeof(flags) <> 'integer' OR flags NOT BETWEEN 0 AND 4294967295", "0 to 4294967295"},
+};
+constexpr Rule kClockSampleRules[] = {
+    {"session_id", "session_id NOT IN (SELECT id FROM sessions)", "an existing session"},
+    {"clock", kClockBroken, "0 to 3"},
+    {"t_ns", "typeof(t_ns) <> 'integer'", "an integer"},
+    {"source", "source = ''", "not empty"},
+    {"synchronised", "typeof(synchronised) <> 'integer' OR synchronised NOT IN (0, 1)", "0 or 1"},
+};
+constexpr Rule kLossRules[] = {
+    {"session_id", "session_id NOT IN (SELECT id FROM sessions)", "an existing session"},
+    {"clock", kClockBroken, "0 to 3"},
+    {"t_ns", "typeof(t_ns) <> 'integer'", "an integer"},
+    {"count", "typeof(count) <> 'integer' OR count = 0", "a non-zero integer"},
+    {"kind", "kind NOT IN ('seqno_gap', 'line_seqno_gap', 'kmsg_gap', 'overflow', 'restart')",
+     "a known loss kind"},
+};
+
+constexpr Table kTables[] = {
+    {"sessions", "id", kSessionRules},
+    {"events", "seq", kEventRules},
+    {"clock_samples", "id", kClockSampleRules},
+    {"losses", "id", kLossRules},
+};
+
+}  // namespace
+
+void check(sqlite::Database& db) {
+  for (const Table& table : kTables) {
+    // One scan per table: the CASE names the first rule a row breaks.
+    std::string which = "CASE";
+    int index = 0;
+    for (const Rule& rule : table.rules) which += fmt::format(" WHEN {} THEN {}", rule.broken, index++);
+    which += " END";
+    sqlite::Statement query(db, fmt::format("SELECT {}, {} AS rule FROM {} WHERE rule IS NOT NULL LIMIT 1",
+                                            table.key, which, table.name));
+    if (!query.step()) continue;
+    const std::int64_t key = query.column_int64(0);
+    const Rule& rule = table.rules[static_cast<std::size_t>(query.column_int64(1))];
+    sqlite::Statement value(
+        db, fmt::format("SELECT quote({}) FROM {} WHERE {} = ?1", rule.field, table.name, table.key));
+    value.bind(1, key);
+    const std::string shown = value.step() ? std::string(value.column_text(0)) : "?";
+    core::throw_data_error({db.path(), 0},
+                           fmt::format("table '{}' row {} {}: field '{}' holds {} (expected {}): the file "
+                                       "breaks the store's schema (written or edited by another tool?)",
+                                       table.name, table.key, key, rule.field, shown, rule.expected));
+  }
+}
+
+}  // namespace m2mlat::store::row_check
