@@ -112,7 +112,7 @@ echo 'root:x:0:0:root:/root:/bin/sh' >"$ROOT/etc/passwd"
 echo 'root:x:0:' >"$ROOT/etc/group"
 # The agents listen on the user network's address, not loopback, so they need a bearer token.
 TOKEN_FILE=$WORK/token
-od -An -N16 -tx1 /dev/urandom | tr -d ' \n' >"$TOKEN_FILE"
+(umask 077; od -An -N16 -tx1 /dev/urandom | tr -d ' \n' >"$TOKEN_FILE")  # a secret: the agent and collect refuse a token others can read
 install -m 0600 "$TOKEN_FILE" "$ROOT/etc/m2mlat-token"
 (cd "$ROOT" && find . -print0 | cpio --null -o -H newc --quiet) >"$WORK/initramfs.cpio"
 

@@ -107,9 +107,10 @@ Plan plan_agent(const AgentSetup& s, std::string_view current_env) {
                                    "where the agent listens and its options"));
   if (!s.token_file.empty())
     plan.notes.push_back(fmt::format(
-        "the token file {} must exist, readable by the user m2mlat, the same on the coordinator's side"
-        " (e.g. `head -c 24 /dev/urandom | base64 > {}`)",
-        s.token_file, s.token_file));
+        "the token file {0} must exist, the same on the coordinator's side, and be the agent's secret "
+        "(owned by m2mlat with mode 0600, or by root:m2mlat with 0640; others are refused), e.g. "
+        "`(umask 077; head -c 24 /dev/urandom | base64 > {0}); chown root:m2mlat {0}; chmod 640 {0}`",
+        s.token_file));
   plan.notes.push_back(
       fmt::format("check it (pass a magnet): m2mlat record --config {} --store /tmp/try.db --count 1",
                   agent_config_path(s.node)));
