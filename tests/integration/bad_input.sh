@@ -53,6 +53,9 @@ grep -q -- "--max-latency 1000000000s: a latency is at most" err.txt || fail "wi
 expect_bounded 0 102400 "$M2MLAT" stats events.csv --max-latency 86400s --bootstrap 0
 expect_bounded 2 102400 "$M2MLAT" stats events.csv --bootstrap 1000000000000
 grep -q -- "--bootstrap" err.txt || fail "bootstrap bound not named: $(cat err.txt)"
+expect_exit 2 "$M2MLAT" record --store batch.db --node a --source sim --batch 10000000
+grep -q -- "--batch must be in 1..1000000" err.txt || fail "batch bound: $(cat err.txt)"
+[ ! -e batch.db ] || fail "a refused record created its store"
 # A device never ends: refused before reading. An endless pipe without newlines: refused at 64 KiB.
 expect_bounded 66 102400 "$M2MLAT" stats /dev/zero
 grep -q "/dev/zero: is not a regular file or a pipe" err.txt || fail "/dev/zero: $(cat err.txt)"
