@@ -99,8 +99,8 @@ std::size_t check_line_lengths(std::string_view text, std::string_view name, std
     if (nl == nullptr) {
       const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(from), '\n');
       throw core::Error(core::ErrorKind::data,
-                        fmt::format("{}:{}: line is longer than {} bytes (no reader takes longer lines)", name,
-                                    line, kMaxLineBytes));
+                        fmt::format("{}:{}: line is longer than {} bytes (no reader takes longer lines)",
+                                    name, line, kMaxLineBytes));
     }
     from = static_cast<std::size_t>(static_cast<const char*>(nl) - text.data()) + 1;
   }

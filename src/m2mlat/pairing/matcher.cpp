@@ -84,8 +84,8 @@ struct Sides {
   Window window() const { return Window(causes, effects, min_ns, max_ns); }
 };
 
-// The number of candidate pairs: the sum over causes of the effects in their window (ns sums of
-// index differences; no allocation).
+// The number of candidate pairs: the sum over causes of the number of effects in their window,
+// counted by walking the window (nothing is allocated).
 std::size_t candidate_count(const Sides& sides) {
   std::size_t total = 0;
   Window w = sides.window();
@@ -109,7 +109,8 @@ std::int64_t global_reference(const Sides& sides, std::size_t candidates) {
     Window w = sides.window();
     for (std::size_t i = 0; i < causes.size(); ++i) {
       w.at(i);
-      for (auto j = w.lo; j < w.hi; ++j) use(static_cast<std::size_t>((effects[j] - causes[i] - min_ns) / kBin));
+      for (auto j = w.lo; j < w.hi; ++j)
+        use(static_cast<std::size_t>((effects[j] - causes[i] - min_ns) / kBin));
     }
   };
   std::vector<std::pair<std::size_t, std::int64_t>> occupied;  // (bin, count), ascending bins
@@ -124,8 +125,7 @@ std::int64_t global_reference(const Sides& sides, std::size_t candidates) {
     for_each_bin([&](std::size_t bin) { bins.push_back(bin); });
     std::sort(bins.begin(), bins.end());
     for (std::size_t k = 0; k < bins.size(); ++k) {
-      if (occupied.empty() || occupied.back().first != bins[k])
-        occupied.emplace_back(bins[k], 0);
+      if (occupied.empty() || occupied.back().first != bins[k]) occupied.emplace_back(bins[k], 0);
       ++occupied.back().second;
     }
   }
@@ -382,10 +382,11 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   if (options.reference_neighbours < 1)
     throw core::Error(core::ErrorKind::usage, "reference neighbours must be >= 1");
   if (options.min_latency < -kMaxLatency || options.max_latency > kMaxLatency)
-    throw core::Error(core::ErrorKind::usage,
-                      fmt::format("the latency window {} .. {} reaches beyond the matcher's limit of +-{}",
-                                  core::format_duration(options.min_latency),
-                                  core::format_duration(options.max_latency), core::format_duration(kMaxLatency)));
+    throw core::Error(
+        core::ErrorKind::usage,
+        fmt::format("the latency window {} .. {} reaches beyond the matcher's limit of +-{}",
+                    core::format_duration(options.min_latency), core::format_duration(options.max_latency),
+                    core::format_duration(kMaxLatency)));
   if (cause_ns.size() >= kNone || effect_ns.size() >= kNone)
     throw core::Error(core::ErrorKind::usage, "more than 4 billion events on one side: split the input");
   check_sorted(cause_ns, "cause");
@@ -399,11 +400,12 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   // holds more than the limit before anything is allocated for them.
   const std::size_t candidate_total = candidate_count(sides);
   if (candidate_total > kMaxCandidates)
-    throw core::Error(core::ErrorKind::usage,
-                      fmt::format("the latency window {} .. {} holds {} candidate pairs, more than the "
-                                  "matcher's limit of {}: narrow the window",
-                                  core::format_duration(options.min_latency),
-                                  core::format_duration(options.max_latency), candidate_total, kMaxCandidates));
+    throw core::Error(
+        core::ErrorKind::usage,
+        fmt::format("the latency window {} .. {} holds {} candidate pairs, more than the "
+                    "matcher's limit of {}: narrow the window",
+                    core::format_duration(options.min_latency), core::format_duration(options.max_latency),
+                    candidate_total, kMaxCandidates));
 
   // Pass 1: one global reference; every candidate in the window is allowed, and the best fit wins
   // (not the most pairs, so a missing edge cannot shift a chain of pairs to gain one).

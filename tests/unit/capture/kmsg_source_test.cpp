@@ -81,7 +81,8 @@ TEST_F(KmsgSourceTest, ALineLongerThanTheLimitIsPassedOverNotHeld) {
   EXPECT_EQ(out.events[0].time.ns(), 5);
   EXPECT_EQ(out.events[1].time.ns(), 7);  // not the 99 at the long line's end
   ASSERT_EQ(source.notes().size(), 1u);
-  EXPECT_NE(source.notes()[0].find("line 2: longer than 65536 bytes"), std::string::npos) << source.notes()[0];
+  EXPECT_NE(source.notes()[0].find("line 2: longer than 65536 bytes"), std::string::npos)
+      << source.notes()[0];
 }
 
 TEST_F(KmsgSourceTest, PinsAndErrors) {

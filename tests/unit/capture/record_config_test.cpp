@@ -2,7 +2,6 @@
 #include "m2mlat/capture/record_config.hpp"
 
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <filesystem>
@@ -93,9 +92,9 @@ TEST(RecordConfig, ErrorsNameTheFileLineAndKey) {
 
 TEST(RecordConfig, AFileCutMidWriteIsRefused) {
   // "batch = 51" is valid TOML: only the missing newline shows that "batch = 512" was cut.
-  const auto path = (std::filesystem::temp_directory_path() /
-                     ("m2mlat-cut-" + std::to_string(::getpid()) + ".toml"))
-                        .string();
+  const auto path =
+      (std::filesystem::temp_directory_path() / ("m2mlat-cut-" + std::to_string(::getpid()) + ".toml"))
+          .string();
   std::ofstream(path) << "node = \"vehicle\"\n[store]\nbatch = 51";
   try {
     load_record_config(path);

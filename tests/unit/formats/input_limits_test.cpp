@@ -58,9 +58,9 @@ TEST(InputLimits, TheTruncatedKernelLogLineOfTheIssueIsNotAnEvent) {
   expect_data_error([&] { import_text(text, "k.log", Format::kernel_log, with_node()); },
                     {"k.log:2:", "cut mid-write", "GPIO_16_IRQ:17000"});
   // The timestamp scan of `stats` and `pair` refuses it too.
-  const auto path = (std::filesystem::temp_directory_path() /
-                     ("m2mlat-cut-" + std::to_string(::getpid()) + ".log"))
-                        .string();
+  const auto path =
+      (std::filesystem::temp_directory_path() / ("m2mlat-cut-" + std::to_string(::getpid()) + ".log"))
+          .string();
   std::ofstream(path) << text;
   expect_data_error([&] { read_timestamps(path, Format::kernel_log); }, {path + ":2:"});
   std::filesystem::remove(path);
@@ -106,9 +106,8 @@ TEST(InputLimits, ADeviceIsNoInputFile) {
 // A pipe that never ends and holds no newline: refused once the line passes the limit, with the
 // memory of one line or so, not grown until the machine runs out.
 TEST(InputLimits, AnEndlessPipeWithoutNewlinesIsRefusedAtTheLineLimit) {
-  const auto path = (std::filesystem::temp_directory_path() /
-                     ("m2mlat-fifo-" + std::to_string(::getpid())))
-                        .string();
+  const auto path =
+      (std::filesystem::temp_directory_path() / ("m2mlat-fifo-" + std::to_string(::getpid()))).string();
   std::filesystem::remove(path);
   ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
   std::signal(SIGPIPE, SIG_IGN);  // the writer learns of the reader's end by EPIPE
@@ -137,16 +136,18 @@ TEST(InputLimits, AJsonLinesMemberGivenTwiceIsRefused) {
                     {"dup.jsonl:2:", "member 'time_ns' appears twice"});
   expect_data_error(
       [] {
-        import_text("{\"format\":\"m2mlat-events/1\",\"format\":\"m2mlat-events/1\",\"node\":\"a\","
-                    "\"channel\":\"w\",\"time_ns\":1}\n",
-                    "f.jsonl", Format::events_jsonl, {});
+        import_text(
+            "{\"format\":\"m2mlat-events/1\",\"format\":\"m2mlat-events/1\",\"node\":\"a\","
+            "\"channel\":\"w\",\"time_ns\":1}\n",
+            "f.jsonl", Format::events_jsonl, {});
       },
       {"f.jsonl:1:", "member 'format' appears twice"});
   // The same key in two different objects is no repetition (the inner one is refused for its type).
   expect_data_error(
       [] {
-        import_text("{\"format\":\"m2mlat-events/1\",\"node\":{\"node\":1},\"channel\":\"w\",\"time_ns\":1}\n",
-                    "n.jsonl", Format::events_jsonl, {});
+        import_text(
+            "{\"format\":\"m2mlat-events/1\",\"node\":{\"node\":1},\"channel\":\"w\",\"time_ns\":1}\n",
+            "n.jsonl", Format::events_jsonl, {});
       },
       {"n.jsonl:1:", "field node", "is not a string"});
 }

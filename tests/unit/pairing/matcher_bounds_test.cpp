@@ -35,8 +35,9 @@ TEST(MatcherBounds, AWindowBeyondOneDayIsRefused) {
   const std::vector<std::int64_t> causes{0, 10 * kS}, effects{kS, 11 * kS};
   pairing::MatchOptions o;
   o.max_latency = core::Duration{1'000'000'000 * kS};  // 10^9 s, as in the report
-  EXPECT_NE(usage_error([&] { pairing::match(causes, effects, core::Clock::realtime, o); })
-                .find("beyond the matcher's limit of +-86400.000 s"),
+  EXPECT_NE(usage_error([&] {
+              pairing::match(causes, effects, core::Clock::realtime, o);
+            }).find("beyond the matcher's limit of +-86400.000 s"),
             std::string::npos);
   o.max_latency = pairing::kMaxLatency + core::Duration{1};
   usage_error([&] { pairing::match(causes, effects, core::Clock::realtime, o); });
