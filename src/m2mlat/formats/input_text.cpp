@@ -57,9 +57,9 @@ InputText InputText::read_file(const std::string& path) {
   if (::fstat(fd.get(), &st) != 0) throw_io(name, "cannot stat", errno);
   if (S_ISDIR(st.st_mode))
     throw core::Error(core::ErrorKind::no_input, fmt::format("{}: is a directory, not a file", name));
-  // A device is no input file: /dev/zero and /dev/urandom never end. Standard input may be a
-  // terminal (typed lines) or a socket as well as a pipe.
-  const bool stream = S_ISFIFO(st.st_mode) || (is_stdin && (S_ISSOCK(st.st_mode) || ::isatty(0) == 1));
+  // A named device is no input file: /dev/zero and /dev/urandom never end. Standard input is
+  // whatever the caller made it (a pipe, a terminal, /dev/null) and is read with the line limit.
+  const bool stream = is_stdin || S_ISFIFO(st.st_mode);
   if (!S_ISREG(st.st_mode) && !stream)
     throw core::Error(core::ErrorKind::no_input,
                       fmt::format("{}: is not a regular file or a pipe (a device or a socket)", name));

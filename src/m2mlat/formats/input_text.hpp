@@ -23,7 +23,8 @@ namespace m2mlat::formats {
 class InputText {
  public:
   // Reads the whole file in one go; "-" reads standard input (named "<stdin>" in messages). A pipe
-  // is read with the line limit checked as it comes (core::Error(data) for a longer line).
+  // and standard input are read with the line limit checked as the data comes (core::Error(data)
+  // for a longer line).
   // Throws core::Error: no_input if the file does not exist or is not a regular file or a pipe (a
   // device: /dev/zero would never end), io if it cannot be read.
   static InputText read_file(const std::string& path);
