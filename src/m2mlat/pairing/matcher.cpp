@@ -103,9 +103,11 @@ std::size_t candidate_count(const Sides& sides) {
 // else each candidate's bin, sorted.
 std::int64_t global_reference(const Sides& sides, std::size_t candidates) {
   constexpr std::int64_t kBin = 20'000'000;  // ns
-  const auto& [causes, effects, min_ns, max_ns] = sides;
-  const auto bin_count = static_cast<std::size_t>((max_ns - min_ns) / kBin + 1);
-  const auto for_each_bin = [&](auto&& use) {
+  const auto bin_count = static_cast<std::size_t>((sides.max_ns - sides.min_ns) / kBin + 1);
+  // Calls use(bin) for every candidate. (The names are bound inside: C++20 lets clang capture no
+  // structured binding.)
+  const auto for_each_bin = [&sides](auto&& use) {
+    const auto& [causes, effects, min_ns, max_ns] = sides;
     Window w = sides.window();
     for (std::size_t i = 0; i < causes.size(); ++i) {
       w.at(i);
@@ -141,7 +143,7 @@ std::int64_t global_reference(const Sides& sides, std::size_t candidates) {
     if (k + 1 < occupied.size() && occupied[k + 1].first == bin + 1) smoothed += occupied[k + 1].second;
     if (smoothed > best_count) best_count = smoothed, best_bin = bin;
   }
-  return min_ns + static_cast<std::int64_t>(best_bin) * kBin + kBin / 2;
+  return sides.min_ns + static_cast<std::int64_t>(best_bin) * kBin + kBin / 2;
 }
 
 // Candidates of an alignment pass, in cause order: the effect index and the predecessor candidate
