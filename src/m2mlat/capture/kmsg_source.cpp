@@ -14,6 +14,7 @@
 #include <optional>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/formats/input_text.hpp"
 #include "m2mlat/formats/kernel_log.hpp"
 
 namespace m2mlat::capture {
@@ -132,11 +133,28 @@ void KmsgSource::read(ReadResult& out, std::size_t max_events) {
     }
     partial_.append(chunk);
     std::size_t begin = 0;
-    for (auto nl = partial_.find('\n'); nl != std::string::npos; nl = partial_.find('\n', begin)) {
+    if (skipping_) {  // the rest of a line too long to keep
+      begin = partial_.find('\n');
+      if (begin == std::string::npos) {
+        partial_.clear();
+        continue;
+      }
+      ++begin;
+      skipping_ = false;
+    }
+    for (auto nl = partial_.find('\n', begin); nl != std::string::npos; nl = partial_.find('\n', begin)) {
       take_line(std::string_view(partial_).substr(begin, nl - begin), out);
       begin = nl + 1;
     }
     partial_.erase(0, begin);
+    if (partial_.size() > formats::kMaxLineBytes) {
+      // No GPIO line is this long: pass it over (as malformed) rather than hold it without bound.
+      ++lines_;
+      if (malformed_++ == 0)
+        first_malformed_ = fmt::format("line {}: longer than {} bytes", lines_, formats::kMaxLineBytes);
+      partial_.clear();
+      skipping_ = true;
+    }
   }
 }
 

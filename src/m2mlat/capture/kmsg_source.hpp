@@ -54,7 +54,8 @@ class KmsgSource final : public Source {
   bool device_ = false;
   std::map<std::uint32_t, std::size_t> by_pin_;  // pin -> index in options_.channels
   SequenceTracker kmsg_seq_{0, 64};
-  std::string partial_;  // a followed file's unfinished last line
+  std::string partial_;    // a followed file's unfinished last line (at most formats::kMaxLineBytes)
+  bool skipping_ = false;  // inside a line longer than that, passed over up to its newline
   std::uint64_t lines_ = 0, malformed_ = 0, other_pins_ = 0;
   std::string first_malformed_;
 };

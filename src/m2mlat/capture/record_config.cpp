@@ -3,15 +3,13 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
-#include <sstream>
-
 // Header-only: Debian ships toml++ as a shared library only, and the real-kernel tests link m2mlat
 // statically.
 #define TOML_HEADER_ONLY 1
 #include <toml++/toml.h>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/formats/input_text.hpp"
 
 namespace m2mlat::capture {
 
@@ -216,12 +214,11 @@ RecordConfig parse_record_config(std::string_view text, const std::string& name)
 }
 
 RecordConfig load_record_config(const std::string& path) {
-  std::ifstream in(path);
-  if (!in)
-    throw core::Error(core::ErrorKind::no_input, fmt::format("{}: cannot read the configuration", path));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_record_config(text.str(), path);
+  // Read as every input file is (formats/input_text.hpp): a device is refused, and a last line cut
+  // mid-write too: "batch = 51" cut from "batch = 512" is valid TOML.
+  const auto input = formats::InputText::read_file(path);
+  formats::check_input(input.text(), input.name());
+  return parse_record_config(input.text(), path);
 }
 
 }  // namespace m2mlat::capture

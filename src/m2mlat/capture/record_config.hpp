@@ -42,8 +42,9 @@ struct RecordConfig {
   std::optional<core::Duration> kernel_interval, chrony_interval, ptp_interval;
 };
 
-// Reads and checks a TOML file. Throws core::Error: no_input if it cannot be read, data (naming
-// file:line:column and key) if it is not valid TOML or a key is unknown, mistyped or out of range.
+// Reads and checks a TOML file. Throws core::Error: no_input if it is missing or no regular file,
+// data (naming file:line:column and key) if it is not valid TOML or a key is unknown, mistyped or
+// out of range, or if its last line looks cut mid-write (formats::check_input).
 RecordConfig load_record_config(const std::string& path);
 // The same for text; `name` is the file name used in messages.
 RecordConfig parse_record_config(std::string_view text, const std::string& name);

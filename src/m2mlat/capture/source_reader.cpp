@@ -106,6 +106,7 @@ void SourceReader::stop(bool drain) {
   {
     std::lock_guard lock(mutex_);
     if (stop_) drain = drain && drain_;  // a second request can cancel a drain, never ask for one
+    if (drain && !drain_) drain_until_ = monotonic_now() + options_.drain_limit;
     stop_ = true;
     drain_ = drain;
   }
@@ -169,15 +170,17 @@ void SourceReader::run() {
   try {
     for (;;) {
       bool drain = false;
+      core::Duration drain_until{0};
       {
         std::lock_guard lock(mutex_);
         if (ended_) break;  // the source finished
         if (stop_ && !drain_) break;
         drain = stop_;
+        drain_until = drain_until_;
       }
       if (drain) {
-        // Read until the source has nothing more (the kernel's buffer at a stop).
-        if (read_once() == 0) break;
+        // Read until the source has nothing more (the kernel's buffer at a stop), within the limit.
+        if (monotonic_now() >= drain_until || read_once() == 0) break;
         continue;
       }
       const auto got = read_once();

@@ -41,6 +41,10 @@ struct SourceReaderOptions {
   // commit interval (100 ms) still dominates the latency.
   core::Duration coalesce = std::chrono::milliseconds(5);
   std::size_t wake_events = 512;  // the consumer's descriptor turns readable once this many are queued
+  // How long a stop with drain keeps reading. A kernel's buffer (at most 1024 events a line) is read
+  // in well under a millisecond; a source that always has more (an unpaced simulation, a line that
+  // never stops firing) would otherwise keep the reader, and the process, going forever.
+  core::Duration drain_limit = std::chrono::milliseconds(250);
 };
 
 class SourceReader {
@@ -71,8 +75,8 @@ class SourceReader {
   void give_back(std::vector<std::unique_ptr<ReadResult>>& chunks);
 
   // Asks the thread to end; with `drain` it first reads until the source has nothing more (what the
-  // kernel still buffers at a stop), waiting for chunks to be given back as needed. Returns at once;
-  // status().ended says when the thread is done.
+  // kernel still buffers at a stop) or drain_limit has passed, waiting for chunks to be given back as
+  // needed. Returns at once; status().ended says when the thread is done.
   void stop(bool drain);
   // The failure that ended the thread (a source that could not be read), or null.
   std::exception_ptr error() const;
@@ -100,6 +104,7 @@ class SourceReader {
   std::size_t queued_events_ = 0;
   std::optional<core::Duration> first_;
   bool stop_ = false, drain_ = false, ended_ = false;
+  core::Duration drain_until_{0};  // CLOCK_MONOTONIC: a drain ends here at the latest
   std::exception_ptr error_;
   std::optional<core::Duration> last_read_;  // CLOCK_MONOTONIC of the last read that found events
   std::thread thread_;

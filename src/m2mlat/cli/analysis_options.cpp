@@ -26,8 +26,17 @@ void MatchFlags::add_to(CLI::App& sub) {
 
 pairing::MatchOptions MatchFlags::options() const {
   pairing::MatchOptions o;
-  o.min_latency = duration_flag("--min-latency", min_latency);
-  o.max_latency = duration_flag("--max-latency", max_latency);
+  // The matcher refuses a window beyond its limit too; here the message names the flag.
+  const auto latency = [](const char* flag, const std::string& text) {
+    const auto d = duration_flag(flag, text);
+    if (d > pairing::kMaxLatency || d < -pairing::kMaxLatency)
+      throw core::Error(core::ErrorKind::usage,
+                        fmt::format("{} {}: a latency is at most {} either way (docs/matcher.md)", flag, text,
+                                    core::format_duration(pairing::kMaxLatency)));
+    return d;
+  };
+  o.min_latency = latency("--min-latency", min_latency);
+  o.max_latency = latency("--max-latency", max_latency);
   o.refractory = duration_flag("--refractory", refractory);
   o.tolerance = duration_flag("--tolerance", tolerance);
   o.burst_gap = duration_flag("--burst-gap", burst_gap);
@@ -41,6 +50,7 @@ void StatsFlags::add_to(CLI::App& sub) {
       ->capture_default_str();
   group->add_option("--percentile", percentiles, "Extra percentiles to report, e.g. 99.9")->delimiter(',');
   group->add_option("--bootstrap", bootstrap, "Bootstrap resamples for the CIs of median and IQR (0: none)")
+      ->check(CLI::Range(std::size_t{0}, kMaxBootstrap))
       ->capture_default_str();
   group->add_option("--seed", seed, "Seed of the bootstrap (same seed, same intervals)")
       ->capture_default_str();

@@ -28,6 +28,10 @@ struct MatchFlags {
 struct StatsFlags {
   std::vector<std::string> thresholds{"170ms", "300ms", "400ms", "1s"};
   std::vector<double> percentiles;
+  // Resamples kept in memory: 8 bytes per resample and quantile. At 10^6 the resampling error of
+  // an interval's ends (~1/sqrt(B)) is far below its width; the bound keeps a typo from asking for
+  // terabytes.
+  static constexpr std::size_t kMaxBootstrap = 1'000'000;
   std::size_t bootstrap = 2000;  // resamples; 0 = no confidence intervals
   std::uint64_t seed = 1;
   double level = 0.95;

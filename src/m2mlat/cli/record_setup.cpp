@@ -142,7 +142,8 @@ RecordSetup prepare_record(const RecordFlags& c) {
   }
 
   const auto batch = c.given("--batch") ? c.batch : file.batch.value_or(c.batch);
-  if (batch < 1) throw core::Error(core::ErrorKind::usage, "--batch must be at least 1");
+  if (batch < 1 || batch > 1'000'000)  // the range the configuration file allows
+    throw core::Error(core::ErrorKind::usage, "--batch must be in 1..1000000");
   const auto commit_interval = c.given("--commit-interval")
                                    ? core::parse_duration(c.commit_interval, 1'000'000)
                                    : file.commit_interval.value_or(core::parse_duration(c.commit_interval));

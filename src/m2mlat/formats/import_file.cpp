@@ -48,6 +48,7 @@ void add_events(std::vector<TimestampSeries>& series, const std::vector<core::Ev
 
 ImportedFile import_text(std::string_view text, std::string_view name, std::optional<Format> format,
                          const ImportOptions& options) {
+  check_input(text, name);
   const Format chosen = format ? *format : require_format(text, name);
   ImportedFile result;
   result.format = chosen;
@@ -73,6 +74,7 @@ ImportedFile import_file(const std::string& path, std::optional<Format> format,
 std::vector<TimestampSeries> read_timestamps(const std::string& path, std::optional<Format> format,
                                              std::string_view only_line) {
   const InputText input = InputText::read_file(path);
+  check_input(input.text(), input.name());
   const Format chosen = format ? *format : require_format(input.text(), input.name());
   std::vector<TimestampSeries> series;
   switch (chosen) {

@@ -27,8 +27,9 @@ struct ImportedFile {
 };
 
 // Imports `text` (named `name` in messages) as `format`, or as the detected format if none is
-// given. Throws core::Error(data) for malformed or unrecognisable input, core::Error(usage) for a
-// format m2mlat only writes. Nothing is returned unless the whole input is valid.
+// given. Throws core::Error(data) for malformed or unrecognisable input (check_input's limits
+// included: a line longer than 64 KiB, a last line cut mid-write), core::Error(usage) for a format
+// m2mlat only writes. Nothing is returned unless the whole input is valid.
 ImportedFile import_text(std::string_view text, std::string_view name, std::optional<Format> format,
                          const ImportOptions& options);
 // The same for a file ("-" = standard input), read whole first. Also throws core::Error(no_input)

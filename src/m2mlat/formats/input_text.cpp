@@ -7,10 +7,13 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstring>
 #include <system_error>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/formats/fields.hpp"
 
 namespace m2mlat::formats {
 
@@ -54,6 +57,12 @@ InputText InputText::read_file(const std::string& path) {
   if (::fstat(fd.get(), &st) != 0) throw_io(name, "cannot stat", errno);
   if (S_ISDIR(st.st_mode))
     throw core::Error(core::ErrorKind::no_input, fmt::format("{}: is a directory, not a file", name));
+  // A named device is no input file: /dev/zero and /dev/urandom never end. Standard input is
+  // whatever the caller made it (a pipe, a terminal, /dev/null) and is read with the line limit.
+  const bool stream = is_stdin || S_ISFIFO(st.st_mode);
+  if (!S_ISREG(st.st_mode) && !stream)
+    throw core::Error(core::ErrorKind::no_input,
+                      fmt::format("{}: is not a regular file or a pipe (a device or a socket)", name));
 
   // A regular file's size is known: read it into a buffer of exactly that size (plus one byte to
   // notice a file that grew meanwhile). Otherwise start with 1 MiB and double.
@@ -61,6 +70,7 @@ InputText InputText::read_file(const std::string& path) {
       S_ISREG(st.st_mode) ? static_cast<std::size_t>(st.st_size) + 1 : std::size_t{1} << 20;
   auto buffer = std::make_unique_for_overwrite<char[]>(capacity);
   std::size_t size = 0;
+  std::size_t line_start = 0;  // a stream's lines before this one are checked
   for (;;) {
     if (size == capacity) {
       const std::size_t grown = capacity * 2;
@@ -76,8 +86,39 @@ InputText InputText::read_file(const std::string& path) {
     }
     if (got == 0) break;
     size += static_cast<std::size_t>(got);
+    if (stream) line_start = check_line_lengths({buffer.get(), size}, name, line_start);
   }
   return InputText(std::move(buffer), size, name);
+}
+
+std::size_t check_line_lengths(std::string_view text, std::string_view name, std::size_t from) {
+  // Any kMaxLineBytes + 1 bytes from a line's start hold a newline unless that line is too long;
+  // the last newline among them is the start of the next line to look from.
+  while (text.size() - from > kMaxLineBytes) {
+    const void* nl = ::memrchr(text.data() + from, '\n', kMaxLineBytes + 1);
+    if (nl == nullptr) {
+      const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(from), '\n');
+      throw core::Error(core::ErrorKind::data,
+                        fmt::format("{}:{}: line is longer than {} bytes (no reader takes longer lines)",
+                                    name, line, kMaxLineBytes));
+    }
+    from = static_cast<std::size_t>(static_cast<const char*>(nl) - text.data()) + 1;
+  }
+  return from;
+}
+
+void check_input(std::string_view text, std::string_view name) {
+  check_line_lengths(text, name);
+  if (text.empty() || text.back() == '\n') return;
+  const auto last_nl = text.rfind('\n');
+  if (last_nl == std::string_view::npos) return;  // one line: nothing says it was cut
+  const std::string_view last = text.substr(last_nl + 1);
+  if (is_blank(last) || last == "\r") return;
+  const auto line = 1 + std::count(text.begin(), text.end(), '\n');
+  throw core::Error(core::ErrorKind::data,
+                    fmt::format("{}:{}: the last line does not end with a newline: the file looks cut "
+                                "mid-write (if the line {} is complete, add the newline)",
+                                name, line, quote_for_message(last)));
 }
 
 InputText InputText::from_string(std::string_view text, std::string name) {

@@ -3,8 +3,12 @@
 // Every importer reads its whole input before it builds anything, so that a malformed line anywhere
 // ends in an exception and leaves the caller with nothing partial. Lines are string_views into one
 // buffer (no per-line allocation), which is what lets the importers parse tens of millions of lines
-// per second. A UTF-8 byte-order mark, Windows line endings (CRLF) and a missing final newline are
-// all accepted.
+// per second. A UTF-8 byte-order mark and Windows line endings (CRLF) are accepted.
+//
+// Limits, the same for every format: a line holds at most kMaxLineBytes (a longer one is refused
+// with its file and line, while it is read from a pipe, so that an endless stream without newlines
+// cannot grow without bound), and a last line without its newline after earlier lines is refused
+// as a file cut mid-write (check_input). Only regular files, pipes and standard input are read.
 #pragma once
 
 #include <cstddef>
@@ -18,8 +22,11 @@ namespace m2mlat::formats {
 // The bytes of one input, owned, with the name used in error messages.
 class InputText {
  public:
-  // Reads the whole file in one go; "-" reads standard input (named "<stdin>" in messages).
-  // Throws core::Error: no_input if the file does not exist, io if it cannot be read.
+  // Reads the whole file in one go; "-" reads standard input (named "<stdin>" in messages). A pipe
+  // and standard input are read with the line limit checked as the data comes (core::Error(data)
+  // for a longer line).
+  // Throws core::Error: no_input if the file does not exist or is not a regular file or a pipe (a
+  // device: /dev/zero would never end), io if it cannot be read.
   static InputText read_file(const std::string& path);
   // Wraps text already in memory (tests, network payloads); `name` appears in error messages.
   static InputText from_string(std::string_view text, std::string name);
@@ -36,6 +43,23 @@ class InputText {
   std::string name_;
 };
 
+// The longest line any reader accepts, in bytes without its line end: 64 KiB. The longest line of
+// any format m2mlat reads is a few hundred bytes; a longer one is not text of these formats.
+inline constexpr std::size_t kMaxLineBytes = 64 * 1024;
+
+// Throws core::Error(data) "<name>:<line>: line is longer than 65536 bytes" for the first line of
+// text[from, end) longer than kMaxLineBytes (`from` must be a line's start). Returns the start of
+// the last line of the text when it is not longer than the limit (with a stream, where the next
+// check can begin). Costs one memrchr of at most a few lines per 64 KiB.
+std::size_t check_line_lengths(std::string_view text, std::string_view name, std::size_t from = 0);
+
+// The checks every importer makes before it reads a line: the line lengths, and the last line.
+// A last line without a newline, after lines that ended with one, is how a file cut mid-write
+// ends (a recorder killed, a copy interrupted, a disk full): "GPIO_16_IRQ:17000" would be read as
+// an event at 17000 ns. It is refused with core::Error(data) naming file and line unless it is
+// blank. A text of one line without a newline (echo -n, a string in memory) is accepted.
+void check_input(std::string_view text, std::string_view name);
+
 // Removes a leading UTF-8 byte-order mark (EF BB BF), which spreadsheet programs write.
 constexpr std::string_view strip_bom(std::string_view text) {
   if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
@@ -48,8 +72,8 @@ class LineReader {
  public:
   explicit LineReader(std::string_view text) : rest_(strip_bom(text)) {}
 
-  // The next line; false at the end. A final line without a newline is still returned; the empty
-  // "line" after a final newline is not.
+  // The next line; false at the end. A final line without a newline is still returned (check_input
+  // refuses one that looks cut); the empty "line" after a final newline is not.
   bool next(std::string_view& line) {
     if (rest_.empty()) return false;
     const void* nl = std::memchr(rest_.data(), '\n', rest_.size());

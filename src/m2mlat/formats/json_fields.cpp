@@ -3,7 +3,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "m2mlat/formats/fields.hpp"
 
@@ -17,8 +20,26 @@ std::string shown(const nlohmann::json& value) {
 
 JsonLine::JsonLine(std::string_view line, std::string_view file, long line_number)
     : file_(file), line_(line_number) {
+  // The keys of each object being parsed: a member given twice is refused (nlohmann::json would
+  // keep the last, and which one the writer meant is unknowable).
+  std::vector<std::vector<std::string>> keys;
+  const auto check_keys = [&](int, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+    using Event = nlohmann::json::parse_event_t;
+    if (event == Event::object_start) {
+      keys.emplace_back();
+    } else if (event == Event::object_end) {
+      keys.pop_back();
+    } else if (event == Event::key) {
+      const auto& key = parsed.get_ref<const std::string&>();
+      auto& seen = keys.back();
+      if (std::find(seen.begin(), seen.end(), key) != seen.end())
+        throw_line_error(file_, line_, fmt::format("member {} appears twice", quote_for_message(key)));
+      seen.push_back(key);
+    }
+    return true;
+  };
   try {
-    json_ = nlohmann::json::parse(line);
+    json_ = nlohmann::json::parse(line, check_keys);
   } catch (const nlohmann::json::exception& e) {  // parse_error, or out_of_range (1e999)
     // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 5: ..."; the
     // bracketed id and the "line 1" (always 1 here) mean nothing to the user.

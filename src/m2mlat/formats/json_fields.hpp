@@ -13,7 +13,8 @@ namespace m2mlat::formats {
 
 class JsonLine {
  public:
-  // Parses the line; throws core::Error(data) "<file>:<line>: ..." unless it is one JSON object.
+  // Parses the line; throws core::Error(data) "<file>:<line>: ..." unless it is one JSON object
+  // with no member given twice (in it or in any object inside it).
   JsonLine(std::string_view line, std::string_view file, long line_number);
 
   const nlohmann::json& object() const { return json_; }

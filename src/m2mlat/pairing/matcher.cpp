@@ -14,6 +14,7 @@ namespace m2mlat::pairing {
 namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+static_assert(kMaxCandidates < kNone, "candidate ids are 32 bits, kNone excluded");
 constexpr std::int64_t kAllBounces = std::numeric_limits<std::int64_t>::max();  // see match()
 
 // Gives a vector's memory back now. (`v = {}` would not: it picks the initializer_list assignment,
@@ -83,26 +84,66 @@ struct Sides {
   Window window() const { return Window(causes, effects, min_ns, max_ns); }
 };
 
+// The number of candidate pairs: the sum over causes of the number of effects in their window,
+// counted by walking the window (nothing is allocated).
+std::size_t candidate_count(const Sides& sides) {
+  std::size_t total = 0;
+  Window w = sides.window();
+  for (std::size_t i = 0; i < sides.causes.size(); ++i) {
+    w.at(i);
+    total += w.hi - w.lo;
+  }
+  return total;
+}
+
 // Global reference latency: the centre of the densest 20 ms-wide bin of all candidate latencies.
 // True pairs pile up around the typical latency; wrong candidates spread over the whole window.
-std::int64_t global_reference(const Sides& sides) {
+// The counts are kept for the occupied bins only, so that memory follows the number of candidates
+// and never the window's width: a table of every bin while there are fewer bins than candidates,
+// else each candidate's bin, sorted.
+std::int64_t global_reference(const Sides& sides, std::size_t candidates) {
   constexpr std::int64_t kBin = 20'000'000;  // ns
-  const auto& [causes, effects, min_ns, max_ns] = sides;
-  std::vector<std::int64_t> counts(static_cast<std::size_t>((max_ns - min_ns) / kBin + 3), 0);
-  Window w = sides.window();
-  for (std::size_t i = 0; i < causes.size(); ++i) {
-    w.at(i);
-    for (auto j = w.lo; j < w.hi; ++j)
-      ++counts[static_cast<std::size_t>((effects[j] - causes[i] - min_ns) / kBin) + 1];
+  const auto bin_count = static_cast<std::size_t>((sides.max_ns - sides.min_ns) / kBin + 1);
+  // Calls use(bin) for every candidate. (The names are bound inside: C++20 lets clang capture no
+  // structured binding.)
+  const auto for_each_bin = [&sides](auto&& use) {
+    const auto& [causes, effects, min_ns, max_ns] = sides;
+    Window w = sides.window();
+    for (std::size_t i = 0; i < causes.size(); ++i) {
+      w.at(i);
+      for (auto j = w.lo; j < w.hi; ++j)
+        use(static_cast<std::size_t>((effects[j] - causes[i] - min_ns) / kBin));
+    }
+  };
+  std::vector<std::pair<std::size_t, std::int64_t>> occupied;  // (bin, count), ascending bins
+  if (bin_count <= candidates) {
+    std::vector<std::int64_t> counts(bin_count, 0);
+    for_each_bin([&](std::size_t bin) { ++counts[bin]; });
+    for (std::size_t b = 0; b < bin_count; ++b)
+      if (counts[b] > 0) occupied.emplace_back(b, counts[b]);
+  } else {
+    std::vector<std::size_t> bins;
+    bins.reserve(candidates);
+    for_each_bin([&](std::size_t bin) { bins.push_back(bin); });
+    std::sort(bins.begin(), bins.end());
+    for (std::size_t k = 0; k < bins.size(); ++k) {
+      if (occupied.empty() || occupied.back().first != bins[k]) occupied.emplace_back(bins[k], 0);
+      ++occupied.back().second;
+    }
   }
-  // Smooth over the neighbouring bins so that a spread-out peak wins over a lucky spike.
-  std::size_t best_bin = 1;
+  // Smooth over the neighbouring bins so that a spread-out peak wins over a lucky spike. The first
+  // maximum is always an occupied bin (an empty one's smoothed count, c[b-1] + c[b+1], is at most
+  // that of its larger neighbour), so only those are looked at; the first of equal ones wins.
+  std::size_t best_bin = 0;
   std::int64_t best_count = -1;
-  for (std::size_t b = 1; b + 1 < counts.size(); ++b) {
-    const std::int64_t smoothed = counts[b - 1] + 2 * counts[b] + counts[b + 1];
-    if (smoothed > best_count) best_count = smoothed, best_bin = b;
+  for (std::size_t k = 0; k < occupied.size(); ++k) {
+    const auto [bin, count] = occupied[k];
+    std::int64_t smoothed = 2 * count;
+    if (k > 0 && occupied[k - 1].first + 1 == bin) smoothed += occupied[k - 1].second;
+    if (k + 1 < occupied.size() && occupied[k + 1].first == bin + 1) smoothed += occupied[k + 1].second;
+    if (smoothed > best_count) best_count = smoothed, best_bin = bin;
   }
-  return min_ns + static_cast<std::int64_t>(best_bin - 1) * kBin + kBin / 2;
+  return sides.min_ns + static_cast<std::int64_t>(best_bin) * kBin + kBin / 2;
 }
 
 // Candidates of an alignment pass, in cause order: the effect index and the predecessor candidate
@@ -173,8 +214,6 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, std::int6
       const std::int64_t latency = effects[j] - causes[i];
       const std::int64_t deviation = latency > ref ? latency - ref : ref - latency;
       if (deviation < tolerance_ns) {
-        if (cand.effect.size() >= kNone)
-          throw core::Error(core::ErrorKind::usage, "too many candidate pairs: narrow the latency window");
         const auto id = static_cast<std::uint32_t>(cand.effect.size());
         cand.effect.push_back(j);
         cand.pred.push_back(running.candidate);
@@ -344,6 +383,12 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
     throw core::Error(core::ErrorKind::usage, "the tolerance must be positive");
   if (options.reference_neighbours < 1)
     throw core::Error(core::ErrorKind::usage, "reference neighbours must be >= 1");
+  if (options.min_latency < -kMaxLatency || options.max_latency > kMaxLatency)
+    throw core::Error(
+        core::ErrorKind::usage,
+        fmt::format("the latency window {} .. {} reaches beyond the matcher's limit of +-{}",
+                    core::format_duration(options.min_latency), core::format_duration(options.max_latency),
+                    core::format_duration(kMaxLatency)));
   if (cause_ns.size() >= kNone || effect_ns.size() >= kNone)
     throw core::Error(core::ErrorKind::usage, "more than 4 billion events on one side: split the input");
   check_sorted(cause_ns, "cause");
@@ -353,10 +398,20 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   Kept effects(effect_ns, options.refractory);
   const Sides sides{causes.ns, effects.ns, options.min_latency.count(), options.max_latency.count()};
   const std::int64_t min_ns = sides.min_ns, max_ns = sides.max_ns;
+  // Memory follows the number of candidate pairs (8 bytes each in the passes): refuse a window that
+  // holds more than the limit before anything is allocated for them.
+  const std::size_t candidate_total = candidate_count(sides);
+  if (candidate_total > kMaxCandidates)
+    throw core::Error(
+        core::ErrorKind::usage,
+        fmt::format("the latency window {} .. {} holds {} candidate pairs, more than the "
+                    "matcher's limit of {}: narrow the window",
+                    core::format_duration(options.min_latency), core::format_duration(options.max_latency),
+                    candidate_total, kMaxCandidates));
 
   // Pass 1: one global reference; every candidate in the window is allowed, and the best fit wins
   // (not the most pairs, so a missing edge cannot shift a chain of pairs to gain one).
-  const std::int64_t global = global_reference(sides);
+  const std::int64_t global = global_reference(sides, candidate_total);
   const std::int64_t wide = (max_ns - min_ns) + 1;
   Candidates candidates;
   auto match1 = align(sides, candidates, wide, false, [&](std::size_t) { return global; });

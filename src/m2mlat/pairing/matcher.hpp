@@ -19,6 +19,7 @@
 // holds such an event is flagged ambiguous (kPairAmbiguous). docs/matcher.md has the details.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -28,6 +29,12 @@
 #include "m2mlat/pairing/pair.hpp"
 
 namespace m2mlat::pairing {
+
+// Limits that keep the matcher's memory bounded whatever the options say. A latency beyond one day
+// is no latency of a teleoperation link; the candidate pairs (8 bytes each, twice) bound the memory
+// of the alignment, which follows their number and never the window's width.
+inline constexpr core::Duration kMaxLatency{86'400'000'000'000};  // |min_latency|, |max_latency| (ns): 1 day
+inline constexpr std::size_t kMaxCandidates = std::size_t{1} << 28;  // candidate pairs (2 GiB of alignment)
 
 struct MatchOptions {
   core::Duration min_latency{0};              // smallest plausible latency (ns); may be negative
@@ -47,7 +54,8 @@ struct MatchResult {
 };
 
 // Matches two sorted timestamp sequences (ns, same clock). Indices in the result refer to these spans.
-// Throws core::Error(usage) on bad options and core::Error(data) if a sequence is not sorted.
+// Throws core::Error(usage) on bad options (a window beyond kMaxLatency, or one holding more than
+// kMaxCandidates candidate pairs) and core::Error(data) if a sequence is not sorted.
 MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
                   core::Clock clock, const MatchOptions& options = {});
 

@@ -66,6 +66,25 @@ TEST_F(KmsgSourceTest, WithoutChannelsEveryPinIsItsOwnChannelAndMalformedLinesAr
   EXPECT_NE(source.notes()[0].find("line 3"), std::string::npos) << source.notes()[0];
 }
 
+TEST_F(KmsgSourceTest, ALineLongerThanTheLimitIsPassedOverNotHeld) {
+  KmsgSource source({"operator", path_, {}});
+  ReadResult out;
+  // 200 KiB without a newline, written in pieces: never held whole, and its end is passed over too.
+  append("[  1.0] GPIO_16_IRQ:5\n");
+  for (int i = 0; i < 25; ++i) {
+    append(std::string(8192, 'x'));
+    source.read(out, 100);
+  }
+  append("GPIO_16_IRQ:99\n[  1.1] GPIO_16_IRQ:7\n");
+  source.read(out, 100);
+  ASSERT_EQ(out.events.size(), 2u);
+  EXPECT_EQ(out.events[0].time.ns(), 5);
+  EXPECT_EQ(out.events[1].time.ns(), 7);  // not the 99 at the long line's end
+  ASSERT_EQ(source.notes().size(), 1u);
+  EXPECT_NE(source.notes()[0].find("line 2: longer than 65536 bytes"), std::string::npos)
+      << source.notes()[0];
+}
+
 TEST_F(KmsgSourceTest, PinsAndErrors) {
   std::uint32_t pin = 0;
   EXPECT_TRUE(KmsgSource::pin_of("GPIO16", pin));

@@ -2,7 +2,9 @@
 #include "m2mlat/capture/record_config.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "m2mlat/core/error.hpp"
@@ -86,6 +88,26 @@ TEST(RecordConfig, ErrorsNameTheFileLineAndKey) {
   EXPECT_NE(range.find("vehicle.toml:2:12: rt.priority: must be in 1..99"), std::string::npos) << range;
   const auto twice = error_of("[[channel]]\nname = \"w\"\nline = 1\n[[channel]]\nname = \"w\"\nline = 2\n");
   EXPECT_NE(twice.find("defined twice"), std::string::npos) << twice;
+}
+
+TEST(RecordConfig, AFileCutMidWriteIsRefused) {
+  // "batch = 51" is valid TOML: only the missing newline shows that "batch = 512" was cut.
+  const auto path =
+      (std::filesystem::temp_directory_path() / ("m2mlat-cut-" + std::to_string(::getpid()) + ".toml"))
+          .string();
+  std::ofstream(path) << "node = \"vehicle\"\n[store]\nbatch = 51";
+  try {
+    load_record_config(path);
+    ADD_FAILURE() << "a cut configuration was read";
+  } catch (const core::Error& e) {
+    EXPECT_EQ(e.kind(), core::ErrorKind::data);
+    EXPECT_NE(std::string(e.what()).find(path + ":3: the last line does not end with a newline"),
+              std::string::npos)
+        << e.what();
+  }
+  std::ofstream(path, std::ios::app) << "2\n";
+  EXPECT_EQ(load_record_config(path).batch, 512);
+  std::filesystem::remove(path);
 }
 
 TEST(RecordConfig, AMissingFileIsNoInput) {

@@ -191,13 +191,19 @@ t_record_edges() {
   return $rc
 }
 
-# SIGTERM right after the last edge: every edge made before it is stored.
+# SIGTERM right after the last edge: every edge made before it is stored, and record has ended
+# within 1 s of the signal (measured to wait_exit's 0.1 s polling, so up to 1.1 s is allowed).
 t_record_shutdown() {
   need_record || return 77
   start_record term.db term.json both || return 1
   "$DRIVER" toggle --sim "$SIM/sim_gpio0" --count 500 --period-us "$PACE_US" --log term.drv >/dev/null
+  local signalled
+  signalled=$(now_cs)
   kill -TERM $REC
   wait_exit $REC 30 || { info "record exited $? on SIGTERM"; show term.json.err; return 1; }
+  local took=$(($(now_cs) - signalled))
+  info "record ended $((took * 10)) ms after SIGTERM"
+  [ "$took" -le 110 ] || { info "record took more than 1 s to stop"; return 1; }
   export_verify term.db term.drv || { show term.json; return 1; }
 }
 
