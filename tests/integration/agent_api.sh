@@ -4,13 +4,6 @@
 # and oversized requests get their 4xx, the agent keeps running and the stored events do not change;
 # TLS with a self-signed certificate; SIGTERM ends the agent cleanly with every session closed.
 source "$(dirname "$0")/lib.bash"
-PIDS=()
-cleanup() {
-  for pid in "${PIDS[@]}"; do kill "$pid" 2>/dev/null || true; done
-  for pid in "${PIDS[@]}"; do wait "$pid" 2>/dev/null || true; done
-  rm -rf "$WORK"
-}
-trap cleanup EXIT
 
 # [STORE=FILE] start_agent NAME ARGS...: starts an agent (store NAME.db unless STORE is set), waits for its `listening` line; sets PORT and PID.
 start_agent() {

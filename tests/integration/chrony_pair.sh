@@ -9,15 +9,6 @@ source "$(dirname "$0")/lib.bash"
 command -v chronyd >/dev/null && command -v chronyc >/dev/null || fail "chronyd/chronyc are not installed"
 [ "$(id -u)" = 0 ] || fail "needs root: chronyd binds its command socket and ntp port as root"
 
-PIDS=()
-cleanup() {
-  local pid
-  for pid in "${PIDS[@]}"; do kill "$pid" 2>/dev/null || true; done
-  for pid in "${PIDS[@]}"; do wait "$pid" 2>/dev/null || true; done
-  rm -rf "$WORK"
-}
-trap cleanup EXIT
-
 PORT=$($PY -c 'import socket; s=socket.socket(socket.AF_INET, socket.SOCK_DGRAM); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
 
 # 1. The generated configurations; --dry-run first (prints, writes nothing), then for real.

@@ -9,13 +9,24 @@ M2MLAT=$(realpath "$1")
 DATA=$(realpath "$2")
 PY=/usr/bin/python3
 WORK=$(mktemp -d)
-trap 'rm -rf "$WORK"' EXIT
+# Background processes a test starts go into PIDS: at the end they get CLEANUP_SIGNAL (TERM unless
+# the test sets another) and are waited for, then the work folder goes.
+PIDS=()
+CLEANUP_SIGNAL=TERM
+cleanup() {
+  local pid
+  for pid in "${PIDS[@]}"; do kill -"$CLEANUP_SIGNAL" "$pid" 2>/dev/null || true; done
+  for pid in "${PIDS[@]}"; do wait "$pid" 2>/dev/null || true; done
+  rm -rf "$WORK"
+}
+trap cleanup EXIT
 cd "$WORK"
 
 fail() { echo "FAIL: $*" >&2; exit 1; }
 # expect_exit CODE command...: runs the command, fails unless it exits with CODE; keeps its stderr in err.txt
 expect_exit() {
   local want=$1; shift
-  set +e; "$@" >out.txt 2>err.txt; local got=$?; set -e
+  local got=0
+  "$@" >out.txt 2>err.txt || got=$?  # in a list: the expected failure is not an error of the test
   [ "$got" = "$want" ] || { cat out.txt err.txt >&2; fail "'$*' exited $got, expected $want"; }
 }

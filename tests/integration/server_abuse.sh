@@ -5,13 +5,6 @@
 # other socket can bind either port with SO_REUSEPORT; a token file or TLS key that others can read
 # is refused before anything starts.
 source "$(dirname "$0")/lib.bash"
-PIDS=()
-cleanup() {
-  for pid in "${PIDS[@]}"; do kill "$pid" 2>/dev/null || true; done
-  for pid in "${PIDS[@]}"; do wait "$pid" 2>/dev/null || true; done
-  rm -rf "$WORK"
-}
-trap cleanup EXIT
 unset M2MLAT_TOKEN
 
 openssl rand -hex 24 > token && chmod 600 token

@@ -4,13 +4,7 @@
 # store holds a closed session whose events are the ones the summary reports.
 # (The GPIO source needs a GPIO chip: its in-process twin is tested in tests/unit/capture/stop_test.cpp.)
 source "$(dirname "$0")/lib.bash"
-PIDS=()
-cleanup() {
-  for pid in "${PIDS[@]}"; do kill -KILL "$pid" 2>/dev/null || true; done
-  for pid in "${PIDS[@]}"; do wait "$pid" 2>/dev/null || true; done
-  rm -rf "$WORK"
-}
-trap cleanup EXIT
+CLEANUP_SIGNAL=KILL
 
 # sessions STORE: "<sessions> <open sessions> <events>" of a store, read while it may be written.
 sessions() {
