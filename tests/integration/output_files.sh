@@ -39,6 +39,10 @@ expect_refused "a FIFO" fifo "$M2MLAT" report s.db --html fifo
 mkdir dir
 expect_refused "a directory" dir "$M2MLAT" export s.db -o dir
 
+# The command's own store as its output: refused, the store intact.
+expect_refused "an input of this command" s.db "$M2MLAT" export s.db -o s.db
+"$M2MLAT" export s.db -o - | cmp -s - expected.csv || fail "the store changed after export -o STORE"
+
 # The old temporary name "<target>.tmp", planted as a link, is not followed.
 ln -s victim out.csv.tmp
 "$M2MLAT" export s.db -o out.csv

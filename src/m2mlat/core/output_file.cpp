@@ -8,6 +8,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <random>
 #include <streambuf>
@@ -33,8 +34,24 @@ const char* type_name(mode_t mode) {
   return "not a regular file";
 }
 
+// True when this process holds a descriptor of the file `target` describes: an input it is still
+// reading, or an SQLite store it has open (`export STORE -o STORE`). Replacing that file would take
+// the input from under the reader, and a store from under its connections (its committed data
+// gone with the old inode). stat() of /proc/self/fd/N follows the link to the file and opens
+// nothing, so the check itself never disturbs the locks SQLite holds on it.
+bool held_by_this_process(const struct stat& target) {
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/fd", error)) {
+    struct stat held{};
+    if (::stat(entry.path().c_str(), &held) == 0 && held.st_dev == target.st_dev &&
+        held.st_ino == target.st_ino)
+      return true;
+  }
+  return false;  // no /proc: nothing to compare with
+}
+
 // lstat() of the target: false when nothing is there, true for a regular file (its status in
-// `st`); throws for anything else.
+// `st`); throws for anything else, and for a file this process has open.
 bool examine(const std::string& path, struct stat& st) {
   if (::lstat(path.c_str(), &st) != 0) {
     if (errno == ENOENT) return false;
@@ -45,6 +62,8 @@ bool examine(const std::string& path, struct stat& st) {
              fmt::format("refusing to replace it: it is {}; give a regular file, a new name, or '-' for "
                          "standard output",
                          type_name(st.st_mode)));
+  if (held_by_this_process(st))
+    io_error(path, "refusing to replace it: it is an input of this command; give another name");
   return true;
 }
 

@@ -8,7 +8,8 @@
 // and no temporary behind. The target itself is examined with lstat(): it may be missing or a
 // regular file; anything else (a symlink, a character or block device such as /dev/null, a
 // directory, a FIFO, a socket) is refused with an error naming the path and what it is, so that an
-// export never turns a device into a regular file nor writes through a link. "-" means standard
+// export never turns a device into a regular file nor writes through a link. A regular file this
+// process has open (an input, a store: `export STORE -o STORE`) is refused too. "-" means standard
 // output.
 //
 // Kernel interfaces (/proc, /sys) are not regular files and are written in place by rt/ and setup/.

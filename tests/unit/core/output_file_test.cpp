@@ -161,6 +161,18 @@ TEST_F(OutputFile, CharacterDeviceRefusedAndLeftADevice) {
   EXPECT_TRUE(S_ISCHR(mode_of("/dev/null")));
 }
 
+TEST_F(OutputFile, FileThisProcessHasOpenRefusedUntilClosed) {
+  write_plain(path("store.db"), "held\n");
+  {
+    std::ifstream held(path("store.db"));  // an input still being read (or a store's connection)
+    ASSERT_TRUE(held.is_open());
+    EXPECT_NE(refusal(path("store.db")).find("an input of this command"), std::string::npos);
+    EXPECT_EQ(read(path("store.db")), "held\n");
+  }
+  write_output_file(path("store.db"), std::string_view("new\n"));
+  EXPECT_EQ(read(path("store.db")), "new\n");
+}
+
 TEST_F(OutputFile, DirectoryRefused) {
   fs::create_directory(path("sub"));
   EXPECT_NE(refusal(path("sub")).find("a directory"), std::string::npos);
