@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/printable.hpp"
 #include "m2mlat/core/time.hpp"
 
 namespace m2mlat::formats {
@@ -91,18 +92,8 @@ void append_csv_field(std::string& out, std::string_view text) {
 }
 
 std::string quote_for_message(std::string_view text) {
-  constexpr std::size_t kMax = 60;
-  std::string shown = "'";
-  for (std::size_t i = 0; i < text.size() && i < kMax; ++i) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    if (c < 0x20 || c == 0x7f)
-      shown += fmt::format("\\x{:02x}", c);
-    else
-      shown.push_back(text[i]);
-  }
-  if (text.size() > kMax) shown += "...";
-  shown.push_back('\'');
-  return shown;
+  constexpr std::size_t kMax = 60;  // bytes of the field shown; a longer one ends in "..."
+  return fmt::format("'{}{}'", core::printable(text.substr(0, kMax)), text.size() > kMax ? "..." : "");
 }
 
 void throw_field_error(std::string_view file, long line, std::string_view field, std::string_view text,
