@@ -2,9 +2,11 @@
 // statistics. Everything here is recomputed from raw events: nothing derived is stored.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "m2mlat/analysis/board_record.hpp"
 #include "m2mlat/analysis/selection.hpp"
 #include "m2mlat/analysis/uncertainty.hpp"
 #include "m2mlat/pairing/matcher.hpp"
@@ -24,6 +26,12 @@ struct ScenarioResult {
   // else empty. With refuse_gated, pairs flagged by the sync gate leave the summary.
   std::vector<SampleUncertainty> uncertainty;
   bool refuse_gated = false;
+  // What the store recorded on the two boards (analysis/board_record.hpp); empty for data files.
+  std::vector<ClockSeries> clocks;  // one per node with clock samples on the events' clock
+  std::vector<LossCount> losses;
+  // Median of each board's own clock bound at its event times over the pairs kept by the ambiguity
+  // choice (ms): the error budget. Unset when a board has no clock samples.
+  std::optional<double> cause_clock_ms, effect_clock_ms;
   // Whether match.pairs[i] is one of the pairs the summary is over.
   bool in_statistics(std::size_t i) const;
 

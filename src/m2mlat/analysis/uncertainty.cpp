@@ -63,17 +63,6 @@ ClockTrack make_clock_track(std::vector<store::ClockSample> samples, core::Clock
   return track;
 }
 
-ClockTrack load_clock_track(const store::Store& store, const std::string& scenario, const std::string& node,
-                            core::Clock clock) {
-  std::vector<store::ClockSample> samples;
-  for (const auto& session : store.sessions()) {
-    if (session.scenario != scenario || session.node != node) continue;
-    auto part = store.clock_samples(session.id);
-    samples.insert(samples.end(), std::make_move_iterator(part.begin()), std::make_move_iterator(part.end()));
-  }
-  return make_clock_track(std::move(samples), clock);
-}
-
 ClockBound bound_at(const ClockTrack& track, std::int64_t t_ns, double growth_ppm) {
   ClockBound out;
   if (track.samples.empty()) return out;
@@ -201,15 +190,6 @@ void attach_uncertainty(ScenarioResult& result, const ClockTrack& cause, const C
   if (std::any_of(result.uncertainty.begin(), result.uncertainty.end(),
                   [](const auto& u) { return u.gated(); }))
     summarize(result, summary_options);
-}
-
-void attach_uncertainty(ScenarioResult& result, const store::Store& store, const UncertaintyOptions& options,
-                        const stats::SummaryOptions& summary_options) {
-  const auto cause =
-      load_clock_track(store, result.input.scenario, result.input.cause_ref.node, result.input.clock);
-  const auto effect =
-      load_clock_track(store, result.input.scenario, result.input.effect_ref.node, result.input.clock);
-  attach_uncertainty(result, cause, effect, options, summary_options);
 }
 
 }  // namespace m2mlat::analysis

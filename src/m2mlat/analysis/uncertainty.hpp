@@ -43,7 +43,6 @@
 #include "m2mlat/pairing/pair.hpp"
 #include "m2mlat/stats/summary.hpp"
 #include "m2mlat/store/records.hpp"
-#include "m2mlat/store/store.hpp"
 
 namespace m2mlat::analysis {
 
@@ -89,9 +88,6 @@ struct ClockTrack {
 };
 // From samples in any order; only those on `clock` are kept.
 ClockTrack make_clock_track(std::vector<store::ClockSample> samples,
-                            core::Clock clock = core::Clock::realtime);
-// Every clock sample of `node`'s sessions in `scenario`, on `clock`.
-ClockTrack load_clock_track(const store::Store& store, const std::string& scenario, const std::string& node,
                             core::Clock clock = core::Clock::realtime);
 
 // One board's state at t_ns (rules above). found = false when the track is empty.
@@ -140,12 +136,9 @@ struct UncertaintyColumns {
 void append_columns(UncertaintyColumns& columns, std::span<const SampleUncertainty> samples,
                     std::size_t pairs);
 
-// Fills result.uncertainty from the store's clock samples of the scenario's two nodes (left empty
-// when neither node has clock samples on the events' clock) and, when options.gate_refuse left any
-// sample out, recomputes result.summary with `summary_options`.
-void attach_uncertainty(ScenarioResult& result, const store::Store& store, const UncertaintyOptions& options,
-                        const stats::SummaryOptions& summary_options);
-// The same from tracks already loaded.
+// Fills result.uncertainty from the two boards' clock tracks (left empty when both are empty) and,
+// when options.gate_refuse left any sample out, recomputes result.summary with `summary_options`.
+// The tracks of a store's scenario are loaded by attach_board_record (board_record.hpp).
 void attach_uncertainty(ScenarioResult& result, const ClockTrack& cause, const ClockTrack& effect,
                         const UncertaintyOptions& options, const stats::SummaryOptions& summary_options);
 

@@ -104,4 +104,15 @@ analysis::Selection SelectionFlags::selection() const {
   return s;
 }
 
+analysis::PipelineOptions pipeline_options(const SelectionFlags& selection, const MatchFlags& match,
+                                           const StatsFlags& stats) {
+  analysis::PipelineOptions o;
+  o.selection = selection.selection();
+  o.match = match.options();
+  o.include_ambiguous = match.include_ambiguous;
+  o.summary = stats.options();
+  o.uncertainty = stats.uncertainty_options();
+  return o;
+}
+
 }  // namespace m2mlat::cli

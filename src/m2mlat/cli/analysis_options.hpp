@@ -1,12 +1,14 @@
 // Options shared by the subcommands that pair and summarise (pair, stats, export, demo): the
 // matcher's window, the statistics' thresholds and bootstrap, and which channels are cause and
-// effect. Registered on a CLI11 subcommand, turned into library options after parsing.
+// effect. Registered on a CLI11 subcommand, turned into library options after parsing
+// (analysis::PipelineOptions for the offline pipeline).
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
 
+#include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/analysis/selection.hpp"
 #include "m2mlat/analysis/uncertainty.hpp"
 #include "m2mlat/pairing/matcher.hpp"
@@ -50,5 +52,10 @@ struct SelectionFlags {
   void add_to(CLI::App& sub);
   analysis::Selection selection() const;
 };
+
+// The pipeline's options from the three groups of flags, converted in this order (the first bad flag
+// is the one reported): selection, pairing, statistics, uncertainty.
+analysis::PipelineOptions pipeline_options(const SelectionFlags& selection, const MatchFlags& match,
+                                           const StatsFlags& stats);
 
 }  // namespace m2mlat::cli

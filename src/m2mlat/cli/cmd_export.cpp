@@ -4,9 +4,9 @@
 #include <limits>
 #include <memory>
 
+#include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
-#include "m2mlat/cli/inputs.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/store/store.hpp"
@@ -28,12 +28,13 @@ struct ExportCommand {
 
 int run_export(const ExportCommand& c) {
   if (c.what == "pairs") {
-    InputFlags inputs;
-    inputs.inputs = {c.store_path};
-    inputs.scenarios = c.scenarios;
     StatsFlags no_bootstrap;
     no_bootstrap.bootstrap = 0;
-    const auto results = analyse_inputs(inputs, c.selection, c.match, no_bootstrap);
+    const auto pipeline = pipeline_options(c.selection, c.match, no_bootstrap);
+    analysis::PipelineInputs inputs;
+    inputs.inputs = {c.store_path};
+    inputs.scenarios = c.scenarios;
+    const auto results = analysis::analyse_inputs(inputs, pipeline);
     if (results.size() != 1)
       throw core::Error(core::ErrorKind::usage,
                         fmt::format("{} has {} scenarios: export the pairs of one with --scenario",

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <memory>
 
+#include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/inputs.hpp"
@@ -58,7 +59,8 @@ Runner attach_pair(CLI::App& sub) {
     inputs.rematch = true;  // pairing is what this command is for
     StatsFlags no_bootstrap;
     no_bootstrap.bootstrap = 0;
-    const auto results = analyse_inputs(inputs, c->selection, c->match, no_bootstrap);
+    const auto pipeline = pipeline_options(c->selection, c->match, no_bootstrap);
+    const auto results = analysis::analyse_inputs(inputs.pipeline_inputs(), pipeline);
     if (!c->out.empty()) {
       const auto format = formats::parse_format(c->out_format);
       std::vector<pairing::Pair> all;

@@ -11,6 +11,7 @@
 #include <memory>
 #include <sstream>
 
+#include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/inputs.hpp"
@@ -22,7 +23,6 @@
 #include "m2mlat/report/pgfplots.hpp"
 #include "m2mlat/report/report_json.hpp"
 #include "m2mlat/report/report_tables.hpp"
-#include "m2mlat/store/store.hpp"
 
 namespace m2mlat::cli {
 
@@ -109,38 +109,11 @@ report::Report build(const ReportCommand& c) {
     }
   }
 
-  // Each input on its own, so that a store's scenarios can be given its clock samples and losses.
-  auto analyse_one = [&](InputFlags flags) { return analyse_inputs(flags, c.selection, c.match, c.stats); };
-  if (!c.inputs.cause_file.empty()) {
-    auto flags = c.inputs;
-    flags.inputs.clear();
-    for (auto& res : analyse_one(flags)) r.scenarios.push_back({std::move(res), {}, {}, {}, {}, {}, {}});
-  }
-  for (const auto& path : c.inputs.inputs) {
-    auto flags = c.inputs;
-    flags.inputs = {path};
-    flags.cause_file.clear();
-    flags.effect_file.clear();
-    auto results = analyse_one(flags);
-    std::optional<store::Store> store;
-    if (is_sqlite_file(path)) {
-      store::Options o;
-      o.read_only = true;
-      store = store::Store::open(path, o);
-    }
-    for (auto& res : results) {
-      report::ScenarioReport s{std::move(res), {}, {}, {}, {}, {}, {}};
-      s.uncertainty_ns.assign(s.result.match.pairs.size(), std::nullopt);
-      if (store) report::attach_store_data(s, *store);
-      r.scenarios.push_back(std::move(s));
-    }
-  }
-  if (c.inputs.inputs.empty() && c.inputs.cause_file.empty())
-    throw core::Error(core::ErrorKind::usage,
-                      "no input: give a store or data files, or --cause-file and --effect-file");
-  for (auto& s : r.scenarios)
-    if (s.uncertainty_ns.size() != s.result.match.pairs.size())
-      s.uncertainty_ns.assign(s.result.match.pairs.size(), std::nullopt);
+  // Everything shown (pairs, statistics, per-pair bounds, clock series, losses) comes back from the
+  // pipeline: no store is opened here.
+  const auto pipeline = pipeline_options(c.selection, c.match, c.stats);
+  for (auto& res : analysis::analyse_inputs(c.inputs.pipeline_inputs(), pipeline))
+    r.scenarios.push_back(report::scenario_report(std::move(res)));
 
   report::assign_groups(r, parse_groups(c.groups), !c.no_groups);
 

@@ -3,6 +3,7 @@
 
 #include <memory>
 
+#include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/inputs.hpp"
@@ -81,8 +82,10 @@ Runner attach_stats(CLI::App& sub) {
       return false;
     });
     std::vector<analysis::ScenarioResult> results;
-    if (!inputs.inputs.empty() || !inputs.cause_file.empty() || sync_files.empty())
-      results = analyse_inputs(inputs, c->selection, c->match, c->stats);
+    if (!inputs.inputs.empty() || !inputs.cause_file.empty() || sync_files.empty()) {
+      const auto pipeline = pipeline_options(c->selection, c->match, c->stats);
+      results = analysis::analyse_inputs(inputs.pipeline_inputs(), pipeline);
+    }
     if (c->json) {
       auto doc = report::stats_document(results);
       for (const auto& [path, sync] : sync_files)

@@ -233,16 +233,17 @@ std::string budget_chart(const Report& report) {
   std::vector<const ScenarioReport*> known;
   double top = 0;
   for (const auto& s : report.scenarios)
-    if (s.cause_clock_ms && s.effect_clock_ms) {
+    if (s.result.cause_clock_ms && s.result.effect_clock_ms) {
       known.push_back(&s);
-      top = std::max(top, *s.cause_clock_ms + *s.effect_clock_ms);
+      top = std::max(top, *s.result.cause_clock_ms + *s.result.effect_clock_ms);
     }
   if (known.empty()) return {};
   SvgPlot plot("budget", "Error budget per latency (median over pairs)", "scenario", "bound (ms)", -0.6,
                static_cast<double>(known.size()) - 0.4, 0, top * 1.15 + 1e-6, 720, 280);
   std::vector<std::pair<double, std::string>> cats;
   for (std::size_t i = 0; i < known.size(); ++i) {
-    const double x = static_cast<double>(i), a = *known[i]->cause_clock_ms, b = *known[i]->effect_clock_ms;
+    const double x = static_cast<double>(i), a = *known[i]->result.cause_clock_ms,
+                 b = *known[i]->result.effect_clock_ms;
     plot.rect(x - 0.3, 0, x + 0.3, a, palette(0), "bar");
     plot.rect(x - 0.3, a, x + 0.3, a + b, palette(1), "bar");
     cats.emplace_back(x, known[i]->result.input.scenario);
@@ -330,7 +331,7 @@ std::string report_html(const Report& report) {
           "error bounds) or, for long series, each bin's range.");
 
   bool any_clock = false;
-  for (const auto& s : report.scenarios) any_clock |= !s.clocks.empty();
+  for (const auto& s : report.scenarios) any_clock |= !s.result.clocks.empty();
   h += "<h2>Clocks</h2>\n";
   if (!any_clock) h += "<p class=\"note-text\">No clock samples in the inputs (data files carry none).</p>\n";
   for (std::size_t i = 0; i < report.scenarios.size(); ++i)
@@ -346,8 +347,9 @@ std::string report_html(const Report& report) {
         "board's.");
     std::vector<std::vector<std::string>> brows;
     for (const auto& s : report.scenarios)
-      brows.push_back({s.result.input.scenario, ms_or_dash(s.cause_clock_ms), ms_or_dash(s.effect_clock_ms),
-                       ms_or_dash(s.median_uncertainty_ms()), ms_or_dash(s.max_uncertainty_ms())});
+      brows.push_back({s.result.input.scenario, ms_or_dash(s.result.cause_clock_ms),
+                       ms_or_dash(s.result.effect_clock_ms), ms_or_dash(s.median_uncertainty_ms()),
+                       ms_or_dash(s.max_uncertainty_ms())});
     h += html_table(
         {"scenario", "cause clock (ms)", "effect clock (ms)", "median total (ms)", "max total (ms)"}, brows,
         "budget");
@@ -365,8 +367,8 @@ std::string report_html(const Report& report) {
     std::size_t by_reason[2][3] = {};
     for (const auto& u : s.result.match.unmatched)
       ++by_reason[static_cast<int>(u.side)][static_cast<int>(u.reason)];
-    std::string recorded = s.losses.empty() ? "none recorded" : "";
-    for (const auto& l : s.losses)
+    std::string recorded = s.result.losses.empty() ? "none recorded" : "";
+    for (const auto& l : s.result.losses)
       recorded += fmt::format("{}{}: {} {} ({} records)", recorded.empty() ? "" : "; ", l.node, l.events,
                               l.kind, l.records);
     lrows.push_back({s.result.input.scenario, std::to_string(s.result.match.cause_count),

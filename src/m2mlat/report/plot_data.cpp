@@ -147,10 +147,10 @@ TimeSeries time_series(const ScenarioReport& s) {
 std::vector<ClockCurve> clock_curves(const ScenarioReport& s) {
   std::vector<ClockCurve> out;
   std::int64_t origin = origin_ns(s);
-  if (s.result.match.pairs.empty() && s.result.input.cause.t_ns.empty() && !s.clocks.empty() &&
-      !s.clocks.front().t_ns.empty())
-    origin = s.clocks.front().t_ns.front();
-  for (const auto& c : s.clocks) {
+  if (s.result.match.pairs.empty() && s.result.input.cause.t_ns.empty() && !s.result.clocks.empty() &&
+      !s.result.clocks.front().t_ns.empty())
+    origin = s.result.clocks.front().t_ns.front();
+  for (const auto& c : s.result.clocks) {
     ClockCurve cc{c.node, c.source, {}, {}, {}, c.t_ns.size()};
     const std::size_t stride = std::max<std::size_t>(1, (c.t_ns.size() + kClockPoints - 1) / kClockPoints);
     for (std::size_t i = 0; i < c.t_ns.size(); i += stride) {

@@ -83,13 +83,13 @@ nlohmann::json report_document(const Report& report) {
     j["uncertainty"] = {{"pairs_with_bound", known},
                         {"median_ms", number(s.median_uncertainty_ms())},
                         {"max_ms", number(s.max_uncertainty_ms())},
-                        {"cause_clock_median_ms", number(s.cause_clock_ms)},
-                        {"effect_clock_median_ms", number(s.effect_clock_ms)}};
+                        {"cause_clock_median_ms", number(s.result.cause_clock_ms)},
+                        {"effect_clock_median_ms", number(s.result.effect_clock_ms)}};
     auto& clocks = j["clocks"] = nlohmann::json::array();
-    for (const auto& c : s.clocks)
+    for (const auto& c : s.result.clocks)
       clocks.push_back({{"node", c.node}, {"source", c.source}, {"samples", c.t_ns.size()}});
     auto& losses = j["losses"] = nlohmann::json::array();
-    for (const auto& l : s.losses)
+    for (const auto& l : s.result.losses)
       losses.push_back({{"node", l.node}, {"kind", l.kind}, {"records", l.records}, {"events", l.events}});
     doc["scenarios"].push_back(std::move(j));
   }

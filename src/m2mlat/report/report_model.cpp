@@ -1,10 +1,9 @@
-// Gathering a report's data: clock state and losses from the store, groups, comparisons.
+// A report's model: per-pair bounds from the analysis, groups, comparisons.
 #include "m2mlat/report/report_model.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <map>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/stats/quantile.hpp"
@@ -47,80 +46,14 @@ const ScenarioReport* Report::find(const std::string& scenario) const {
   return nullptr;
 }
 
-std::optional<std::int64_t> clock_bound_at(const ClockSeries& series, std::int64_t t_ns) {
-  if (series.t_ns.empty()) return std::nullopt;
-  auto it = std::upper_bound(series.t_ns.begin(), series.t_ns.end(), t_ns);
-  const auto k = it == series.t_ns.begin() ? 0 : static_cast<std::size_t>(it - series.t_ns.begin()) - 1;
-  return series.max_error_ns[k];
-}
-
-void attach_store_data(ScenarioReport& s, const store::Store& store) {
-  const auto& in = s.result.input;
-  std::map<std::string, ClockSeries> by_node;
-  std::map<std::pair<std::string, std::string>, LossCount> losses;
-  for (const auto& session : store.sessions()) {
-    if (session.scenario != in.scenario) continue;
-    if (session.node != in.cause_ref.node && session.node != in.effect_ref.node) continue;
-    auto& series = by_node[session.node];
-    series.node = session.node;
-    for (const auto& c : store.clock_samples(session.id)) {
-      if (c.time.clock() != in.clock) continue;
-      if (series.source.empty()) series.source = c.source;
-      series.t_ns.push_back(c.time.ns());
-      series.offset_ns.push_back(c.offset_ns);
-      series.max_error_ns.push_back(c.max_error_ns);
-    }
-    for (const auto& l : store.losses(session.id)) {
-      auto& count = losses[{session.node, l.kind}];
-      count.node = session.node;
-      count.kind = l.kind;
-      ++count.records;
-      count.events += l.count;
-    }
-  }
-  for (auto& entry : by_node) {
-    const auto& series = entry.second;  // a named reference: clang 14 cannot capture structured bindings
-    // Sessions of one node follow each other; keep the samples in time order.
-    std::vector<std::size_t> order(series.t_ns.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return series.t_ns[a] < series.t_ns[b]; });
-    ClockSeries sorted{series.node, series.source, {}, {}, {}};
-    for (auto i : order) {
-      sorted.t_ns.push_back(series.t_ns[i]);
-      sorted.offset_ns.push_back(series.offset_ns[i]);
-      sorted.max_error_ns.push_back(series.max_error_ns[i]);
-    }
-    if (!sorted.t_ns.empty()) s.clocks.push_back(std::move(sorted));
-  }
-  for (auto& [key, count] : losses) s.losses.push_back(count);
-
-  const ClockSeries* cause = nullptr;
-  const ClockSeries* effect = nullptr;
-  for (const auto& c : s.clocks) {
-    if (c.node == in.cause_ref.node) cause = &c;
-    if (c.node == in.effect_ref.node) effect = &c;
-  }
-  s.uncertainty_ns.assign(s.result.match.pairs.size(), std::nullopt);
-  if (!cause || !effect) return;
-  std::vector<std::int64_t> cause_bounds, effect_bounds;
-  for (std::size_t i = 0; i < s.result.match.pairs.size(); ++i) {
-    const auto& p = s.result.match.pairs[i];
-    const auto bc = clock_bound_at(*cause, p.cause_time.ns());
-    const auto be = clock_bound_at(*effect, p.effect_time.ns());
-    s.uncertainty_ns[i] = *bc + *be;
-    // The analysis' own per-sample bound (neighbouring samples, kernel term) when it made one.
-    if (i < s.result.uncertainty.size())
-      s.uncertainty_ns[i] = s.result.uncertainty[i].bounded()
-                                ? std::optional(s.result.uncertainty[i].max_error_ns)
-                                : std::nullopt;
-    if (s.result.include_ambiguous || !p.ambiguous()) {
-      cause_bounds.push_back(*bc);
-      effect_bounds.push_back(*be);
-    }
-  }
-  s.cause_clock_ms = median_ms(std::move(cause_bounds));
-  s.effect_clock_ms = median_ms(std::move(effect_bounds));
+ScenarioReport scenario_report(analysis::ScenarioResult result) {
+  ScenarioReport s{std::move(result), {}, {}};
+  const auto& u = s.result.uncertainty;
+  s.uncertainty_ns.reserve(s.result.match.pairs.size());
+  for (std::size_t i = 0; i < s.result.match.pairs.size(); ++i)
+    s.uncertainty_ns.push_back(i < u.size() && u[i].bounded() ? std::optional(u[i].max_error_ns)
+                                                              : std::nullopt);
+  return s;
 }
 
 void assign_groups(Report& report,

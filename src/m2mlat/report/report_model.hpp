@@ -1,7 +1,8 @@
 // What a report shows, gathered once and written by every writer (text, Markdown, CSV, JSON, HTML,
-// pgfplots): the analysed scenarios with their group, each pair's uncertainty from both boards'
-// clock state, the clock samples and losses of the boards, the comparisons asked for, and the exact
-// command and versions that produced it. Everything is recomputed from raw events by the command.
+// pgfplots): the analysed scenarios with their group, each pair's uncertainty, the clock samples and
+// losses of the boards, the comparisons asked for, and the exact command and versions that produced
+// it. Every number comes from the analysis pipeline (analysis/pipeline.hpp): the report computes no
+// clock bound of its own and reads no store.
 #pragma once
 
 #include <cstdint>
@@ -12,42 +13,24 @@
 
 #include "m2mlat/analysis/scenario_result.hpp"
 #include "m2mlat/stats/compare.hpp"
-#include "m2mlat/store/store.hpp"
 
 namespace m2mlat::report {
 
-// One board's clock state over a scenario, from the store's clock samples (time order).
-struct ClockSeries {
-  std::string node;
-  std::string source;                      // of the first sample, e.g. "chrony", "sim"
-  std::vector<std::int64_t> t_ns;          // when each sample was taken (ns, the scenario's clock)
-  std::vector<std::int64_t> offset_ns;     // estimated offset from the reference (ns)
-  std::vector<std::int64_t> max_error_ns;  // maximum error bound (ns)
-};
-
-// Recorded losses of one board and kind (gaps in the kernel's sequence numbers, overflows, ...).
-struct LossCount {
-  std::string node, kind;
-  std::size_t records = 0;   // loss records
-  std::uint64_t events = 0;  // events known missing
-};
-
 struct ScenarioReport {
-  analysis::ScenarioResult result;
-  std::string group;  // empty: no group
-  // One entry per result.match.pairs: cause board's max error at the cause time + effect board's at
-  // the effect time (ns); nullopt when a board has no clock sample.
+  analysis::ScenarioResult result;  // with the boards' clock series, losses and error budget
+  std::string group;                // empty: no group
+  // The bound drawn and summarised for each result.match.pairs entry: the analysis' max_error
+  // (analysis/uncertainty.hpp) where bounded (ns); nullopt when unknown or unbounded.
   std::vector<std::optional<std::int64_t>> uncertainty_ns;
-  std::vector<ClockSeries> clocks;
-  std::vector<LossCount> losses;
 
   // Median of the known per-pair bounds over the pairs in the statistics (ms); unset if none known.
   std::optional<double> median_uncertainty_ms() const;
   // The largest of them (ms).
   std::optional<double> max_uncertainty_ms() const;
-  // The medians of the cause board's and the effect board's bounds alone (ms): the error budget.
-  std::optional<double> cause_clock_ms, effect_clock_ms;
 };
+
+// A scenario of the report from the pipeline's result: uncertainty_ns from result.uncertainty.
+ScenarioReport scenario_report(analysis::ScenarioResult result);
 
 struct ComparisonReport {
   std::string subject, baseline;  // scenario names: "subject vs baseline"
@@ -65,14 +48,6 @@ struct Report {
 
   const ScenarioReport* find(const std::string& scenario) const;
 };
-
-// The clock series, losses and per-pair uncertainty of a scenario analysed from `store`: the
-// sessions of the scenario on the cause and effect nodes.
-void attach_store_data(ScenarioReport& scenario, const store::Store& store);
-
-// Per-pair uncertainty from two boards' clock series (the latest sample at or before each time, or
-// the first sample when the time is earlier than all). Exposed for tests.
-std::optional<std::int64_t> clock_bound_at(const ClockSeries& series, std::int64_t t_ns);
 
 // Groups: `explicit_groups` (name -> scenarios) if given; otherwise, when `by_prefix`, the part of
 // each scenario name before its first '_' or '-' (used only if it gives at least two groups, or one

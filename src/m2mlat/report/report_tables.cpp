@@ -64,8 +64,8 @@ std::string report_text(const Report& report) {
       for (const auto& u : s.uncertainty_ns) known += u ? 1 : 0;
       const auto ms = [](const std::optional<double>& x) { return x ? fmt::format("{:.3f}", *x) : "-"; };
       t.add_row({s.result.input.scenario, s.group.empty() ? "-" : s.group, std::to_string(known),
-                 ms(s.median_uncertainty_ms()), ms(s.max_uncertainty_ms()), ms(s.cause_clock_ms),
-                 ms(s.effect_clock_ms)});
+                 ms(s.median_uncertainty_ms()), ms(s.max_uncertainty_ms()), ms(s.result.cause_clock_ms),
+                 ms(s.result.effect_clock_ms)});
     }
     out +=
         "\nmeasurement uncertainty per latency (both boards' clock bounds + --kernel-error)\n" + t.render();

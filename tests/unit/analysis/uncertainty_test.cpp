@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 
+#include "m2mlat/analysis/board_record.hpp"
 #include "m2mlat/analysis/scenario_result.hpp"
 #include "m2mlat/campaign/sim_to_store.hpp"
 #include "m2mlat/sim/presets.hpp"
@@ -175,7 +176,7 @@ Coverage run_seed(std::uint64_t seed, const std::string& preset, const std::stri
   // by the larger max, and its sd (exponential, mean 3 us) is about 4 us.
   o.kernel_max = std::max(config.cause_sensor.irq_latency.max, config.effect_sensor.irq_latency.max);
   o.kernel_est = core::Duration{4'300};
-  attach_uncertainty(result, store, o, {});
+  attach_board_record(result, store, o, {});
   EXPECT_EQ(result.uncertainty.size(), result.match.pairs.size());
   std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t> true_latency;
   for (const auto& t : truth) true_latency[{t.cause_index, t.effect_index}] = t.true_latency.count();

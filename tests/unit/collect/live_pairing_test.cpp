@@ -11,9 +11,9 @@
 #include <filesystem>
 #include <map>
 
+#include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/analysis/scenario_result.hpp"
 #include "m2mlat/campaign/sim_to_store.hpp"
-#include "m2mlat/cli/inputs.hpp"
 #include "m2mlat/sim/presets.hpp"
 #include "m2mlat/store/store.hpp"
 
@@ -55,11 +55,10 @@ void simulate(const std::string& path, const std::string& preset, std::int64_t m
 
 // `m2mlat stats STORE --bootstrap 0` as the CLI computes it.
 analysis::ScenarioResult offline_stats(const std::string& path) {
-  cli::InputFlags inputs;
+  // The flags' defaults are the library's; --bootstrap 0 is no bootstrap, the library's default too.
+  analysis::PipelineInputs inputs;
   inputs.inputs = {path};
-  cli::StatsFlags stats;
-  stats.bootstrap = 0;
-  auto results = cli::analyse_inputs(inputs, {}, {}, stats);
+  auto results = analysis::analyse_inputs(inputs, {});
   EXPECT_EQ(results.size(), 1u);
   return results.front();
 }

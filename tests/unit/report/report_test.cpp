@@ -51,25 +51,23 @@ Report sample_report() {
   r.versions = {{"m2mlat", "test"}};
   for (auto res : {scenario("static_wifi", 870, 100, 40), scenario("static_5g", 930, 50, 36),
                    scenario("dynamic_co", 770, 70, 30), scenario("dynamic_auto", 815, 75, 30)}) {
-    ScenarioReport s{std::move(res), {}, {}, {}, {}, {}, {}};
-    s.uncertainty_ns.assign(s.result.match.pairs.size(), std::nullopt);
-    r.scenarios.push_back(std::move(s));
+    r.scenarios.push_back(scenario_report(std::move(res)));
   }
   // Clock data for the first scenario: both boards with a constant 0.2 ms and 0.3 ms bound.
   auto& first = r.scenarios.front();
   for (const char* node : {"operator", "vehicle"}) {
-    ClockSeries c{node, "sim", {}, {}, {}};
+    analysis::ClockSeries c{node, "sim", {}, {}, {}};
     for (int k = 0; k < 20; ++k) {
       c.t_ns.push_back(1'700'000'000'000'000'000 + std::int64_t{k} * 10'000'000'000);
       c.offset_ns.push_back(k * 1000);
       c.max_error_ns.push_back(node[0] == 'o' ? 200'000 : 300'000);
     }
-    first.clocks.push_back(c);
+    first.result.clocks.push_back(c);
   }
   for (std::size_t i = 0; i < first.result.match.pairs.size(); ++i) first.uncertainty_ns[i] = 500'000;
-  first.cause_clock_ms = 0.2;
-  first.effect_clock_ms = 0.3;
-  first.losses.push_back({"vehicle", "seqno_gap", 1, 3});
+  first.result.cause_clock_ms = 0.2;
+  first.result.effect_clock_ms = 0.3;
+  first.result.losses.push_back({"vehicle", "seqno_gap", 1, 3});
   r.assumed_uncertainty_ms = 1.0;
   assign_groups(r, {}, true);
   stats::CompareOptions o;
@@ -125,13 +123,30 @@ TEST(ReportModel, ExplicitGroupsAndErrors) {
   EXPECT_EQ(default_comparisons(r).size(), 6u);  // all pairs of 4
 }
 
-TEST(ReportModel, ClockBoundIsTheLatestSampleAtOrBefore) {
-  ClockSeries c{"n", "sim", {100, 200, 300}, {0, 0, 0}, {1, 2, 3}};
-  EXPECT_EQ(clock_bound_at(c, 50), 1);  // before all: the first
-  EXPECT_EQ(clock_bound_at(c, 200), 2);
-  EXPECT_EQ(clock_bound_at(c, 299), 2);
-  EXPECT_EQ(clock_bound_at(c, 1000), 3);
-  EXPECT_FALSE(clock_bound_at(ClockSeries{}, 5).has_value());
+// The report draws the analysis' per-sample bound (analysis/uncertainty.hpp) and computes none: a
+// bounded sample keeps its max_error, an unbounded or unknown one has none, and a result without
+// clock samples has none at all.
+TEST(ReportModel, PerPairBoundIsTheAnalysisBound) {
+  auto res = scenario("bounded", 800, 50, 3);
+  ASSERT_EQ(res.match.pairs.size(), 3u);
+  analysis::SampleUncertainty bounded;
+  bounded.max_error_ns = 420'000;
+  analysis::SampleUncertainty unsynchronised;
+  unsynchronised.flags = analysis::kUncertaintyUnsynchronised;
+  unsynchronised.max_error_ns = analysis::kUnbounded;
+  analysis::SampleUncertainty unknown;
+  unknown.flags = analysis::kUncertaintyNoClock;
+  res.uncertainty = {bounded, unsynchronised, unknown};
+  const auto s = scenario_report(res);
+  ASSERT_EQ(s.uncertainty_ns.size(), 3u);
+  EXPECT_EQ(s.uncertainty_ns[0], 420'000);
+  EXPECT_FALSE(s.uncertainty_ns[1].has_value());
+  EXPECT_FALSE(s.uncertainty_ns[2].has_value());
+  EXPECT_EQ(s.median_uncertainty_ms(), 0.42);
+  res.uncertainty.clear();
+  const auto none = scenario_report(res);
+  EXPECT_EQ(none.uncertainty_ns, (std::vector<std::optional<std::int64_t>>(3)));
+  EXPECT_FALSE(none.median_uncertainty_ms().has_value());
 }
 
 TEST(ComparisonText, SentenceSaysNarrowerAndNotesUncertainty) {
@@ -150,7 +165,7 @@ TEST(ComparisonText, SentenceSaysNarrowerAndNotesUncertainty) {
 
 TEST(PlotData, StatisticsOverAllSamplesSeriesThinned) {
   auto big = scenario("big_one", 800, 80, 5000);
-  ScenarioReport s{std::move(big), {}, {}, {}, {}, {}, {}};
+  ScenarioReport s{std::move(big), {}, {}};
   const auto box = box_data(s);
   EXPECT_DOUBLE_EQ(box.median, s.result.summary.median_ms);
   EXPECT_DOUBLE_EQ(box.q1, s.result.summary.q1_ms);

@@ -1,0 +1,102 @@
+// Loading a scenario's clock samples and losses from the store, and what is derived from them.
+#include "m2mlat/analysis/board_record.hpp"
+
+#include <algorithm>
+#include <map>
+#include <optional>
+
+#include "m2mlat/analysis/scenario_result.hpp"
+#include "m2mlat/stats/quantile.hpp"
+
+namespace m2mlat::analysis {
+
+namespace {
+
+std::optional<double> median_ms(std::vector<std::int64_t> v) {
+  if (v.empty()) return std::nullopt;
+  std::sort(v.begin(), v.end());
+  return stats::quantile(std::span<const std::int64_t>(v), 0.5) / 1e6;
+}
+
+// The node's samples on `clock`, in time order (sessions of one node follow each other, but a
+// merged store may interleave them).
+ClockSeries series_of(const std::string& node, const std::vector<store::ClockSample>& samples,
+                      core::Clock clock) {
+  std::vector<const store::ClockSample*> on_clock;
+  for (const auto& s : samples)
+    if (s.time.clock() == clock) on_clock.push_back(&s);
+  std::stable_sort(on_clock.begin(), on_clock.end(),
+                   [](const auto* a, const auto* b) { return a->time.ns() < b->time.ns(); });
+  ClockSeries series{node, {}, {}, {}, {}};
+  // The source named is that of the first sample recorded on the clock, before sorting.
+  const auto first = std::find_if(samples.begin(), samples.end(),
+                                  [&](const store::ClockSample& s) { return s.time.clock() == clock; });
+  if (first != samples.end()) series.source = first->source;
+  for (const auto* s : on_clock) {
+    series.t_ns.push_back(s->time.ns());
+    series.offset_ns.push_back(s->offset_ns);
+    series.max_error_ns.push_back(s->max_error_ns);
+  }
+  return series;
+}
+
+// The medians of each board's own bound (bound_at, the rule of uncertainty.hpp) at its event time
+// over the pairs the summary's ambiguity choice keeps: which board the error budget is spent on.
+void attach_budget(ScenarioResult& result, const ClockTrack& cause, const ClockTrack& effect,
+                   double growth_ppm) {
+  result.cause_clock_ms.reset();
+  result.effect_clock_ms.reset();
+  if (cause.empty() || effect.empty()) return;
+  std::vector<std::int64_t> cause_bounds, effect_bounds;
+  for (const auto& p : result.match.pairs) {
+    if (!result.include_ambiguous && p.ambiguous()) continue;
+    const auto bc = bound_at(cause, p.cause_time.ns(), growth_ppm);
+    const auto be = bound_at(effect, p.effect_time.ns(), growth_ppm);
+    if (bc.synchronised) cause_bounds.push_back(bc.max_error_ns);
+    if (be.synchronised) effect_bounds.push_back(be.max_error_ns);
+  }
+  result.cause_clock_ms = median_ms(std::move(cause_bounds));
+  result.effect_clock_ms = median_ms(std::move(effect_bounds));
+}
+
+}  // namespace
+
+void attach_board_record(ScenarioResult& result, const store::Store& store, const UncertaintyOptions& options,
+                         const stats::SummaryOptions& summary_options) {
+  const auto& in = result.input;
+  std::map<std::string, std::vector<store::ClockSample>> samples;  // by node, in session order
+  std::map<std::pair<std::string, std::string>, LossCount> losses;
+  for (const auto& session : store.sessions()) {
+    if (session.scenario != in.scenario) continue;
+    if (session.node != in.cause_ref.node && session.node != in.effect_ref.node) continue;
+    auto part = store.clock_samples(session.id);
+    auto& node_samples = samples[session.node];
+    node_samples.insert(node_samples.end(), std::make_move_iterator(part.begin()),
+                        std::make_move_iterator(part.end()));
+    for (const auto& l : store.losses(session.id)) {
+      auto& count = losses[{session.node, l.kind}];
+      count.node = session.node;
+      count.kind = l.kind;
+      ++count.records;
+      count.events += l.count;
+    }
+  }
+
+  result.clocks.clear();
+  for (const auto& [node, node_samples] : samples)
+    if (auto series = series_of(node, node_samples, in.clock); !series.t_ns.empty())
+      result.clocks.push_back(std::move(series));
+  result.losses.clear();
+  for (const auto& entry : losses) result.losses.push_back(entry.second);
+
+  const auto track = [&](const std::string& node) {
+    const auto it = samples.find(node);
+    return make_clock_track(it == samples.end() ? std::vector<store::ClockSample>{} : it->second, in.clock);
+  };
+  const auto cause = track(in.cause_ref.node);
+  const auto effect = track(in.effect_ref.node);
+  attach_uncertainty(result, cause, effect, options, summary_options);
+  attach_budget(result, cause, effect, options.growth_ppm);
+}
+
+}  // namespace m2mlat::analysis

@@ -1,0 +1,154 @@
+// The offline pipeline: resolving stores and data files into analysed scenarios.
+#include "m2mlat/analysis/pipeline.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <future>
+
+#include "m2mlat/analysis/board_record.hpp"
+#include "m2mlat/core/error.hpp"
+#include "m2mlat/formats/import_file.hpp"
+#include "m2mlat/store/store.hpp"
+
+namespace m2mlat::analysis {
+
+namespace {
+
+std::vector<core::Event> events_of(formats::ImportedFile&& file, const std::string& path) {
+  if (auto* events = std::get_if<formats::EventImport>(&file.content)) return std::move(events->events);
+  if (auto* paired = std::get_if<formats::PairedImport>(&file.content)) {
+    auto all = std::move(paired->causes);
+    all.insert(all.end(), paired->effects.begin(), paired->effects.end());
+    return all;
+  }
+  throw core::Error(core::ErrorKind::data,
+                    fmt::format("{}: a synchronisation-test file holds offsets, not edge events", path));
+}
+
+// A paired-results CSV analysed with its own rows as the pairs (what the rig itself reported).
+ScenarioResult as_given(std::string scenario, const formats::PairedImport& paired,
+                        const stats::SummaryOptions& options) {
+  ScenarioResult r;
+  r.input.scenario = std::move(scenario);
+  r.input.id_kind = "line";
+  if (!paired.causes.empty()) r.input.cause_ref = {paired.causes.front().node, paired.causes.front().channel};
+  if (!paired.effects.empty())
+    r.input.effect_ref = {paired.effects.front().node, paired.effects.front().channel};
+  std::vector<std::int64_t> latencies, ids;
+  for (std::size_t i = 0; i < paired.pairs.size(); ++i) {
+    const auto line = static_cast<std::int64_t>(paired.checks.at(i).line);
+    r.input.cause.seq.push_back(line);
+    r.input.cause.t_ns.push_back(paired.pairs[i].cause_time.ns());
+    r.input.effect.seq.push_back(line);
+    r.input.effect.t_ns.push_back(paired.pairs[i].effect_time.ns());
+    latencies.push_back(paired.pairs[i].latency().count());
+    ids.push_back(line);
+  }
+  r.match.pairs = paired.pairs;
+  r.match.cause_count = r.match.effect_count = static_cast<std::int64_t>(paired.pairs.size());
+  r.summary = stats::summarize(latencies, ids, options);
+  return r;
+}
+
+// The reference rig's kernel log and export CSV hold one pin per line and nothing but timestamps:
+// read only those (8 bytes an edge, no events built) when the file has one pin and no other channel
+// was asked for. nullopt: take the general path.
+std::optional<SideInput> lean_side(const std::string& path, std::optional<formats::Format> format,
+                                   const std::string& node, const std::optional<core::ChannelRef>& want) {
+  if (!format) {
+    // A raw read of a data file: safe here, before this process opens any store (see docs/store.md
+    // on why a process must never open and close a store file it holds SQLite connections to).
+    std::ifstream in(path, std::ios::binary);
+    std::string head(64 * 1024, '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(in.gcount()));
+    format = formats::detect_format(head);
+  }
+  if (format != formats::Format::kernel_log && format != formats::Format::rig_export_csv) return std::nullopt;
+  auto series = formats::read_timestamps(path, format);
+  if (series.size() != 1) return std::nullopt;
+  auto& only = series.front();
+  const bool numeric = !only.label.empty() && only.label.find_first_not_of("0123456789") == std::string::npos;
+  SideInput side{{node, numeric ? "gpio" + only.label : only.label}, std::move(only.ns)};
+  if (want && (want->node != side.ref.node || (!want->channel.empty() && want->channel != side.ref.channel)))
+    return std::nullopt;
+  return side;
+}
+
+}  // namespace
+
+std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const PipelineOptions& options) {
+  const auto& selection = options.selection;
+  const auto& match_options = options.match;
+  const auto& summary_options = options.summary;
+  const auto& uncertainty_options = options.uncertainty;
+  const auto format = inputs.format;
+  formats::ImportOptions import_options;
+
+  if (inputs.inputs.empty() && inputs.cause_file.empty())
+    throw core::Error(core::ErrorKind::usage,
+                      "no input: give a store or data files, or --cause-file and --effect-file");
+  if (inputs.cause_file.empty() != inputs.effect_file.empty())
+    throw core::Error(core::ErrorKind::usage, "--cause-file and --effect-file go together");
+
+  std::vector<ScenarioResult> results;
+  if (!inputs.cause_file.empty()) {
+    // The two files are read side by side (reading is a quarter of `stats` on two large logs); an
+    // error in the cause file is still the one reported when both have one.
+    auto effect_read = std::async(std::launch::async, lean_side, std::cref(inputs.effect_file), format,
+                                  "effect", std::cref(selection.effect));
+    auto cause = lean_side(inputs.cause_file, format, "cause", selection.cause);
+    auto effect = effect_read.get();
+    const auto scenario = std::filesystem::path(inputs.cause_file).stem().string();
+    if (cause && effect) {
+      results.push_back(analyse(from_timestamps(scenario, std::move(*cause), std::move(*effect)),
+                                match_options, summary_options, options.include_ambiguous));
+    } else {
+      import_options.node = "cause";
+      const auto causes =
+          events_of(formats::import_file(inputs.cause_file, format, import_options), inputs.cause_file);
+      import_options.node = "effect";
+      const auto effects =
+          events_of(formats::import_file(inputs.effect_file, format, import_options), inputs.effect_file);
+      results.push_back(analyse(from_events(scenario, causes, effects, selection), match_options,
+                                summary_options, options.include_ambiguous));
+    }
+  }
+  for (const auto& path : inputs.inputs) {
+    if (!std::filesystem::exists(path) && path != "-")
+      throw core::Error(core::ErrorKind::no_input, fmt::format("{}: no such file", path));
+    if (store::is_sqlite_database(path)) {
+      store::Options read;
+      read.read_only = true;
+      const auto store = store::Store::open(path, read);
+      const auto names = inputs.scenarios.empty() ? scenarios(store) : inputs.scenarios;
+      for (const auto& name : names) {
+        results.push_back(analyse(load_scenario(store, name, selection), match_options, summary_options,
+                                  options.include_ambiguous));
+        attach_board_record(results.back(), store, uncertainty_options, summary_options);
+      }
+      continue;
+    }
+    const auto scenario = std::filesystem::path(path).stem().string();
+    // Not a store (checked through SQLite), and no store of this loop is open any more: a raw read
+    // of the file cannot drop a lock of a connection of this process.
+    auto file = formats::import_file(path, format, import_options);
+    if (const auto* paired = std::get_if<formats::PairedImport>(&file.content); paired && !inputs.rematch) {
+      results.push_back(as_given(scenario, *paired, summary_options));
+      continue;
+    }
+    // An events file with both sides: split by the selection (or by the conventional node names).
+    auto sel = selection;
+    if (!sel.cause) sel.cause = core::ChannelRef{"operator", ""};
+    if (!sel.effect) sel.effect = core::ChannelRef{"vehicle", ""};
+    const auto events = events_of(std::move(file), path);
+    results.push_back(analyse(from_events(scenario, events, events, sel), match_options, summary_options,
+                              options.include_ambiguous));
+  }
+  return results;
+}
+
+}  // namespace m2mlat::analysis
