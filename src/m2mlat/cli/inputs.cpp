@@ -8,6 +8,7 @@
 #include <functional>
 #include <future>
 
+#include "m2mlat/analysis/pairs_file.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/store/store.hpp"
@@ -51,7 +52,7 @@ analysis::ScenarioResult as_given(std::string scenario, const formats::PairedImp
     latencies.push_back(paired.pairs[i].latency().count());
     ids.push_back(line);
   }
-  r.match.pairs = paired.pairs;
+  r.match.pairs = analysis::pairs_from_rows(paired.pairs);
   r.match.cause_count = r.match.effect_count = static_cast<std::int64_t>(paired.pairs.size());
   r.summary = stats::summarize(latencies, ids, options);
   return r;
