@@ -9,6 +9,7 @@
 #include <future>
 
 #include "m2mlat/analysis/board_record.hpp"
+#include "m2mlat/analysis/pairs_file.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/store/store.hpp"
@@ -47,7 +48,7 @@ ScenarioResult as_given(std::string scenario, const formats::PairedImport& paire
     latencies.push_back(paired.pairs[i].latency().count());
     ids.push_back(line);
   }
-  r.match.pairs = paired.pairs;
+  r.match.pairs = pairs_from_rows(paired.pairs);
   r.match.cause_count = r.match.effect_count = static_cast<std::int64_t>(paired.pairs.size());
   r.summary = stats::summarize(latencies, ids, options);
   return r;

@@ -3,8 +3,9 @@
 // against the in-process twin (fake_gpio.hpp). The kernel's own structs from <linux/gpio.h> cross
 // this interface unchanged: their layout is the kernel header's on every architecture, never a copy.
 //
-// Failures of the system calls are thrown as std::system_error carrying errno; gpio_errors.hpp turns
-// them into messages that say how to fix them (permissions, a line held by another program).
+// Failures of the system calls are thrown as std::system_error carrying errno; explain_gpio_error
+// (chip_lookup.hpp) turns them into messages that say how to fix them (permissions, a line held by
+// another program).
 #pragma once
 
 #include <linux/gpio.h>

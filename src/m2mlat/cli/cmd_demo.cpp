@@ -8,8 +8,8 @@
 #include <memory>
 
 #include "m2mlat/analysis/scenario_result.hpp"
-#include "m2mlat/campaign/sim_to_store.hpp"
-#include "m2mlat/campaign/truth_check.hpp"
+#include "m2mlat/analysis/truth_check.hpp"
+#include "m2mlat/capture/sim_to_store.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
@@ -35,7 +35,7 @@ struct DemoCommand {
   bool json = false;
 };
 
-nlohmann::json truth_json(const campaign::TruthCheck& t) {
+nlohmann::json truth_json(const analysis::TruthCheck& t) {
   return {{"true_pairs", t.true_pairs},
           {"found", t.found},
           {"correct", t.correct},
@@ -59,7 +59,7 @@ int run_demo(const DemoCommand& c) {
     throw core::Error(core::ErrorKind::usage, fmt::format("{} exists: the demo writes a new store", path));
 
   std::vector<analysis::ScenarioResult> results;
-  std::vector<campaign::TruthCheck> checks;
+  std::vector<analysis::TruthCheck> checks;
   {
     auto store = store::Store::open(path);
     for (std::size_t k = 0; k < c.scenarios.size(); ++k) {
@@ -68,7 +68,7 @@ int run_demo(const DemoCommand& c) {
       if (c.manoeuvres > 0) config.manoeuvres = c.manoeuvres;
       if (!c.magnets.empty()) config.magnets_deg = c.magnets;
       std::vector<sim::TruePair> truth;
-      campaign::record_simulation(store, config, "demo", [&](const sim::Chunk& chunk, std::int64_t events) {
+      capture::record_simulation(store, config, "demo", [&](const sim::Chunk& chunk, std::int64_t events) {
         truth.insert(truth.end(), chunk.pairs.begin(), chunk.pairs.end());
         progress(fmt::format("simulating {}: {} events", config.scenario, events));
       });
@@ -76,7 +76,7 @@ int run_demo(const DemoCommand& c) {
       // Read back from the store: the same path a real campaign takes.
       results.push_back(analysis::analyse(analysis::load_scenario(store, config.scenario, {}), match_options,
                                           summary_options, c.match.include_ambiguous));
-      checks.push_back(campaign::check_against_truth(results.back(), truth));
+      checks.push_back(analysis::check_against_truth(results.back(), truth));
     }
     progress_done();
   }

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "m2mlat/analysis/pipeline.hpp"
+#include "m2mlat/analysis/pairs_file.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/core/error.hpp"
@@ -39,15 +40,8 @@ int run_export(const ExportCommand& c) {
       throw core::Error(core::ErrorKind::usage,
                         fmt::format("{} has {} scenarios: export the pairs of one with --scenario",
                                     c.store_path, results.size()));
-    formats::PairExportOptions options;
-    options.cause = results[0].input.cause_ref;
-    options.effect = results[0].input.effect_ref;
-    analysis::UncertaintyColumns columns;
-    analysis::append_columns(columns, results[0].uncertainty, results[0].match.pairs.size());
-    if (!results[0].uncertainty.empty())
-      options.uncertainty_ns = columns.max_error_ns, options.est_error_ns = columns.est_error_ns;
-    formats::export_pairs(c.out, formats::parse_format(c.format.empty() ? "pairs-csv" : c.format),
-                          results[0].match.pairs, options);
+    const auto format = formats::parse_format(c.format.empty() ? "pairs-csv" : c.format);
+    analysis::write_pairs_file(c.out, format, results);
     return 0;
   }
   if (c.what != "events") throw core::Error(core::ErrorKind::usage, "--what: events or pairs");

@@ -5,10 +5,10 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "m2mlat/campaign/merge.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/printable.hpp"
+#include "m2mlat/store/merge.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::cli {
@@ -25,7 +25,7 @@ int run_merge(const MergeCommand& c) {
   auto campaign = store::Store::open(c.campaign);
   nlohmann::json report = nlohmann::json::array();
   for (const auto& board : c.boards) {
-    const auto r = campaign::merge_store(campaign, board);
+    const auto r = store::merge_store(campaign, board);
     report.push_back({{"store", r.path},
                       {"origin", r.origin},
                       {"nodes", r.nodes},

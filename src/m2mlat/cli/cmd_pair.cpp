@@ -1,17 +1,16 @@
 // `m2mlat pair`: pair cause and effect edges and write the pairs (and the unmatched events).
 #include <fmt/format.h>
 
-#include <fstream>
 #include <memory>
 
 #include "m2mlat/analysis/pipeline.hpp"
+#include "m2mlat/analysis/pairs_file.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/inputs.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
-#include "m2mlat/core/output_file.hpp"
-#include "m2mlat/formats/import_file.hpp"
+#include "m2mlat/formats/format.hpp"
 #include "m2mlat/report/scenario_json.hpp"
 #include "m2mlat/report/scenario_text.hpp"
 
@@ -28,20 +27,6 @@ struct PairCommand {
   bool json = false;
 };
 
-// Unmatched events as CSV: side, index in the side's input, source id (store seq or file index), time,
-// reason.
-void write_unmatched(const std::string& path, const std::vector<analysis::ScenarioResult>& results) {
-  core::write_output_file(path, [&](std::ostream& out) {
-    out << "scenario,side,node,channel,source_id,time_ns,reason\n";
-    for (const auto& r : results)
-      for (const auto& u : r.match.unmatched) {
-        const bool cause = u.side == pairing::Side::cause;
-        const auto& ref = cause ? r.input.cause_ref : r.input.effect_ref;
-        out << r.input.scenario << ',' << pairing::to_string(u.side) << ',' << ref.node << ',' << ref.channel
-            << ',' << r.seq(u) << ',' << u.time.ns() << ',' << pairing::to_string(u.reason) << '\n';
-      }
-  });
-}
 }  // namespace
 
 Runner attach_pair(CLI::App& sub) {
@@ -63,23 +48,10 @@ Runner attach_pair(CLI::App& sub) {
     const auto results = analysis::analyse_inputs(inputs.pipeline_inputs(), pipeline);
     if (!c->out.empty()) {
       const auto format = formats::parse_format(c->out_format);
-      std::vector<pairing::Pair> all;
-      analysis::UncertaintyColumns columns;
-      bool any_clock = false;
-      for (const auto& r : results) {
-        all.insert(all.end(), r.match.pairs.begin(), r.match.pairs.end());
-        analysis::append_columns(columns, r.uncertainty, r.match.pairs.size());
-        any_clock |= !r.uncertainty.empty();
-      }
-      formats::PairExportOptions options;
-      if (any_clock)
-        options.uncertainty_ns = columns.max_error_ns, options.est_error_ns = columns.est_error_ns;
-      if (!results.empty())
-        options.cause = results.front().input.cause_ref, options.effect = results.front().input.effect_ref;
       if (results.size() > 1) warn("several scenarios are written to one pairs file, one after another");
-      formats::export_pairs(c->out, format, all, options);
+      analysis::write_pairs_file(c->out, format, results);
     }
-    if (!c->unmatched_out.empty()) write_unmatched(c->unmatched_out, results);
+    if (!c->unmatched_out.empty()) analysis::write_unmatched_file(c->unmatched_out, results);
     if (c->json) {
       nlohmann::json doc{{"format", report::kStatsFormat}, {"scenarios", nlohmann::json::array()}};
       for (const auto& r : results)

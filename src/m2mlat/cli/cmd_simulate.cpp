@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <memory>
 
-#include "m2mlat/campaign/sim_to_store.hpp"
+#include "m2mlat/capture/sim_to_store.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
@@ -126,7 +126,7 @@ int run_simulate(const SimulateCommand& c) {
   if (!c.store_path.empty()) {
     auto store = store::Store::open(c.store_path);
     const auto run =
-        campaign::record_simulation(store, config, c.label, [](const sim::Chunk&, std::int64_t events) {
+        capture::record_simulation(store, config, c.label, [](const sim::Chunk&, std::int64_t events) {
           progress(fmt::format("recording: {} events", events));
         });
     progress_done();

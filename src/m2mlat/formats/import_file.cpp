@@ -91,7 +91,7 @@ std::vector<TimestampSeries> read_timestamps(const std::string& path, std::optio
       const PairedImport paired = import_rig_paired_csv(input.text(), input.name(), options);
       TimestampSeries causes{core::to_string(options.cause), {}};
       TimestampSeries effects{core::to_string(options.effect), {}};
-      for (const pairing::Pair& pair : paired.pairs) {
+      for (const PairRow& pair : paired.pairs) {
         causes.ns.push_back(pair.cause_time.ns());
         effects.ns.push_back(pair.effect_time.ns());
       }
@@ -121,7 +121,7 @@ void export_events(const std::string& path, Format format, std::span<const core:
   });
 }
 
-void export_pairs(const std::string& path, Format format, std::span<const pairing::Pair> pairs,
+void export_pairs(const std::string& path, Format format, std::span<const PairRow> pairs,
                   const PairExportOptions& options) {
   if (format != Format::pairs_csv && format != Format::pairs_jsonl && format != Format::rig_paired_csv)
     throw core::Error(

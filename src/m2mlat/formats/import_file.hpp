@@ -12,10 +12,10 @@
 #include "m2mlat/core/event.hpp"
 #include "m2mlat/formats/format.hpp"
 #include "m2mlat/formats/imported.hpp"
+#include "m2mlat/formats/pair_row.hpp"
 #include "m2mlat/formats/pairs_export.hpp"
 #include "m2mlat/formats/rig_paired.hpp"
 #include "m2mlat/formats/rig_sync.hpp"
-#include "m2mlat/pairing/pair.hpp"
 
 namespace m2mlat::formats {
 
@@ -48,7 +48,7 @@ std::vector<TimestampSeries> read_timestamps(const std::string& path, std::optio
 void export_events(const std::string& path, Format format, std::span<const core::Event> events);
 // Writes pairs as pairs_csv, pairs_jsonl or rig_paired_csv (which has no names, uncertainty or
 // flags: options only feed the other two), atomically. Throws core::Error(usage) for another format.
-void export_pairs(const std::string& path, Format format, std::span<const pairing::Pair> pairs,
+void export_pairs(const std::string& path, Format format, std::span<const PairRow> pairs,
                   const PairExportOptions& options = {});
 
 }  // namespace m2mlat::formats

@@ -12,7 +12,7 @@ namespace m2mlat::formats {
 
 namespace {
 
-void check_options(std::span<const pairing::Pair> pairs, const PairExportOptions& options) {
+void check_options(std::span<const PairRow> pairs, const PairExportOptions& options) {
   auto check_size = [&](std::size_t size, std::string_view what) {
     if (size != 0 && size != pairs.size())
       throw core::Error(core::ErrorKind::internal,
@@ -32,8 +32,7 @@ void check_options(std::span<const pairing::Pair> pairs, const PairExportOptions
 
 }  // namespace
 
-void write_pairs_csv(std::ostream& out, std::span<const pairing::Pair> pairs,
-                     const PairExportOptions& options) {
+void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options) {
   check_options(pairs, options);
   const bool with_uncertainty = !options.uncertainty_ns.empty();
   const bool with_flags = options.flags;
@@ -58,7 +57,7 @@ void write_pairs_csv(std::ostream& out, std::span<const pairing::Pair> pairs,
   append_csv_field(names, options.effect.channel);
   names.push_back(',');
   for (std::size_t i = 0; i < pairs.size(); ++i) {
-    const pairing::Pair& pair = pairs[i];
+    const PairRow& pair = pairs[i];
     const core::Duration latency = pair.latency();
     text.append(names);
     buffer << core::to_string(pair.cause_time.clock()) << ',';
@@ -84,8 +83,7 @@ void write_pairs_csv(std::ostream& out, std::span<const pairing::Pair> pairs,
   buffer.flush();
 }
 
-void write_pairs_jsonl(std::ostream& out, std::span<const pairing::Pair> pairs,
-                       const PairExportOptions& options) {
+void write_pairs_jsonl(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options) {
   check_options(pairs, options);
   OutputBuffer buffer(out);
   std::string& text = buffer.text();
@@ -101,7 +99,7 @@ void write_pairs_jsonl(std::ostream& out, std::span<const pairing::Pair> pairs,
   names.append(",\"effect_channel\":");
   append_json_string(names, options.effect.channel);
   for (std::size_t i = 0; i < pairs.size(); ++i) {
-    const pairing::Pair& pair = pairs[i];
+    const PairRow& pair = pairs[i];
     const core::Duration latency = pair.latency();
     text.append(names);
     text.append(",\"clock\":\"");

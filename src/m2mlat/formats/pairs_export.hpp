@@ -10,9 +10,9 @@
 // cause_time_ns exactly, and latency_ms is the same value as exact decimal text (core::format_ms:
 // always 6 decimals). Optional columns follow: uncertainty_ns when the caller gives it (a bound
 // on the latency's error from both boards' clock state, integer ns; empty / null when unknown),
-// est_error_ns likewise (a 1-sigma estimate of that error), and flags (Pair::flags, decimal; written unless
-// switched off). In JSON Lines each pair is one object with the same members and "format":"m2mlat-pairs/1";
-// latency_ms is written as a JSON number with the exact decimal text.
+// est_error_ns likewise (a 1-sigma estimate of that error), and flags (PairRow::flags, decimal; written
+// unless switched off). In JSON Lines each pair is one object with the same members and
+// "format":"m2mlat-pairs/1"; latency_ms is written as a JSON number with the exact decimal text.
 //
 // For comparison with the reference rig's scripts, see write_rig_paired_csv in rig_paired.hpp.
 #pragma once
@@ -24,7 +24,7 @@
 #include <string_view>
 
 #include "m2mlat/core/event.hpp"
-#include "m2mlat/pairing/pair.hpp"
+#include "m2mlat/formats/pair_row.hpp"
 
 namespace m2mlat::formats {
 
@@ -38,15 +38,13 @@ struct PairExportOptions {
   // Empty: no est_error_ns column (written after uncertainty_ns). Otherwise one per pair: a 1-sigma
   // estimate of the latency's error (analysis/uncertainty.hpp), ns; nullopt = unknown.
   std::span<const std::optional<std::int64_t>> est_error_ns;
-  // Write the flags column (Pair::flags, pairing::PairFlag bits, e.g. 1 = ambiguous burst).
+  // Write the flags column (PairRow::flags, pairing::PairFlag bits, e.g. 1 = ambiguous burst).
   bool flags = true;
 };
 
 // Both throw core::Error(internal) if a non-empty uncertainty_ns does not have one entry per pair, and
 // core::Error(data) for an empty node or channel name or one with a line break.
-void write_pairs_csv(std::ostream& out, std::span<const pairing::Pair> pairs,
-                     const PairExportOptions& options);
-void write_pairs_jsonl(std::ostream& out, std::span<const pairing::Pair> pairs,
-                       const PairExportOptions& options);
+void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options);
+void write_pairs_jsonl(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options);
 
 }  // namespace m2mlat::formats

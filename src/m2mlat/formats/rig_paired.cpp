@@ -51,7 +51,7 @@ PairedImport import_rig_paired_csv(std::string_view text, std::string_view name,
 
     const auto index = static_cast<std::int64_t>(result.pairs.size());
     if (!check.agrees) result.disagreements.push_back(result.pairs.size());
-    result.pairs.push_back(pairing::Pair{index, index, cause.time, effect.time});
+    result.pairs.push_back(PairRow{index, index, cause.time, effect.time});
     result.causes.push_back(cause);
     result.effects.push_back(effect);
     result.checks.push_back(check);
@@ -59,10 +59,10 @@ PairedImport import_rig_paired_csv(std::string_view text, std::string_view name,
   return result;
 }
 
-void write_rig_paired_csv(std::ostream& out, std::span<const pairing::Pair> pairs) {
+void write_rig_paired_csv(std::ostream& out, std::span<const PairRow> pairs) {
   OutputBuffer buffer(out);
   buffer << join_columns(kRigPairedColumns) << '\n';
-  for (const pairing::Pair& pair : pairs) {
+  for (const PairRow& pair : pairs) {
     std::int64_t seconds = 0;
     std::int64_t nanoseconds = 0;
     split_seconds(pair.cause_time.ns(), seconds, nanoseconds);

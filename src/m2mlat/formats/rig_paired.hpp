@@ -20,7 +20,7 @@
 #include "m2mlat/core/event.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/formats/imported.hpp"
-#include "m2mlat/pairing/pair.hpp"
+#include "m2mlat/formats/pair_row.hpp"
 
 namespace m2mlat::formats {
 
@@ -42,7 +42,7 @@ struct LatencyCheck {
 
 struct PairedImport {
   // pairs[i] joins causes[i] and effects[i] (cause_index = effect_index = i); clock realtime.
-  std::vector<pairing::Pair> pairs;
+  std::vector<PairRow> pairs;
   std::vector<core::Event> causes;   // remote station: ImportOptions::cause (default operator/wheel)
   std::vector<core::Event> effects;  // vehicle: ImportOptions::effect (default vehicle/wheel)
   std::vector<LatencyCheck> checks;  // one per pair
@@ -58,6 +58,6 @@ PairedImport import_rig_paired_csv(std::string_view text, std::string_view name,
 // Writes pairs in the rig's layout, so that its users' scripts read m2mlat's results; the latency is
 // exact with 6 decimals (core::format_ms). The cause is written as remote_station_*, the effect as
 // vehicle_*, seconds rounded down and nanoseconds in [0, 10^9).
-void write_rig_paired_csv(std::ostream& out, std::span<const pairing::Pair> pairs);
+void write_rig_paired_csv(std::ostream& out, std::span<const PairRow> pairs);
 
 }  // namespace m2mlat::formats

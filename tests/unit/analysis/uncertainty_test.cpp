@@ -11,7 +11,7 @@
 
 #include "m2mlat/analysis/board_record.hpp"
 #include "m2mlat/analysis/scenario_result.hpp"
-#include "m2mlat/campaign/sim_to_store.hpp"
+#include "m2mlat/capture/sim_to_store.hpp"
 #include "m2mlat/sim/presets.hpp"
 
 namespace m2mlat::analysis {
@@ -163,7 +163,7 @@ Coverage run_seed(std::uint64_t seed, const std::string& preset, const std::stri
   std::vector<sim::TruePair> truth;
   {
     auto store = store::Store::open(path);
-    campaign::record_simulation(store, config, "coverage", [&](const sim::Chunk& chunk, std::int64_t) {
+    capture::record_simulation(store, config, "coverage", [&](const sim::Chunk& chunk, std::int64_t) {
       truth.insert(truth.end(), chunk.pairs.begin(), chunk.pairs.end());
     });
   }

@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "../net/raw_client.hpp"
-#include "m2mlat/campaign/sim_to_store.hpp"
+#include "m2mlat/capture/sim_to_store.hpp"
 #include "m2mlat/collect/live_view.hpp"
 #include "m2mlat/collect/web_assets.hpp"
 #include "m2mlat/core/error.hpp"
@@ -300,7 +300,7 @@ TEST(Dashboard, LiveViewServesThePairing) {
     auto store = store::Store::open(path);
     auto config = sim::preset("static_wifi");
     config.manoeuvres = 40;
-    campaign::record_simulation(store, config, "live");
+    capture::record_simulation(store, config, "live");
   }
   collect::LiveViewOptions o;
   o.store_path = path;

@@ -13,7 +13,7 @@
 
 #include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/analysis/scenario_result.hpp"
-#include "m2mlat/campaign/sim_to_store.hpp"
+#include "m2mlat/capture/sim_to_store.hpp"
 #include "m2mlat/sim/presets.hpp"
 #include "m2mlat/store/store.hpp"
 
@@ -50,7 +50,7 @@ void simulate(const std::string& path, const std::string& preset, std::int64_t m
   config.seed = seed;
   config.magnets_deg.clear();
   for (int k = 0; k < magnets; ++k) config.magnets_deg.push_back(40.0 * k);
-  campaign::record_simulation(store, config, "live");
+  capture::record_simulation(store, config, "live");
 }
 
 // `m2mlat stats STORE --bootstrap 0` as the CLI computes it.

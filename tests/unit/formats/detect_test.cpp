@@ -121,7 +121,7 @@ TEST(ExportFile, EventsAndPairsThroughFilesOneNanosecondApart) {
     EXPECT_EQ(back.format, format);
     EXPECT_EQ(std::get<EventImport>(back.content).events, events);
   }
-  const std::vector<pairing::Pair> pairs{{0, 0, events[0].time, events[1].time}};
+  const std::vector<PairRow> pairs{{0, 0, events[0].time, events[1].time}};
   const std::string rig = (dir / "pairs_rig.csv").string();
   export_pairs(rig, Format::rig_paired_csv, pairs);
   const ImportedFile back = import_file(rig, std::nullopt, {});

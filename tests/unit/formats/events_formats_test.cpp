@@ -10,6 +10,7 @@
 #include "m2mlat/formats/events_jsonl.hpp"
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/formats/pairs_export.hpp"
+#include "m2mlat/pairing/pair.hpp"
 
 namespace m2mlat::formats {
 namespace {
@@ -208,7 +209,7 @@ TEST(EventsJsonl, MalformedInput) {
 
 TEST(PairsExport, CsvAndJsonlWithOptionalColumns) {
   const auto at = [](std::int64_t ns) { return core::TimePoint::from_ns(core::Clock::realtime, ns); };
-  std::vector<pairing::Pair> pairs(2);
+  std::vector<PairRow> pairs(2);
   pairs[0].cause_time = at(1'762'872'545'550'296'135);
   pairs[0].effect_time = at(1'762'872'546'417'585'462);
   pairs[1].cause_index = pairs[1].effect_index = 1;

@@ -67,7 +67,7 @@ TEST_F(ExportTarget, SymlinkRefusedForEventsAndPairs) {
   fs::create_symlink(dir_ / "victim", dir_ / "out");
   const auto out = (dir_ / "out").string();
   EXPECT_THROW(export_events(out, Format::events_jsonl, events_named("vehicle")), core::Error);
-  const std::vector<pairing::Pair> pairs{{0, 0, core::TimePoint::from_ns(core::Clock::realtime, 1),
+  const std::vector<PairRow> pairs{{0, 0, core::TimePoint::from_ns(core::Clock::realtime, 1),
                                           core::TimePoint::from_ns(core::Clock::realtime, 2)}};
   EXPECT_THROW(export_pairs(out, Format::pairs_csv, pairs), core::Error);
   EXPECT_EQ(read(dir_ / "victim"), "precious\n");

@@ -96,7 +96,7 @@ TEST(RigPaired, LatenciesEqualTheFilesOwnColumnToOneMicrosecond) {
   ASSERT_EQ(paired.checks.size(), 6u);
   const std::string file_ms[] = {"850.123456", "812.000002", "850.4", "700", "901.5", "876.54321"};
   for (std::size_t i = 0; i < 6; ++i) {
-    const pairing::Pair& pair = paired.pairs[i];
+    const PairRow& pair = paired.pairs[i];
     EXPECT_EQ(pair.cause_index, static_cast<std::int64_t>(i));
     EXPECT_EQ(pair.cause_time, paired.causes[i].time);
     EXPECT_EQ(pair.effect_time, paired.effects[i].time);
@@ -150,7 +150,7 @@ TEST(RigPaired, MalformedRows) {
 
 TEST(RigPaired, ExportInTheRigsLayoutReadsBack) {
   const auto at = [](std::int64_t ns) { return core::TimePoint::from_ns(core::Clock::realtime, ns); };
-  const std::vector<pairing::Pair> pairs{{0, 0, at(1'700'000'100'100'000'000), at(1'700'000'100'950'123'457)},
+  const std::vector<PairRow> pairs{{0, 0, at(1'700'000'100'100'000'000), at(1'700'000'100'950'123'457)},
                                          {1, 1, at(1'700'000'103'999'999'999), at(1'700'000'104'812'000'001)},
                                          {2, 2, at(-1), at(5)}};
   std::ostringstream out;

@@ -1,6 +1,6 @@
 // m2mlat-2g-trigger: the host's end of the two-guest test's stimulus (tests/vm/twoguest.sh). It runs
 // on the host, whose clock is the one physical time both guests share, and writes the trigger bytes
-// of guest/stimulus.cpp to the two guests' stimulus ports (QEMU TCP chardevs) on a fixed schedule:
+// of stimulus.cpp to the two guests' stimulus ports (QEMU TCP chardevs) on a fixed schedule:
 //
 //   cycle i starts at t_i = t_0 + i * PERIOD   (CLOCK_MONOTONIC, absolute sleeps: no drift)
 //     t_i              'A' to the operator     (the cause edge, line 0)

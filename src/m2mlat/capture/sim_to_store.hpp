@@ -12,7 +12,7 @@
 #include "m2mlat/sim/rig_config.hpp"
 #include "m2mlat/store/store.hpp"
 
-namespace m2mlat::campaign {
+namespace m2mlat::capture {
 
 struct RecordedRun {
   std::int64_t cause_session = 0;
@@ -30,4 +30,4 @@ using ChunkObserver = std::function<void(const sim::Chunk&, std::int64_t events_
 RecordedRun record_simulation(store::Store& store, const sim::RigConfig& config, const std::string& label,
                               const ChunkObserver& observer = {});
 
-}  // namespace m2mlat::campaign
+}  // namespace m2mlat::capture

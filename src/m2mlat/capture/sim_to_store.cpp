@@ -1,11 +1,11 @@
 // Simulated run -> store, chunk by chunk; one transaction per node per chunk.
-#include "m2mlat/campaign/sim_to_store.hpp"
+#include "m2mlat/capture/sim_to_store.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include "m2mlat/capture/sim_source.hpp"
 
-namespace m2mlat::campaign {
+namespace m2mlat::capture {
 
 namespace {
 
@@ -52,7 +52,7 @@ RecordedRun record_simulation(store::Store& store, const sim::RigConfig& config,
       batch.session_id = session;
       batch.events = chunk.events(role);
       for (const auto& s : chunk.clock_samples)
-        if (s.node == role) batch.clock_samples.push_back(capture::sim_clock_sample(s, session));
+        if (s.node == role) batch.clock_samples.push_back(sim_clock_sample(s, session));
       if (!batch.events.empty()) last = std::max(last, batch.events.back().time);
       store.append(batch);
       (role == core::Role::cause ? run.cause_events : run.effect_events) +=
@@ -66,4 +66,4 @@ RecordedRun record_simulation(store::Store& store, const sim::RigConfig& config,
   return run;
 }
 
-}  // namespace m2mlat::campaign
+}  // namespace m2mlat::capture

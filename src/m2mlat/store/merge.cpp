@@ -1,5 +1,5 @@
 // Offline merge through Store::ingest (see merge.hpp).
-#include "m2mlat/campaign/merge.hpp"
+#include "m2mlat/store/merge.hpp"
 
 #include <fmt/format.h>
 
@@ -7,7 +7,7 @@
 
 #include "m2mlat/core/error.hpp"
 
-namespace m2mlat::campaign {
+namespace m2mlat::store {
 
 MergeResult merge_store(store::Store& campaign, const std::string& board_path, std::size_t chunk) {
   store::Options read;
@@ -48,4 +48,4 @@ MergeResult merge_store(store::Store& campaign, const std::string& board_path, s
   return result;
 }
 
-}  // namespace m2mlat::campaign
+}  // namespace m2mlat::store

@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "m2mlat/campaign/merge.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/store/merge.hpp"
 #include "m2mlat/store/store.hpp"
 
-namespace m2mlat::campaign {
+namespace m2mlat::store::merge_test {
 namespace {
 
 class TempDir {
@@ -111,4 +111,4 @@ TEST(Merge, RefusesTheCampaignItselfAndNonStores) {
 }
 
 }  // namespace
-}  // namespace m2mlat::campaign
+}  // namespace m2mlat::store::merge_test

@@ -1,14 +1,14 @@
 // Matched pairs against true pairs, by (cause index, effect index).
-#include "m2mlat/campaign/truth_check.hpp"
+#include "m2mlat/analysis/truth_check.hpp"
 
 #include <algorithm>
 #include <set>
 
 #include "m2mlat/stats/quantile.hpp"
 
-namespace m2mlat::campaign {
+namespace m2mlat::analysis {
 
-TruthCheck check_against_truth(const analysis::ScenarioResult& result,
+TruthCheck check_against_truth(const ScenarioResult& result,
                                const std::vector<sim::TruePair>& pairs) {
   TruthCheck check;
   check.true_pairs = static_cast<std::int64_t>(pairs.size());
@@ -39,4 +39,4 @@ TruthCheck check_against_truth(const analysis::ScenarioResult& result,
   return check;
 }
 
-}  // namespace m2mlat::campaign
+}  // namespace m2mlat::analysis

@@ -12,7 +12,7 @@
 
 #include "m2mlat/store/store.hpp"
 
-namespace m2mlat::campaign {
+namespace m2mlat::store {
 
 struct MergeResult {
   std::string path;       // the board store
@@ -28,4 +28,4 @@ struct MergeResult {
 // core::Error naming the file if it is not a current m2mlat store or is the campaign itself.
 MergeResult merge_store(store::Store& campaign, const std::string& board_path, std::size_t chunk = 50'000);
 
-}  // namespace m2mlat::campaign
+}  // namespace m2mlat::store

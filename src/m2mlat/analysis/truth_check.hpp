@@ -9,7 +9,7 @@
 #include "m2mlat/analysis/scenario_result.hpp"
 #include "m2mlat/sim/truth.hpp"
 
-namespace m2mlat::campaign {
+namespace m2mlat::analysis {
 
 struct TruthCheck {
   std::int64_t true_pairs = 0;        // passes detected on both sides
@@ -28,7 +28,7 @@ struct TruthCheck {
 
 // `result` must come from the run whose truth is `pairs`, with the events in the simulator's order
 // (pair indices = the simulator's event indices, as when read back from a store in time order).
-TruthCheck check_against_truth(const analysis::ScenarioResult& result,
+TruthCheck check_against_truth(const ScenarioResult& result,
                                const std::vector<sim::TruePair>& pairs);
 
-}  // namespace m2mlat::campaign
+}  // namespace m2mlat::analysis

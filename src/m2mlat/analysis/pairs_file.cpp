@@ -1,0 +1,58 @@
+// The pairs file and the unmatched-events file of analysed scenarios.
+#include "m2mlat/analysis/pairs_file.hpp"
+
+#include <ostream>
+
+#include "m2mlat/core/output_file.hpp"
+#include "m2mlat/formats/import_file.hpp"
+
+namespace m2mlat::analysis {
+
+std::vector<formats::PairRow> pair_rows(std::span<const pairing::Pair> pairs) {
+  std::vector<formats::PairRow> rows;
+  rows.reserve(pairs.size());
+  for (const pairing::Pair& p : pairs)
+    rows.push_back({p.cause_index, p.effect_index, p.cause_time, p.effect_time, p.flags});
+  return rows;
+}
+
+std::vector<pairing::Pair> pairs_from_rows(std::span<const formats::PairRow> rows) {
+  std::vector<pairing::Pair> pairs;
+  pairs.reserve(rows.size());
+  for (const formats::PairRow& r : rows)
+    pairs.push_back({r.cause_index, r.effect_index, r.cause_time, r.effect_time, r.flags});
+  return pairs;
+}
+
+void write_pairs_file(const std::string& path, formats::Format format,
+                      std::span<const ScenarioResult> results) {
+  std::vector<formats::PairRow> rows;
+  UncertaintyColumns columns;
+  bool any_clock = false;
+  for (const auto& r : results) {
+    const auto scenario_rows = pair_rows(r.match.pairs);
+    rows.insert(rows.end(), scenario_rows.begin(), scenario_rows.end());
+    append_columns(columns, r.uncertainty, r.match.pairs.size());
+    any_clock |= !r.uncertainty.empty();
+  }
+  formats::PairExportOptions options;
+  if (any_clock) options.uncertainty_ns = columns.max_error_ns, options.est_error_ns = columns.est_error_ns;
+  if (!results.empty())
+    options.cause = results.front().input.cause_ref, options.effect = results.front().input.effect_ref;
+  formats::export_pairs(path, format, rows, options);
+}
+
+void write_unmatched_file(const std::string& path, std::span<const ScenarioResult> results) {
+  core::write_output_file(path, [&](std::ostream& out) {
+    out << "scenario,side,node,channel,source_id,time_ns,reason\n";
+    for (const auto& r : results)
+      for (const auto& u : r.match.unmatched) {
+        const bool cause = u.side == pairing::Side::cause;
+        const auto& ref = cause ? r.input.cause_ref : r.input.effect_ref;
+        out << r.input.scenario << ',' << pairing::to_string(u.side) << ',' << ref.node << ',' << ref.channel
+            << ',' << r.seq(u) << ',' << u.time.ns() << ',' << pairing::to_string(u.reason) << '\n';
+      }
+  });
+}
+
+}  // namespace m2mlat::analysis
