@@ -220,7 +220,7 @@ std::vector<std::string> cyclictest_argv(const CyclictestOptions& o, const std::
           "-q"};
 }
 
-CyclictestResult run_cyclictest(sync::CommandRunner& runner, const CyclictestOptions& o) {
+CyclictestResult run_cyclictest(process::CommandRunner& runner, const CyclictestOptions& o) {
   if (o.cpu < 0) throw core::Error(core::ErrorKind::usage, "the core must be >= 0");
   if (o.priority < 1 || o.priority > 99)
     throw core::Error(core::ErrorKind::usage, "the priority must be 1..99");
@@ -246,13 +246,7 @@ CyclictestResult run_cyclictest(sync::CommandRunner& runner, const CyclictestOpt
   }
   ::unlink(json_path.c_str());
   ::rmdir(dir.c_str());
-  if (!result.ok()) {
-    std::string why = !result.started ? result.err
-                      : result.timed_out
-                          ? "timed out"
-                          : fmt::format("exit status {}: {}", result.exit_code, result.err.substr(0, 300));
-    throw core::Error(core::ErrorKind::io, fmt::format("{}: {}", sync::command_line(argv), why));
-  }
+  if (!result.ok()) throw process::command_error(argv, result);
   CyclictestResult r = parse_cyclictest_json(json_text, core::Location{"cyclictest --json output", 0});
   const CyclictestHistogram h =
       parse_cyclictest_histogram(result.out, core::Location{"cyclictest histogram", 0});

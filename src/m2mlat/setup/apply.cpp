@@ -15,7 +15,7 @@
 #include "m2mlat/core/output_file.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/setup/diff.hpp"
-#include "m2mlat/sync/command_runner.hpp"
+#include "m2mlat/process/command_runner.hpp"
 
 namespace m2mlat::setup {
 
@@ -117,7 +117,7 @@ ApplyResult apply_plan(const Plan& plan, const ApplyOptions& options) {
       else
         replace_file(target, step.content, static_cast<int>(step.mode));
     } else {
-      const std::string line = sync::command_line(step.argv);
+      const std::string line = process::command_line(step.argv);
       if (!step.after.empty() && changed.count(step.after) == 0) continue;  // its file did not change
       if (!done.insert(line).second) continue;  // e.g. one chrony restart for its conf and drop-in
       ++result.changes;
@@ -131,17 +131,11 @@ ApplyResult apply_plan(const Plan& plan, const ApplyOptions& options) {
       }
       fmt::print(out, "  running: {}   ({})\n", line, step.why);
       std::fflush(out);
-      sync::ProcessRunner runner;
+      process::ProcessRunner runner;
       const auto r = runner.run(step.argv, kCommandTimeout);
       if (!r.ok()) {
         ++result.commands_failed;
-        std::string_view said = r.err.empty() ? r.out : r.err;
-        while (!said.empty() && (said.back() == '\n' || said.back() == '\r')) said.remove_suffix(1);
-        fmt::print(out, "    FAILED ({}): {}\n",
-                   !r.started    ? "not started"
-                   : r.timed_out ? "timed out"
-                                 : fmt::format("exit {}", r.exit_code),
-                   core::printable(said));
+        fmt::print(out, "    FAILED: {}\n", process::failure_text(r));
       }
     }
   }

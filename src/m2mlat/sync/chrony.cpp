@@ -207,19 +207,11 @@ std::vector<std::string> chronyc_argv(const ChronycOptions& options) {
   return argv;
 }
 
-ChronyReport read_chrony(CommandRunner& runner, const ChronycOptions& options) {
+ChronyReport read_chrony(process::CommandRunner& runner, const ChronycOptions& options) {
   const auto argv = chronyc_argv(options);
-  const CommandResult r = runner.run(argv, options.timeout);
-  if (!r.ok()) {
-    std::string why = !r.started    ? r.err
-                      : r.timed_out ? "timed out"
-                                    : fmt::format("exit status {}", r.exit_code);
-    const std::string output = r.out + r.err;
-    const auto said = text::trim(output);
-    if (r.started && !said.empty()) why += ": " + std::string(said.substr(0, 200));
-    throw core::Error(core::ErrorKind::io, fmt::format("{}: {}", command_line(argv), why));
-  }
-  return parse_chronyc_output(r.out, core::Location{command_line(argv), 0});
+  const process::CommandResult r = runner.run(argv, options.timeout);
+  if (!r.ok()) throw process::command_error(argv, r);
+  return parse_chronyc_output(r.out, core::Location{process::command_line(argv), 0});
 }
 
 }  // namespace m2mlat::sync

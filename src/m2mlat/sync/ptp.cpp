@@ -134,20 +134,15 @@ std::vector<std::string> pmc_argv(const PmcOptions& options) {
   return argv;
 }
 
-PtpStatus read_ptp(CommandRunner& runner, const PmcOptions& options) {
+PtpStatus read_ptp(process::CommandRunner& runner, const PmcOptions& options) {
   const auto argv = pmc_argv(options);
-  const CommandResult r = runner.run(argv, options.timeout);
-  if (!r.ok()) {
-    std::string why = !r.started    ? r.err
-                      : r.timed_out ? "timed out"
-                                    : fmt::format("exit status {}", r.exit_code);
-    throw core::Error(core::ErrorKind::io, fmt::format("{}: {}", command_line(argv), why));
-  }
-  const core::Location where{command_line(argv), 0};
+  const process::CommandResult r = runner.run(argv, options.timeout);
+  if (!r.ok()) throw process::command_error(argv, r);
+  const core::Location where{process::command_line(argv), 0};
   const auto responses = parse_pmc_output(r.out, where);
   if (responses.empty())
     throw core::Error(core::ErrorKind::io,
-                      fmt::format("{}: no answer (is ptp4l running?)", command_line(argv)));
+                      fmt::format("{}: no answer (is ptp4l running?)", process::command_line(argv)));
   return ptp_status(responses, where);
 }
 
