@@ -48,10 +48,8 @@ int run_doctor(bool json) {
       j["chips"].push_back(c);
     }
     for (const auto& f : report.findings)
-      j["findings"].push_back({{"check", f.check},
-                               {"status", setup::to_string(f.status)},
-                               {"detail", f.detail},
-                               {"fix", f.fix}});
+      j["findings"].push_back(
+          {{"check", f.check}, {"status", setup::to_string(f.status)}, {"detail", f.detail}, {"fix", f.fix}});
     print_json(j);
   } else {
     for (const auto& chip : report.chips) {

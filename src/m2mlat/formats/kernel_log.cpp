@@ -57,8 +57,8 @@ bool parse_kmsg_header(std::string_view header, KernelLogRecord& record) {
   std::uint64_t priority = 0;
   std::uint64_t seq = 0;
   std::int64_t us = 0;
-  if (!core::parse_integer(parts[0], priority) || !core::parse_integer(parts[1], seq) || !is_digits(parts[2]) ||
-      !core::parse_integer(parts[2], us) || parts[3].empty())
+  if (!core::parse_integer(parts[0], priority) || !core::parse_integer(parts[1], seq) ||
+      !is_digits(parts[2]) || !core::parse_integer(parts[2], us) || parts[3].empty())
     return false;
   record.kmsg_seq = seq;
   record.log_time_us = us;

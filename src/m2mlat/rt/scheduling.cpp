@@ -96,7 +96,9 @@ bool parse_cpu_list(std::string_view text, std::vector<int>& cpus) {
   cpus.clear();
   while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.remove_suffix(1);
   if (text.empty()) return false;
-  const auto number = [](std::string_view t, int& value) { return core::parse_integer(t, value) && value >= 0; };
+  const auto number = [](std::string_view t, int& value) {
+    return core::parse_integer(t, value) && value >= 0;
+  };
   while (!text.empty()) {
     const auto comma = text.find(',');
     const auto item = text.substr(0, comma);

@@ -41,7 +41,7 @@ struct DoctorInputs {
   std::string kernel_release;  // uname -r
   rt::Privileges privileges;
   sync::KernelClockState clock;  // the kernel's clock discipline (adjtimex)
-  std::string interrupts_text;  // /proc/interrupts
+  std::string interrupts_text;   // /proc/interrupts
   std::function<std::optional<std::string>(int irq)> irq_affinity;
   bool irq_writable = false;  // may this process write /proc/irq/*/smp_affinity_list
 };

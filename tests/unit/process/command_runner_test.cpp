@@ -54,14 +54,16 @@ TEST(CommandLine, QuotesArgumentsWithSpaces) {
 // standard error before its standard output, escaped for the terminal).
 TEST(CommandError, NamesTheCommandTheStatusAndWhatItSaid) {
   ProcessRunner r;
-  const std::vector<std::string> argv{"/bin/sh", "-c", "echo quiet; printf 'bad\\033[1m news\\n' >&2; exit 4"};
+  const std::vector<std::string> argv{"/bin/sh", "-c",
+                                      "echo quiet; printf 'bad\\033[1m news\\n' >&2; exit 4"};
   const auto res = r.run(argv, std::chrono::seconds(10));
   EXPECT_EQ(failure_text(res), "exit status 4: bad\\x1b[1m news");
   const core::Error e = command_error(argv, res);
   EXPECT_EQ(e.kind(), core::ErrorKind::io);
   EXPECT_EQ(std::string(e.what()), command_line(argv) + ": exit status 4: bad\\x1b[1m news");
 
-  const auto only_out = r.run({"/bin/sh", "-c", "echo 506 Cannot talk to daemon; exit 1"}, std::chrono::seconds(10));
+  const auto only_out =
+      r.run({"/bin/sh", "-c", "echo 506 Cannot talk to daemon; exit 1"}, std::chrono::seconds(10));
   EXPECT_EQ(failure_text(only_out), "exit status 1: 506 Cannot talk to daemon");
   EXPECT_EQ(failure_text(r.run({"false"}, std::chrono::seconds(10))), "exit status 1");
   EXPECT_EQ(failure_text(r.run({"sleep", "10"}, std::chrono::milliseconds(100))), "timed out");
