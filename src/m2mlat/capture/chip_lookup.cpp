@@ -4,8 +4,9 @@
 #include <fmt/format.h>
 
 #include <cerrno>
-#include <charconv>
 #include <vector>
+
+#include "m2mlat/core/number.hpp"
 
 namespace m2mlat::capture {
 
@@ -16,10 +17,7 @@ std::string basename(const std::string& path) {
   return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
-bool parse_offset(std::string_view text, std::uint32_t& offset) {
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), offset);
-  return !text.empty() && ec == std::errc{} && end == text.data() + text.size();
-}
+bool parse_offset(std::string_view text, std::uint32_t& offset) { return core::parse_integer(text, offset); }
 
 }  // namespace
 

@@ -11,6 +11,7 @@
 #include <system_error>
 
 #include "m2mlat/capture/gpio_device.hpp"
+#include "m2mlat/core/number.hpp"
 
 namespace m2mlat::capture {
 
@@ -82,9 +83,11 @@ class LinuxGpioDevices final : public GpioDevices {
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(dev_dir_, ec)) {
       const auto name = entry.path().filename().string();
-      if (!name.starts_with("gpiochip") || name.size() == 8) continue;
-      if (!std::all_of(name.begin() + 8, name.end(), [](char c) { return c >= '0' && c <= '9'; })) continue;
-      found.emplace_back(std::stol(name.substr(8)), entry.path().string());
+      long number = 0;
+      if (!name.starts_with("gpiochip") || !core::parse_integer(std::string_view(name).substr(8), number) ||
+          number < 0)
+        continue;
+      found.emplace_back(number, entry.path().string());
     }
     std::sort(found.begin(), found.end());
     std::vector<std::string> paths;

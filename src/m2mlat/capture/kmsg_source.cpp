@@ -9,11 +9,11 @@
 #include <array>
 #include <cctype>
 #include <cerrno>
-#include <charconv>
 #include <cstring>
 #include <optional>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/number.hpp"
 #include "m2mlat/formats/input_text.hpp"
 #include "m2mlat/formats/kernel_log.hpp"
 
@@ -35,8 +35,7 @@ std::optional<std::uint64_t> kmsg_record_seq(std::string_view line) {
     if (c < '0' || c > '9') return std::nullopt;
   std::uint64_t seq = 0;
   const auto text = header.substr(first + 1, second - first - 1);
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), seq);
-  if (text.empty() || ec != std::errc{} || end != text.data() + text.size()) return std::nullopt;
+  if (!core::parse_integer(text, seq)) return std::nullopt;
   return seq;
 }
 
@@ -45,10 +44,7 @@ std::optional<std::uint64_t> kmsg_record_seq(std::string_view line) {
 bool KmsgSource::pin_of(const std::string& line, std::uint32_t& pin) {
   std::size_t digits = 0;
   while (digits < line.size() && std::isalpha(static_cast<unsigned char>(line[digits]))) ++digits;
-  const auto* begin = line.data() + digits;
-  const auto* end = line.data() + line.size();
-  const auto [stop, ec] = std::from_chars(begin, end, pin);
-  return begin != end && ec == std::errc{} && stop == end;
+  return core::parse_integer(std::string_view(line).substr(digits), pin);
 }
 
 KmsgSource::KmsgSource(KmsgSourceOptions options) : options_(std::move(options)) {

@@ -86,6 +86,7 @@ class Recorder {
   RecordCounters run(int stop_fd, const std::function<std::string()>& stop_name = {});
 
  private:
+  class Run;  // one call of run(): its state and steps (recorder.cpp)
   struct Channel {
     ChannelCounters counters;
     RefractoryGate gate;

@@ -14,6 +14,7 @@
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/cli/record_setup.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/number.hpp"
 #include "m2mlat/core/output_file.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/net/auth.hpp"
@@ -45,11 +46,8 @@ std::pair<std::string, int> split_listen(const std::string& text) {
     throw bad();  // an IPv6 address needs brackets
   }
   const auto port_text = text.substr(colon + 1);
-  if (port_text.empty() || port_text.size() > 5 ||
-      port_text.find_first_not_of("0123456789") != std::string::npos)
-    throw bad();
-  const int port = std::stoi(port_text);
-  if (port > 65535) throw bad();
+  std::uint16_t port = 0;  // digits only, at most 5 of them
+  if (port_text.size() > 5 || !core::parse_integer(port_text, port)) throw bad();
   return {host, port};
 }
 

@@ -110,7 +110,7 @@ int run_clock(const ClockCommand& c) {
   options.chronyc.port = c.chronyc_port;
   options.pmc.uds = c.pmc_socket;
   sync::SystemClockSource clocks;
-  sync::ProcessRunner runner;
+  process::ProcessRunner runner;
   sync::ClockMonitor monitor(options, clocks, &runner);
 
   std::optional<store::Store> store;

@@ -6,11 +6,11 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "m2mlat/capture/doctor.hpp"
 #include "m2mlat/capture/gpio_device.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/printable.hpp"
+#include "m2mlat/setup/doctor.hpp"
 
 namespace m2mlat::cli {
 
@@ -29,7 +29,7 @@ std::string line_flags(const capture::LineInfo& line) {
 
 int run_doctor(bool json) {
   const auto devices = capture::linux_gpio_devices();
-  const auto report = capture::run_doctor(capture::machine_inputs(*devices));
+  const auto report = setup::run_doctor(setup::machine_inputs(*devices));
   if (json) {
     nlohmann::json j{{"needs_fixing", report.needs_fixing()},
                      {"chips", nlohmann::json::array()},
@@ -48,10 +48,8 @@ int run_doctor(bool json) {
       j["chips"].push_back(c);
     }
     for (const auto& f : report.findings)
-      j["findings"].push_back({{"check", f.check},
-                               {"status", capture::to_string(f.status)},
-                               {"detail", f.detail},
-                               {"fix", f.fix}});
+      j["findings"].push_back(
+          {{"check", f.check}, {"status", setup::to_string(f.status)}, {"detail", f.detail}, {"fix", f.fix}});
     print_json(j);
   } else {
     for (const auto& chip : report.chips) {
@@ -72,8 +70,8 @@ int run_doctor(bool json) {
     }
     if (!report.chips.empty()) fmt::print("\n");
     for (const auto& f : report.findings) {
-      fmt::print("[{:<4}] {:<11} {}\n", capture::to_string(f.status), f.check, core::printable(f.detail));
-      if (!f.fix.empty() && f.status != capture::Status::ok) fmt::print("       {:<11} fix: {}\n", "", f.fix);
+      fmt::print("[{:<4}] {:<11} {}\n", setup::to_string(f.status), f.check, core::printable(f.detail));
+      if (!f.fix.empty() && f.status != setup::Status::ok) fmt::print("       {:<11} fix: {}\n", "", f.fix);
     }
     fmt::print("\n{}\n",
                report.needs_fixing() ? "Something needs fixing (see FIX above)." : "Nothing needs fixing.");

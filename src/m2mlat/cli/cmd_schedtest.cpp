@@ -29,7 +29,7 @@ int run_schedtest(SchedtestCommand& c) {
   c.options.duration = core::parse_duration(c.duration, 1'000'000'000);
   if (c.options.duration.count() % 1'000'000'000 != 0)
     throw core::Error(core::ErrorKind::usage, "--duration must be whole seconds (cyclictest's unit)");
-  sync::ProcessRunner runner;
+  process::ProcessRunner runner;
   if (!c.json) fmt::print(stderr, "running cyclictest on cpu {} for {} ...\n", c.options.cpu, c.duration);
   const selftest::SchedtestRun run = selftest::run_schedtest(runner, c.options);
   std::int64_t session = 0;

@@ -62,7 +62,7 @@ void start_clock_monitor(const RecordFlags& c, const capture::RecordConfig& file
   mo.chronyc.host = c.chronyc_socket;
   mo.pmc.uds = c.pmc_socket;
   s.clocks = std::make_unique<sync::SystemClockSource>();
-  s.runner = std::make_unique<sync::ProcessRunner>();
+  s.runner = std::make_unique<process::ProcessRunner>();
   s.monitor = std::make_unique<sync::ClockMonitor>(mo, *s.clocks, s.runner.get());
   s.options.before_commit = [monitor = s.monitor.get()](std::int64_t session,
                                                         std::vector<store::ClockSample>& out) {

@@ -65,7 +65,7 @@ struct RecordSetup {
   // The board's clock state beside its events (gpio and kmsg sources; the simulated rig's clocks
   // give their own samples): the monitor, what it reads, and options.before_commit calling it.
   std::unique_ptr<sync::SystemClockSource> clocks;
-  std::unique_ptr<sync::ProcessRunner> runner;
+  std::unique_ptr<process::ProcessRunner> runner;
   std::unique_ptr<sync::ClockMonitor> monitor;
 };
 

@@ -1,7 +1,11 @@
-// `m2mlat setup gpio|irq|pin-chrony|agent|board`: each reads the system files its part looks at
+// `m2mlat setup chrony|gpio|irq|pin-chrony|agent|board`: each reads the system files its part looks at
 // (under --root), asks the part for its plan (src/m2mlat/setup/) and applies it: every change is
 // printed before it is made, --dry-run makes none, and a second run finds nothing to change.
+// `setup chrony` writes where --output says (without it, it prints the configuration) and has no
+// --root.
 #include "m2mlat/cli/setup_parts.hpp"
+
+#include <fmt/format.h>
 
 #include <memory>
 #include <string>
@@ -9,11 +13,13 @@
 #include "m2mlat/setup/agent_config.hpp"
 #include "m2mlat/setup/apply.hpp"
 #include "m2mlat/setup/board.hpp"
+#include "m2mlat/setup/chrony.hpp"
 #include "m2mlat/setup/env_file.hpp"
 #include "m2mlat/setup/gpio.hpp"
 #include "m2mlat/setup/irq.hpp"
 #include "m2mlat/setup/names.hpp"
 #include "m2mlat/setup/pin_chrony.hpp"
+#include "m2mlat/sync/chrony_config.hpp"
 
 namespace m2mlat::cli {
 
@@ -55,7 +61,62 @@ void add_agent_options(CLI::App& sub, setup::AgentSetup& a) {
   sub.add_option("--cpu", a.cpu, "CPU of the capture thread");
 }
 
+// `setup chrony`'s options; the configuration's own are sync::ChronyConfigOptions.
+struct ChronySetup {
+  std::string mode, role = "reference";
+  sync::ChronyConfigOptions config;
+  int cpu = -1;
+  std::string output, dropin = std::string(sync::kChronyDropinPath);
+  bool dry_run = false;
+};
+
 }  // namespace
+
+Runner attach_setup_chrony(CLI::App& sub) {
+  auto c = std::make_shared<ChronySetup>();
+  sub.add_option("--mode", c->mode,
+                 "co-referenced (one board serves the other), autonomous (public servers), gnss-pps")
+      ->required();
+  sub.add_option("--role", c->role, "co-referenced: reference (serves its clock) or peer (follows it)")
+      ->capture_default_str();
+  sub.add_option("--reference", c->config.reference, "peer: the reference board's address");
+  sub.add_option("--reference-port", c->config.reference_port,
+                 "peer: the reference's NTP port (default 123)");
+  sub.add_option("--allow", c->config.allow,
+                 "reference: who may synchronise (address or subnet; repeatable)");
+  sub.add_option("--local-stratum", c->config.local_stratum, "reference: stratum of its own clock")
+      ->capture_default_str();
+  sub.add_option("--minpoll", c->config.minpoll, "peer: log2 of the shortest polling interval, s")
+      ->capture_default_str();
+  sub.add_option("--maxpoll", c->config.maxpoll, "peer: log2 of the longest polling interval, s")
+      ->capture_default_str();
+  sub.add_option("--server", c->config.servers, "autonomous: an NTP server (repeatable)");
+  sub.add_option("--pool", c->config.pools,
+                 "autonomous: an NTP pool (repeatable; default 2.debian.pool.ntp.org)");
+  sub.add_option("--pps-device", c->config.pps_device, "gnss-pps: the PPS device")->capture_default_str();
+  sub.add_option("--nmea", c->config.nmea, "gnss-pps: 'shm' (gpsd SHM 0) or gpsd's chrony socket path")
+      ->capture_default_str();
+  sub.add_option("--hwtimestamp", c->config.hwtimestamp,
+                 "Use NIC hardware timestamps on this interface ('*': all)");
+  sub.add_option("--makestep", c->config.makestep, "chrony's makestep: threshold (s) and limit")
+      ->capture_default_str();
+  sub.add_option("--driftfile", c->config.driftfile, "chrony's drift file")->capture_default_str();
+  sub.add_option("--cpu", c->cpu, "Also pin chronyd to this CPU (systemd drop-in with CPUAffinity=)");
+  sub.add_option("--dropin", c->dropin, "Where the drop-in goes")->capture_default_str();
+  sub.add_option("--output", c->output,
+                 "Write chrony.conf here (e.g. /etc/chrony/chrony.conf); default: print it");
+  sub.add_flag("--dry-run", c->dry_run, "With --output: print every change, make none");
+  return [c] {
+    c->config.mode = sync::parse_sync_mode(c->mode);
+    c->config.role = sync::parse_sync_role(c->role);
+    const auto plan = setup::plan_chrony(c->config, c->output.empty() ? "chrony.conf" : c->output, c->cpu, c->dropin);
+    if (!c->output.empty()) return apply(plan, setup::ApplyOptions{.root = "/", .dry_run = c->dry_run});
+    // Without --output: the configuration (and the drop-in) on standard output, nothing written.
+    fmt::print("{}", plan.steps.at(0).content);
+    if (c->cpu >= 0) fmt::print("\n# {}:\n{}", c->dropin, plan.steps.at(1).content);
+    return 0;
+  };
+}
 
 Runner attach_setup_gpio(CLI::App& sub) {
   struct Options {

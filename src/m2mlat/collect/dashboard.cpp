@@ -4,11 +4,11 @@
 #include <fmt/format.h>
 #include <httplib.h>
 
-#include <charconv>
 #include <cmath>
 
 #include "m2mlat/collect/web_assets.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/number.hpp"
 #include "m2mlat/net/auth.hpp"
 #include "m2mlat/net/query.hpp"
 #include "m2mlat/net/wire.hpp"
@@ -133,8 +133,7 @@ void parse_listen_address(std::string_view text, DashboardOptions& options) {
   }
   int port = 8480;
   if (!port_text.empty()) {
-    const auto [end, ec] = std::from_chars(port_text.data(), port_text.data() + port_text.size(), port);
-    if (ec != std::errc{} || end != port_text.data() + port_text.size() || port < 0 || port > 65535)
+    if (!core::parse_integer(port_text, port) || port < 0 || port > 65535)
       bad("the port is not a number from 0 to 65535");
   }
   options.host = host.empty() ? "127.0.0.1" : std::string(host);

@@ -1,15 +1,16 @@
 // Fields of delimited text: CSV splitting, exact integer fields, and the error messages that name
 // the file, the line and the field ("results.csv:17: field vehicle_ns: '12x' is not an integer").
 //
-// Numbers are parsed with std::from_chars into integers, never through double: a double holds an
-// epoch timestamp in nanoseconds only to 256 ns.
+// Numbers are parsed whole into integers by core::parse_integer (core/number.hpp), never through
+// double: a double holds an epoch timestamp in nanoseconds only to 256 ns.
 #pragma once
 
-#include <charconv>
 #include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "m2mlat/core/number.hpp"
 
 namespace m2mlat::formats {
 
@@ -42,21 +43,6 @@ bool needs_csv_quotes(std::string_view text);
 // Appends the field to `out`, quoted if needed.
 void append_csv_field(std::string& out, std::string_view text);
 
-// [-]digits, the whole text, into int64 (false on anything else or overflow). No '+', no spaces.
-inline bool parse_int64(std::string_view text, std::int64_t& value) {
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-  return ec == std::errc{} && ptr == end && !text.empty();
-}
-
-// digits only, the whole text, into uint64 (false on a sign, anything else or overflow).
-inline bool parse_uint64(std::string_view text, std::uint64_t& value) {
-  if (text.empty() || text.front() == '-') return false;
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-  return ec == std::errc{} && ptr == end;
-}
-
 // seconds * 10^9 + nanoseconds, false on int64 overflow.
 inline bool combine_seconds(std::int64_t seconds, std::int64_t nanoseconds, std::int64_t& ns) {
   std::int64_t scaled = 0;
@@ -88,13 +74,13 @@ std::string quote_for_message(std::string_view text);
 inline std::int64_t require_int64(std::string_view file, long line, std::string_view field,
                                   std::string_view text) {
   std::int64_t value = 0;
-  if (!parse_int64(text, value)) throw_field_error(file, line, field, text, "is not an integer");
+  if (!core::parse_integer(text, value)) throw_field_error(file, line, field, text, "is not an integer");
   return value;
 }
 inline std::uint64_t require_uint64(std::string_view file, long line, std::string_view field,
                                     std::string_view text) {
   std::uint64_t value = 0;
-  if (!parse_uint64(text, value)) throw_field_error(file, line, field, text, "is not a non-negative integer");
+  if (!core::parse_integer(text, value)) throw_field_error(file, line, field, text, "is not a non-negative integer");
   return value;
 }
 // An integer in [0, 999999999]: the nanoseconds part of a seconds + nanoseconds pair.

@@ -5,6 +5,7 @@
 
 #include <limits>
 
+#include "m2mlat/core/number.hpp"
 #include "m2mlat/formats/fields.hpp"
 #include "m2mlat/formats/input_text.hpp"
 #include "m2mlat/formats/line_selection.hpp"
@@ -56,8 +57,8 @@ bool parse_kmsg_header(std::string_view header, KernelLogRecord& record) {
   std::uint64_t priority = 0;
   std::uint64_t seq = 0;
   std::int64_t us = 0;
-  if (!parse_uint64(parts[0], priority) || !parse_uint64(parts[1], seq) || !is_digits(parts[2]) ||
-      !parse_int64(parts[2], us) || parts[3].empty())
+  if (!core::parse_integer(parts[0], priority) || !core::parse_integer(parts[1], seq) ||
+      !is_digits(parts[2]) || !core::parse_integer(parts[2], us) || parts[3].empty())
     return false;
   record.kmsg_seq = seq;
   record.log_time_us = us;
@@ -79,8 +80,8 @@ void parse_dmesg_stamp(std::string_view prefix, KernelLogRecord& record) {
       dot == std::string_view::npos ? std::string_view{} : inside.substr(dot + 1);
   std::uint64_t whole = 0;
   std::uint64_t frac = 0;
-  if (!parse_uint64(whole_text, whole) || whole > 9'000'000'000'000u || frac_text.size() > 9 ||
-      (!frac_text.empty() && !parse_uint64(frac_text, frac)) ||
+  if (!core::parse_integer(whole_text, whole) || whole > 9'000'000'000'000u || frac_text.size() > 9 ||
+      (!frac_text.empty() && !core::parse_integer(frac_text, frac)) ||
       (dot != std::string_view::npos && frac_text.empty()))
     return;
   // Scale the fraction to microseconds: dmesg prints 6 digits; fewer are padded, more truncated.
@@ -108,13 +109,13 @@ KernelLogLine parse_kernel_log_line(std::string_view line) {
   const std::size_t marker = find_marker(line, pin, colon);
   if (marker == std::string_view::npos) return out;  // unrelated
 
-  // parse_uint64 takes digits only (no sign, no space): one pass each.
+  // core::parse_integer into an unsigned type takes digits only (no sign, no space): one pass each.
   std::uint64_t pin_number = 0;
   const std::string_view value = line.substr(colon + 1);
   std::uint64_t ns = 0;
-  if (!parse_uint64(pin, pin_number) || pin_number > std::numeric_limits<std::uint32_t>::max()) {
+  if (!core::parse_integer(pin, pin_number) || pin_number > std::numeric_limits<std::uint32_t>::max()) {
     set_malformed(out, "pin", pin, "is not a GPIO number");
-  } else if (!parse_uint64(value, ns) ||
+  } else if (!core::parse_integer(value, ns) ||
              ns > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
     if (value.empty())
       set_malformed(out, "timestamp", value, "is empty");

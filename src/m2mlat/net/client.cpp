@@ -7,12 +7,12 @@
 
 #include <algorithm>
 #include <atomic>
-#include <charconv>
 #include <exception>
 #include <regex>
 #include <string_view>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/number.hpp"
 #include "m2mlat/net/query.hpp"  // kMaxLimit: the agent's largest page
 
 namespace m2mlat::net {
@@ -34,8 +34,8 @@ std::string normalise_url(const std::string& url) {
   if (!std::regex_match(url, m, re))
     throw core::Error(core::ErrorKind::usage,
                       fmt::format("agent URL '{}': expected http://HOST:PORT or https://HOST:PORT", url));
-  const int port = std::stoi(m[3].str());
-  if (port < 1 || port > 65535)
+  int port = 0;
+  if (!core::parse_integer(m[3].str(), port) || port < 1 || port > 65535)
     throw core::Error(core::ErrorKind::usage, fmt::format("agent URL '{}': port out of range", url));
   return fmt::format("{}://{}:{}", m[1].str(), m[2].str(), port);
 }
@@ -67,12 +67,6 @@ std::string http_error_text(httplib::Error err) {
     case httplib::Error::SSLServerVerification: return "the agent's TLS certificate is not trusted";
     default: return httplib::to_string(err);
   }
-}
-
-bool parse_int64(std::string_view text, std::int64_t& value) {
-  if (text.empty()) return false;
-  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  return ec == std::errc() && ptr == text.data() + text.size();
 }
 
 // Checks a successful answer: status, API version header, content type.
@@ -230,7 +224,7 @@ RawEventPage AgentClient::fetch_events(std::int64_t after, std::size_t limit) {
   page.body = std::move(res->body);
   if (res->has_header(std::string(kLastSeqHeader))) {
     std::int64_t last = 0;
-    if (!parse_int64(res->get_header_value(std::string(kLastSeqHeader)), last))
+    if (!core::parse_integer(res->get_header_value(std::string(kLastSeqHeader)), last))
       throw core::Error(core::ErrorKind::data,
                         fmt::format("{}: header {}: '{}' is not a number", what, kLastSeqHeader,
                                     res->get_header_value(std::string(kLastSeqHeader))));
@@ -361,7 +355,7 @@ void AgentClient::stream_events(std::int64_t after, const SessionLookup& lookup,
     bool keep_going = true;
     if (!data.empty() && (type.empty() || type == "event")) {
       std::int64_t seq = 0;
-      if (!parse_int64(id, seq))
+      if (!core::parse_integer(id, seq))
         throw core::Error(core::ErrorKind::data,
                           fmt::format("{}: event without a numeric id ('{}')", what, id));
       const auto where = fmt::format("{} id {}", what, seq);

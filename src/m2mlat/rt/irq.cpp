@@ -5,10 +5,11 @@
 
 #include <cctype>
 #include <cerrno>
-#include <charconv>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+
+#include "m2mlat/core/number.hpp"
 
 namespace m2mlat::rt {
 
@@ -73,14 +74,12 @@ std::vector<InterruptLine> parse_interrupts(std::string_view text) {
     const auto label = next_word(rest);
     if (label.size() < 2 || label.back() != ':') continue;
     InterruptLine line;
-    const auto [end, ec] = std::from_chars(label.data(), label.data() + label.size() - 1, line.irq);
-    if (ec != std::errc{} || end != label.data() + label.size() - 1) continue;  // NMI:, LOC:, ...
+    if (!core::parse_integer(label.substr(0, label.size() - 1), line.irq)) continue;  // NMI:, LOC:, ...
     for (std::size_t c = 0; c < cpus; ++c) {
       auto probe = rest;
       const auto word = next_word(probe);
       std::uint64_t count = 0;
-      const auto [e2, ec2] = std::from_chars(word.data(), word.data() + word.size(), count);
-      if (word.empty() || ec2 != std::errc{} || e2 != word.data() + word.size()) break;
+      if (!core::parse_integer(word, count)) break;
       line.counts.push_back(count);
       rest = probe;
     }

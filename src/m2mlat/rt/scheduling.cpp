@@ -13,6 +13,8 @@
 #include <limits>
 #include <sstream>
 
+#include "m2mlat/core/number.hpp"
+
 namespace m2mlat::rt {
 
 namespace {
@@ -95,8 +97,7 @@ bool parse_cpu_list(std::string_view text, std::vector<int>& cpus) {
   while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.remove_suffix(1);
   if (text.empty()) return false;
   const auto number = [](std::string_view t, int& value) {
-    const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
-    return ec == std::errc{} && end == t.data() + t.size() && value >= 0;
+    return core::parse_integer(t, value) && value >= 0;
   };
   while (!text.empty()) {
     const auto comma = text.find(',');

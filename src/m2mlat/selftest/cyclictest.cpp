@@ -6,10 +6,11 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <charconv>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+
+#include "m2mlat/core/number.hpp"
 
 namespace m2mlat::selftest {
 
@@ -45,12 +46,6 @@ std::string string_or_empty(const json& object, const char* key) {
   return object.is_object() && object.contains(key) && object.at(key).is_string()
              ? object.at(key).get<std::string>()
              : std::string();
-}
-
-bool parse_u64(std::string_view s, std::uint64_t& v) {
-  if (s.empty() || s.front() == '-') return false;
-  const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  return ec == std::errc{} && p == s.data() + s.size();
 }
 
 std::vector<std::string_view> words(std::string_view s) {
@@ -110,8 +105,7 @@ CyclictestResult parse_cyclictest_json(std::string_view text, const core::Locati
       if (!h.is_object()) fail(where, fmt::format("field '{}histogram' is not an object", path));
       for (const auto& [bucket, c] : h.items()) {
         std::int64_t us = 0;
-        const auto [p, ec] = std::from_chars(bucket.data(), bucket.data() + bucket.size(), us);
-        if (ec != std::errc{} || p != bucket.data() + bucket.size() || us < 0)
+        if (!core::parse_integer(bucket, us) || us < 0)
           fail(where, fmt::format("field '{}histogram': bucket '{}' is not a number of us", path, bucket));
         if (!c.is_number_integer() || c.get<std::int64_t>() < 0)
           fail(where, fmt::format("field '{}histogram.{}' is not a count", path, bucket));
@@ -145,7 +139,7 @@ CyclictestHistogram parse_cyclictest_histogram(std::string_view text, const core
     into.clear();
     for (const auto v : w) {
       std::uint64_t x = 0;
-      if (!parse_u64(v, x)) fail(at, fmt::format("'{}' is not a number", v));
+      if (!core::parse_integer(v, x)) fail(at, fmt::format("'{}' is not a number", v));
       into.push_back(static_cast<typename std::decay_t<decltype(into)>::value_type>(x));
     }
   };
@@ -176,7 +170,7 @@ CyclictestHistogram parse_cyclictest_histogram(std::string_view text, const core
     const auto w = words(line);
     if (w.empty()) continue;
     std::uint64_t bucket = 0;
-    if (!parse_u64(w[0], bucket)) fail(at, fmt::format("'{}' is not a histogram bucket", w[0]));
+    if (!core::parse_integer(w[0], bucket)) fail(at, fmt::format("'{}' is not a histogram bucket", w[0]));
     if (static_cast<std::int64_t>(bucket) != expected_bucket)
       fail(at, fmt::format("bucket {} where {} was expected", bucket, expected_bucket));
     ++expected_bucket;
@@ -188,7 +182,7 @@ CyclictestHistogram parse_cyclictest_histogram(std::string_view text, const core
     if (w.size() - 1 != threads) fail(at, fmt::format("{} counts, expected {}", w.size() - 1, threads));
     for (std::size_t t = 0; t < threads; ++t) {
       std::uint64_t c = 0;
-      if (!parse_u64(w[t + 1], c)) fail(at, fmt::format("'{}' is not a count", w[t + 1]));
+      if (!core::parse_integer(w[t + 1], c)) fail(at, fmt::format("'{}' is not a count", w[t + 1]));
       h.counts[t].push_back(c);
     }
   }
@@ -220,7 +214,7 @@ std::vector<std::string> cyclictest_argv(const CyclictestOptions& o, const std::
           "-q"};
 }
 
-CyclictestResult run_cyclictest(sync::CommandRunner& runner, const CyclictestOptions& o) {
+CyclictestResult run_cyclictest(process::CommandRunner& runner, const CyclictestOptions& o) {
   if (o.cpu < 0) throw core::Error(core::ErrorKind::usage, "the core must be >= 0");
   if (o.priority < 1 || o.priority > 99)
     throw core::Error(core::ErrorKind::usage, "the priority must be 1..99");
@@ -246,13 +240,7 @@ CyclictestResult run_cyclictest(sync::CommandRunner& runner, const CyclictestOpt
   }
   ::unlink(json_path.c_str());
   ::rmdir(dir.c_str());
-  if (!result.ok()) {
-    std::string why = !result.started ? result.err
-                      : result.timed_out
-                          ? "timed out"
-                          : fmt::format("exit status {}: {}", result.exit_code, result.err.substr(0, 300));
-    throw core::Error(core::ErrorKind::io, fmt::format("{}: {}", sync::command_line(argv), why));
-  }
+  if (!result.ok()) throw process::command_error(argv, result);
   CyclictestResult r = parse_cyclictest_json(json_text, core::Location{"cyclictest --json output", 0});
   const CyclictestHistogram h =
       parse_cyclictest_histogram(result.out, core::Location{"cyclictest histogram", 0});

@@ -21,7 +21,7 @@
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/time.hpp"
-#include "m2mlat/sync/command_runner.hpp"
+#include "m2mlat/process/command_runner.hpp"
 
 namespace m2mlat::selftest {
 
@@ -71,6 +71,6 @@ std::vector<std::string> cyclictest_argv(const CyclictestOptions& options, const
 // Runs cyclictest (root or CAP_SYS_NICE + CAP_IPC_LOCK needed for SCHED_FIFO and mlockall), reads
 // its JSON and histogram and checks that they agree. Throws core::Error(io) when it cannot run or
 // fails (with its message), core::Error(data) when its output does not parse or disagrees.
-CyclictestResult run_cyclictest(sync::CommandRunner& runner, const CyclictestOptions& options);
+CyclictestResult run_cyclictest(process::CommandRunner& runner, const CyclictestOptions& options);
 
 }  // namespace m2mlat::selftest

@@ -19,7 +19,7 @@ core::TimePoint realtime() {
 
 }  // namespace
 
-SchedtestRun run_schedtest(sync::CommandRunner& runner, const CyclictestOptions& options) {
+SchedtestRun run_schedtest(process::CommandRunner& runner, const CyclictestOptions& options) {
   SchedtestRun run;
   run.options = options;
   run.start = realtime();

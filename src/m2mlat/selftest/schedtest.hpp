@@ -24,7 +24,7 @@ struct SchedtestRun {
 };
 
 // Runs cyclictest with `options` (see run_cyclictest), timing it.
-SchedtestRun run_schedtest(sync::CommandRunner& runner, const CyclictestOptions& options);
+SchedtestRun run_schedtest(process::CommandRunner& runner, const CyclictestOptions& options);
 
 // The result as stored in config_json and printed by --json.
 nlohmann::json schedtest_json(const SchedtestRun& run);

@@ -15,7 +15,7 @@
 #include "m2mlat/core/output_file.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/setup/diff.hpp"
-#include "m2mlat/sync/command_runner.hpp"
+#include "m2mlat/process/command_runner.hpp"
 
 namespace m2mlat::setup {
 
@@ -96,19 +96,20 @@ ApplyResult apply_plan(const Plan& plan, const ApplyOptions& options) {
       std::string current;
       const bool exists = read_target(options.root, step.path, current);
       if (exists && current == step.content) {
-        fmt::print(out, "  {}: unchanged ({})\n", target, step.why);
+        fmt::print(out, "{}: unchanged ({})\n", target, step.why);
         continue;
       }
       ++result.changes;
       changed.insert(step.path);
       const auto lines = std::count(step.content.begin(), step.content.end(), '\n');
-      fmt::print(out, "  {} {}: {} ({} lines)\n", options.dry_run ? "would write" : "writing", target,
+      fmt::print(out, "{} {}: {} ({} lines)\n", options.dry_run ? "would write" : "writing", target,
                  step.why, lines);
       print_indented(out, step.content, "| ");
       if (exists && step.in_place) {
         print_indented(out, current, "was: ");
       } else if (exists) {
-        fmt::print(out, "    changes to the current file (kept as {}.m2mlat-backup):\n", target);
+        fmt::print(out, "    {} {} to {}.m2mlat-backup; the changes:\n", options.dry_run ? "would copy" : "copying",
+                   target, target);
         print_indented(out, line_diff(current, step.content, target), "");
       }
       if (options.dry_run) continue;
@@ -117,42 +118,36 @@ ApplyResult apply_plan(const Plan& plan, const ApplyOptions& options) {
       else
         replace_file(target, step.content, static_cast<int>(step.mode));
     } else {
-      const std::string line = sync::command_line(step.argv);
+      const std::string line = process::command_line(step.argv);
       if (!step.after.empty() && changed.count(step.after) == 0) continue;  // its file did not change
       if (!done.insert(line).second) continue;  // e.g. one chrony restart for its conf and drop-in
       ++result.changes;
       if (options.dry_run) {
-        fmt::print(out, "  would run: {}   ({})\n", line, step.why);
+        fmt::print(out, "would run: {}   ({})\n", line, step.why);
         continue;
       }
       if (!real_system) {
-        fmt::print(out, "  not run under --root {}: {}   ({})\n", options.root, line, step.why);
+        fmt::print(out, "not run under --root {}: {}   ({})\n", options.root, line, step.why);
         continue;
       }
-      fmt::print(out, "  running: {}   ({})\n", line, step.why);
+      fmt::print(out, "running: {}   ({})\n", line, step.why);
       std::fflush(out);
-      sync::ProcessRunner runner;
+      process::ProcessRunner runner;
       const auto r = runner.run(step.argv, kCommandTimeout);
       if (!r.ok()) {
         ++result.commands_failed;
-        std::string_view said = r.err.empty() ? r.out : r.err;
-        while (!said.empty() && (said.back() == '\n' || said.back() == '\r')) said.remove_suffix(1);
-        fmt::print(out, "    FAILED ({}): {}\n",
-                   !r.started    ? "not started"
-                   : r.timed_out ? "timed out"
-                                 : fmt::format("exit {}", r.exit_code),
-                   core::printable(said));
+        fmt::print(out, "    FAILED: {}\n", process::failure_text(r));
       }
     }
   }
   if (result.changes == 0)
-    fmt::print(out, "  nothing to change: already set up ({} files checked)\n", result.files_checked);
+    fmt::print(out, "nothing to change: already set up ({} files checked)\n", result.files_checked);
   else if (options.dry_run)
-    fmt::print(out, "  dry run: {} change(s) would be made, none made\n", result.changes);
+    fmt::print(out, "dry run: {} change(s) would be made, none made\n", result.changes);
   else
-    fmt::print(out, "  {} change(s) made{}\n", result.changes,
+    fmt::print(out, "{} change(s) made{}\n", result.changes,
                result.commands_failed ? fmt::format(", {} command(s) FAILED", result.commands_failed) : "");
-  for (const auto& note : plan.notes) fmt::print(out, "  next: {}\n", note);
+  for (const auto& note : plan.notes) fmt::print(out, "next: {}\n", note);
   std::fflush(out);
   return result;
 }

@@ -1,5 +1,6 @@
 // Carrying out a setup plan (plan.hpp), announcing every change before making it: a file's path,
-// its full new content and, when it replaces an existing file, the diff; a command's line. With
+// its full new content and, when it replaces an existing file, the backup and the diff; a command's
+// line. The one writer of setup's files: every part, `setup chrony` included, goes through it. With
 // dry_run nothing is changed. Files are written by core::write_output_file (a temporary file in the
 // same folder, renamed over the target; a target that is not a regular file, e.g. a symlink, is
 // refused) and an existing, different file is kept as <path>.m2mlat-backup; kernel files

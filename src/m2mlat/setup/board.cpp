@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/setup/chrony.hpp"
 #include "m2mlat/setup/env_file.hpp"
 #include "m2mlat/setup/gpio.hpp"
 #include "m2mlat/setup/irq.hpp"
@@ -23,11 +24,7 @@ Plan plan_board(BoardSetup setup, const BoardState& state) {
 
   setup.chrony.role =
       setup.sync_role.empty() ? default_sync_role(setup.agent.role) : sync::parse_sync_role(setup.sync_role);
-  plan.steps.push_back(file_step(setup.chrony_conf, sync::chrony_config(setup.chrony),
-                                 fmt::format("chrony for the {} mode{}", sync::to_string(setup.chrony.mode),
-                                             setup.chrony.mode == sync::SyncMode::co_referenced
-                                                 ? fmt::format(" ({})", sync::to_string(setup.chrony.role))
-                                                 : "")));
+  plan.steps.push_back(chrony_conf_step(setup.chrony, setup.chrony_conf));
   plan.steps.push_back(command_step({"systemctl", "restart", "chrony"}, "chronyd reads its new configuration",
                                     setup.chrony_conf));
   if (setup.chrony_core >= 0) plan.append(plan_pin_chrony(setup.chrony_core));

@@ -1,5 +1,5 @@
 // `m2mlat setup board`: everything one board of the rig needs, in one plan: GPIO permissions
-// (gpio.hpp), chrony for the synchronisation mode (sync::chrony_config, as `setup chrony`) and
+// (gpio.hpp), chrony for the synchronisation mode (chrony.hpp, as `setup chrony`) and
 // optionally chronyd on its own core (pin_chrony.hpp), the agent's configuration (agent_config.hpp),
 // and the wheel line's interrupt on a chosen core (irq.hpp). The agent's and the IRQ's keys share the
 // node's env file, so the board plan writes that file once with both.

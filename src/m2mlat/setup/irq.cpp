@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/number.hpp"
 #include "m2mlat/rt/irq.hpp"
 #include "m2mlat/setup/names.hpp"
 
@@ -18,8 +19,10 @@ namespace {
 std::optional<int> line_offset(std::string_view line) {
   std::size_t start = line.size();
   while (start > 0 && line[start - 1] >= '0' && line[start - 1] <= '9') --start;
-  if (start == line.size() || line.size() - start > 5) return std::nullopt;
-  return std::stoi(std::string(line.substr(start)));
+  int offset = 0;
+  if (start == line.size() || line.size() - start > 5 || !core::parse_integer(line.substr(start), offset))
+    return std::nullopt;
+  return offset;
 }
 
 // The chip's name as a word of /proc/interrupts: "pinctrl-rp1", "gpiochip4" (from /dev/gpiochip4).

@@ -4,12 +4,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <functional>
 #include <limits>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/number.hpp"
 #include "m2mlat/sim/presets.hpp"
 
 namespace m2mlat::sim {
@@ -30,21 +30,16 @@ struct Field {
   throw core::Error(core::ErrorKind::usage, fmt::format("'{}' is not {}", text, expected));
 }
 
-double parse_double(std::string_view text) {
+double decimal_value(std::string_view text) {
   double value = 0;
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-  if (text.empty() || ec != std::errc{} || ptr != end || !std::isfinite(value))
-    bad_value(text, "a decimal number");
+  if (!core::parse_double(text, value) || !std::isfinite(value)) bad_value(text, "a decimal number");
   return value;
 }
 
 template <typename Int>
-Int parse_integer(std::string_view text) {
+Int integer_value(std::string_view text) {
   Int value = 0;
-  const char* end = text.data() + text.size();
-  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
-  if (text.empty() || ec != std::errc{} || ptr != end) bad_value(text, "an integer in range");
+  if (!core::parse_integer(text, value)) bad_value(text, "an integer in range");
   return value;
 }
 
@@ -73,7 +68,7 @@ std::vector<double> parse_angles(std::string_view text) {
   std::vector<double> angles;
   while (true) {
     const auto comma = text.find(',');
-    angles.push_back(parse_double(text.substr(0, comma)));
+    angles.push_back(decimal_value(text.substr(0, comma)));
     if (comma == std::string_view::npos) break;
     text.remove_prefix(comma + 1);
   }
@@ -228,13 +223,13 @@ class Table {
   template <typename Access>
   void add_double(std::string key, std::string help, Access access) {
     fields_.push_back({{std::move(key), std::move(help)},
-                       [access](RigConfig& c, std::string_view v) { access(c) = parse_double(v); },
+                       [access](RigConfig& c, std::string_view v) { access(c) = decimal_value(v); },
                        [access](const RigConfig& c) { return format_double(access(c)); }});
   }
   template <typename Int, typename Access>
   void add_integer(std::string key, std::string help, Access access) {
     fields_.push_back({{std::move(key), std::move(help)},
-                       [access](RigConfig& c, std::string_view v) { access(c) = parse_integer<Int>(v); },
+                       [access](RigConfig& c, std::string_view v) { access(c) = integer_value<Int>(v); },
                        [access](const RigConfig& c) { return fmt::format("{}", access(c)); }});
   }
   template <typename Access>
@@ -421,7 +416,7 @@ std::int64_t parse_utc(std::string_view text) {
   // YYYY-MM-DDTHH:MM:SS[.f{1,9}]Z
   auto digits = [&](std::size_t pos, std::size_t count) {
     if (pos + count > text.size()) bad_value(text, "a UTC time (2026-06-01T09:00:00Z) or epoch seconds");
-    return parse_integer<int>(text.substr(pos, count));
+    return integer_value<int>(text.substr(pos, count));
   };
   if (text.size() < 20 || text[4] != '-' || text[7] != '-' || (text[10] != 'T' && text[10] != ' ') ||
       text[13] != ':' || text[16] != ':' || text.back() != 'Z')
@@ -435,7 +430,7 @@ std::int64_t parse_utc(std::string_view text) {
   if (!rest.empty()) {
     if (rest.front() != '.' || rest.size() < 2 || rest.size() > 10)
       bad_value(text, "a UTC time with 1-9 decimals");
-    fraction_ns = parse_integer<std::int64_t>(rest.substr(1));
+    fraction_ns = integer_value<std::int64_t>(rest.substr(1));
     for (std::size_t i = rest.size() - 1; i < 9; ++i) fraction_ns *= 10;
   }
   std::int64_t y = 0;

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 
+#include "m2mlat/core/number.hpp"
 #include "m2mlat/core/saturating.hpp"
 #include "m2mlat/sync/text.hpp"
 
@@ -28,7 +29,7 @@ class Fields {
   std::string_view at(std::size_t i) const { return f_.at(i); }
   std::int64_t integer(std::size_t i, std::string_view name, int base = 10) const {
     std::int64_t v = 0;
-    if (!text::parse_int(f_.at(i), v, base)) fail(name, text::quoted(f_.at(i)) + " is not an integer");
+    if (!core::parse_integer(f_.at(i), v, base)) fail(name, text::quoted(f_.at(i)) + " is not an integer");
     return v;
   }
   int small_int(std::size_t i, std::string_view name, std::int64_t lo, std::int64_t hi, int base = 10) const {
@@ -44,7 +45,7 @@ class Fields {
   }
   double real(std::size_t i, std::string_view name) const {
     double v = 0;
-    if (!text::parse_double(f_.at(i), v)) fail(name, text::quoted(f_.at(i)) + " is not a number");
+    if (!core::parse_double(f_.at(i), v)) fail(name, text::quoted(f_.at(i)) + " is not a number");
     return v;
   }
   char symbol(std::size_t i, std::string_view name, std::string_view allowed) const {
@@ -207,19 +208,11 @@ std::vector<std::string> chronyc_argv(const ChronycOptions& options) {
   return argv;
 }
 
-ChronyReport read_chrony(CommandRunner& runner, const ChronycOptions& options) {
+ChronyReport read_chrony(process::CommandRunner& runner, const ChronycOptions& options) {
   const auto argv = chronyc_argv(options);
-  const CommandResult r = runner.run(argv, options.timeout);
-  if (!r.ok()) {
-    std::string why = !r.started    ? r.err
-                      : r.timed_out ? "timed out"
-                                    : fmt::format("exit status {}", r.exit_code);
-    const std::string output = r.out + r.err;
-    const auto said = text::trim(output);
-    if (r.started && !said.empty()) why += ": " + std::string(said.substr(0, 200));
-    throw core::Error(core::ErrorKind::io, fmt::format("{}: {}", command_line(argv), why));
-  }
-  return parse_chronyc_output(r.out, core::Location{command_line(argv), 0});
+  const process::CommandResult r = runner.run(argv, options.timeout);
+  if (!r.ok()) throw process::command_error(argv, r);
+  return parse_chronyc_output(r.out, core::Location{process::command_line(argv), 0});
 }
 
 }  // namespace m2mlat::sync

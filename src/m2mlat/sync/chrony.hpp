@@ -23,7 +23,7 @@
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/store/records.hpp"
-#include "m2mlat/sync/command_runner.hpp"
+#include "m2mlat/process/command_runner.hpp"
 
 namespace m2mlat::sync {
 
@@ -94,6 +94,6 @@ std::vector<std::string> chronyc_argv(const ChronycOptions& options);
 
 // Runs chronyc and parses its output. Throws core::Error(io) when chronyc cannot be run or fails
 // (the message carries its output), core::Error(data) when the output does not parse.
-ChronyReport read_chrony(CommandRunner& runner, const ChronycOptions& options);
+ChronyReport read_chrony(process::CommandRunner& runner, const ChronycOptions& options);
 
 }  // namespace m2mlat::sync

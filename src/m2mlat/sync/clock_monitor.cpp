@@ -16,7 +16,7 @@ bool due(const std::optional<std::int64_t>& at, std::int64_t now) { return !at |
 
 }  // namespace
 
-ClockMonitor::ClockMonitor(MonitorOptions options, ClockSource& clocks, CommandRunner* runner)
+ClockMonitor::ClockMonitor(MonitorOptions options, ClockSource& clocks, process::CommandRunner* runner)
     : options_(std::move(options)), clocks_(clocks), runner_(runner), steps_detector_(options_.step) {}
 
 void ClockMonitor::on_batch(std::int64_t session, std::vector<store::ClockSample>& out) {

@@ -19,7 +19,7 @@
 
 #include "m2mlat/store/records.hpp"
 #include "m2mlat/sync/chrony.hpp"
-#include "m2mlat/sync/command_runner.hpp"
+#include "m2mlat/process/command_runner.hpp"
 #include "m2mlat/sync/kernel_clock.hpp"
 #include "m2mlat/sync/ptp.hpp"
 #include "m2mlat/sync/step_detector.hpp"
@@ -52,7 +52,7 @@ struct MonitorOptions {
 class ClockMonitor {
  public:
   // `runner` runs chronyc/pmc (may be null when both intervals are 0); both must outlive the monitor.
-  ClockMonitor(MonitorOptions options, ClockSource& clocks, CommandRunner* runner);
+  ClockMonitor(MonitorOptions options, ClockSource& clocks, process::CommandRunner* runner);
 
   // The recorder's hook: appends to `out` the samples that are due, with session_id = session.
   void on_batch(std::int64_t session, std::vector<store::ClockSample>& out);
@@ -73,7 +73,7 @@ class ClockMonitor {
 
   MonitorOptions options_;
   ClockSource& clocks_;
-  CommandRunner* runner_;
+  process::CommandRunner* runner_;
   StepDetector steps_detector_;
   std::optional<KernelClockState> last_kernel_;
   std::optional<std::int64_t> kernel_due_raw_ns_, chrony_due_raw_ns_, ptp_due_raw_ns_;

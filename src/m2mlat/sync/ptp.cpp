@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 
+#include "m2mlat/core/number.hpp"
 #include "m2mlat/core/saturating.hpp"
 #include "m2mlat/sync/text.hpp"
 
@@ -25,7 +26,7 @@ std::vector<PmcResponse> parse_pmc_output(std::string_view text, const core::Loc
     if (!field_line && w.size() >= 6 && w[1] == "seq" && w[4] == "MANAGEMENT") {
       PmcResponse r;
       r.port_identity = std::string(w[0]);
-      if (!text::parse_int(w[2], r.seq))
+      if (!core::parse_integer(w[2], r.seq))
         core::throw_data_error(at, "seq " + text::quoted(w[2]) + " is not an integer");
       r.action = std::string(w[3]);
       r.id = std::string(w[5]);
@@ -59,7 +60,7 @@ std::string_view field(const PmcResponse& r, const std::string& name, const core
 std::int64_t int_field(const PmcResponse& r, const std::string& name, const core::Location& where) {
   std::int64_t v = 0;
   const auto text = field(r, name, where);
-  if (!text::parse_int(text, v))
+  if (!core::parse_integer(text, v))
     core::throw_data_error(
         where, fmt::format("{}: field '{}': {} is not an integer", r.id, name, text::quoted(text)));
   return v;
@@ -69,7 +70,7 @@ std::int64_t int_field(const PmcResponse& r, const std::string& name, const core
 std::int64_t ns_field(const PmcResponse& r, const std::string& name, const core::Location& where) {
   double v = 0;
   const auto text = field(r, name, where);
-  if (!text::parse_double(text, v) || !std::isfinite(v) || std::fabs(v) > 9.2e18)
+  if (!core::parse_double(text, v) || !std::isfinite(v) || std::fabs(v) > 9.2e18)
     core::throw_data_error(
         where, fmt::format("{}: field '{}': {} is not a number of ns", r.id, name, text::quoted(text)));
   return std::llround(v);
@@ -134,20 +135,15 @@ std::vector<std::string> pmc_argv(const PmcOptions& options) {
   return argv;
 }
 
-PtpStatus read_ptp(CommandRunner& runner, const PmcOptions& options) {
+PtpStatus read_ptp(process::CommandRunner& runner, const PmcOptions& options) {
   const auto argv = pmc_argv(options);
-  const CommandResult r = runner.run(argv, options.timeout);
-  if (!r.ok()) {
-    std::string why = !r.started    ? r.err
-                      : r.timed_out ? "timed out"
-                                    : fmt::format("exit status {}", r.exit_code);
-    throw core::Error(core::ErrorKind::io, fmt::format("{}: {}", command_line(argv), why));
-  }
-  const core::Location where{command_line(argv), 0};
+  const process::CommandResult r = runner.run(argv, options.timeout);
+  if (!r.ok()) throw process::command_error(argv, r);
+  const core::Location where{process::command_line(argv), 0};
   const auto responses = parse_pmc_output(r.out, where);
   if (responses.empty())
     throw core::Error(core::ErrorKind::io,
-                      fmt::format("{}: no answer (is ptp4l running?)", command_line(argv)));
+                      fmt::format("{}: no answer (is ptp4l running?)", process::command_line(argv)));
   return ptp_status(responses, where);
 }
 

@@ -21,7 +21,7 @@
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/store/records.hpp"
-#include "m2mlat/sync/command_runner.hpp"
+#include "m2mlat/process/command_runner.hpp"
 
 namespace m2mlat::sync {
 
@@ -68,6 +68,6 @@ struct PmcOptions {
 std::vector<std::string> pmc_argv(const PmcOptions& options);
 // Runs pmc and parses its output. Throws core::Error(io) when pmc cannot be run, fails or nothing
 // answered; core::Error(data) when the output does not parse.
-PtpStatus read_ptp(CommandRunner& runner, const PmcOptions& options);
+PtpStatus read_ptp(process::CommandRunner& runner, const PmcOptions& options);
 
 }  // namespace m2mlat::sync

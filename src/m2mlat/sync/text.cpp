@@ -1,8 +1,6 @@
 // Text helpers for the parsers of external programs' output.
 #include "m2mlat/sync/text.hpp"
 
-#include <charconv>
-
 namespace m2mlat::sync::text {
 
 std::string_view trim(std::string_view s) {
@@ -44,21 +42,6 @@ std::vector<std::string_view> words(std::string_view s) {
     if (i > start) out.push_back(s.substr(start, i - start));
   }
   return out;
-}
-
-bool parse_int(std::string_view s, std::int64_t& value, int base) {
-  if (s.empty()) return false;
-  const char* end = s.data() + s.size();
-  const auto [ptr, ec] = std::from_chars(s.data(), end, value, base);
-  return ec == std::errc{} && ptr == end;
-}
-
-bool parse_double(std::string_view s, double& value) {
-  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
-  if (s.empty()) return false;
-  const char* end = s.data() + s.size();
-  const auto [ptr, ec] = std::from_chars(s.data(), end, value);
-  return ec == std::errc{} && ptr == end;
 }
 
 std::string quoted(std::string_view s) {

@@ -1,5 +1,5 @@
-// Small text helpers shared by the parsers of chronyc and pmc output: lines, fields and numbers
-// parsed whole (std::from_chars), so that "12x" is an error and not 12.
+// Small text helpers shared by the parsers of chronyc and pmc output: lines, fields and quoting.
+// Their numbers are parsed whole by core/number.hpp, so that "12x" is an error and not 12.
 #pragma once
 
 #include <cstdint>
@@ -17,8 +17,6 @@ std::vector<std::string_view> split(std::string_view s, char sep);
 // Splits at runs of spaces and tabs; no empty fields.
 std::vector<std::string_view> words(std::string_view s);
 
-bool parse_int(std::string_view s, std::int64_t& value, int base = 10);  // whole text, optional '-'
-bool parse_double(std::string_view s, double& value);                    // whole text, optional sign
 // The text quoted for an error message, cut to 60 characters.
 std::string quoted(std::string_view s);
 

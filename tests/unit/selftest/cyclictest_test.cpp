@@ -107,16 +107,16 @@ TEST(CyclictestJson, RefusesMalformedDocuments) {
 
 // Answers like cyclictest: writes the JSON to the --json= path of its command line and prints the
 // histogram text.
-class FakeCyclictest final : public sync::CommandRunner {
+class FakeCyclictest final : public process::CommandRunner {
  public:
   std::string json, histogram;
   int exit_code = 0;
   std::vector<std::string> argv;
-  sync::CommandResult run(const std::vector<std::string>& args, core::Duration) override {
+  process::CommandResult run(const std::vector<std::string>& args, core::Duration) override {
     argv = args;
     for (const auto& a : args)
       if (a.rfind("--json=", 0) == 0) std::ofstream(a.substr(7)) << json;
-    sync::CommandResult r;
+    process::CommandResult r;
     r.started = true;
     r.exit_code = exit_code;
     r.out = histogram;

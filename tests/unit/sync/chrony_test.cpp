@@ -186,7 +186,7 @@ TEST(ChronyReader, FailuresAreIoErrorsWithChronycsMessage) {
     EXPECT_NE(std::string(e.what()).find("exit status 1: 506 Cannot talk to daemon"), std::string::npos)
         << e.what();
   }
-  CommandResult not_started;
+  process::CommandResult not_started;
   not_started.err = "chronyc: No such file or directory";
   runner.results = {not_started};
   EXPECT_THROW(read_chrony(runner, {}), core::Error);

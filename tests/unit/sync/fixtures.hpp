@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "m2mlat/sync/command_runner.hpp"
+#include "m2mlat/process/command_runner.hpp"
 
 namespace m2mlat::sync::testing {
 
@@ -23,18 +23,18 @@ inline std::string fixture(const std::string& name) {
 }
 
 // Answers every run with the next scripted result (the last one repeats), keeping the argv asked for.
-class ScriptedRunner final : public CommandRunner {
+class ScriptedRunner final : public process::CommandRunner {
  public:
-  std::vector<CommandResult> results;
+  std::vector<process::CommandResult> results;
   std::vector<std::vector<std::string>> calls;
-  CommandResult run(const std::vector<std::string>& argv, core::Duration) override {
+  process::CommandResult run(const std::vector<std::string>& argv, core::Duration) override {
     calls.push_back(argv);
     if (results.empty()) throw std::logic_error("no scripted result");
     const std::size_t i = std::min(calls.size() - 1, results.size() - 1);
     return results[i];
   }
-  static CommandResult exited(int code, std::string out, std::string err = {}) {
-    CommandResult r;
+  static process::CommandResult exited(int code, std::string out, std::string err = {}) {
+    process::CommandResult r;
     r.started = true;
     r.exit_code = code;
     r.out = std::move(out);

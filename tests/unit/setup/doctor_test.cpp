@@ -1,20 +1,26 @@
 // The doctor's verdicts on made-up machines.
-#include "m2mlat/capture/doctor.hpp"
+#include "m2mlat/setup/doctor.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/timex.h>
+
+#include <cerrno>
 
 #include "m2mlat/capture/fake_gpio.hpp"
 
-namespace m2mlat::capture {
+namespace m2mlat::setup {
 namespace {
 
-DoctorInputs healthy(const GpioDevices& devices) {
+DoctorInputs healthy(const capture::GpioDevices& devices) {
   DoctorInputs in;
   in.devices = &devices;
   in.kernel_release = "6.6.51+rpt-rpi-2712";
   in.privileges.cap_sys_nice = true;
   in.privileges.cap_ipc_lock = true;
-  in.clock = {true, true, 20, 5};
+  in.clock.available = true;
+  in.clock.synchronised = true;
+  in.clock.max_error_ns = 20'000;
+  in.clock.est_error_ns = 5'000;
   in.irq_writable = true;
   return in;
 }
@@ -26,7 +32,7 @@ const Finding* find(const DoctorReport& report, const std::string& check, Status
 }
 
 TEST(Doctor, AMachineWithoutGpioIsToldSoButNeedsNoFixing) {
-  FakeGpio none;
+  capture::FakeGpio none;
   const auto report = run_doctor(healthy(none));
   EXPECT_FALSE(report.needs_fixing());
   EXPECT_NE(find(report, "gpio", Status::warn), nullptr);
@@ -34,7 +40,7 @@ TEST(Doctor, AMachineWithoutGpioIsToldSoButNeedsNoFixing) {
 }
 
 TEST(Doctor, ListsLinesWithConsumersAndTheIrqsRouting) {
-  FakeGpio gpio;
+  capture::FakeGpio gpio;
   const auto path = gpio.add_chip("pinctrl-rp1", 4, {"GPIO0", "GPIO1", "GPIO2", "GPIO3"});
   gpio.hold_line(path, 2, "m2mlat-wheel");
   auto in = healthy(gpio);
@@ -51,7 +57,7 @@ TEST(Doctor, ListsLinesWithConsumersAndTheIrqsRouting) {
 }
 
 TEST(Doctor, WhatNeedsFixingIsSaid) {
-  FakeGpio gpio;
+  capture::FakeGpio gpio;
   const auto path = gpio.add_chip("pinctrl-rp1", 4);
   gpio.deny_access(path);
   auto in = healthy(gpio);
@@ -73,6 +79,17 @@ TEST(Doctor, WhatNeedsFixingIsSaid) {
   EXPECT_FALSE(report.chips[0].error.empty());
 }
 
+TEST(Doctor, TheKernelClocksBoundsAreShownInMicroseconds) {
+  capture::FakeGpio none;
+  const auto report = run_doctor(healthy(none));
+  const auto* clock = find(report, "clock", Status::ok);
+  ASSERT_NE(clock, nullptr);
+  EXPECT_EQ(clock->detail, "clock synchronised: estimated error 5 us, maximum error 20 us");
+  auto in = healthy(none);
+  in.clock = sync::kernel_clock_state({}, -1, EPERM);  // the call failed
+  EXPECT_NE(find(run_doctor(in), "clock", Status::warn), nullptr);
+}
+
 TEST(Doctor, KernelVersions) {
   int major = 0, minor = 0;
   ASSERT_TRUE(parse_kernel_version("6.1.0-56-amd64", major, minor));
@@ -82,4 +99,4 @@ TEST(Doctor, KernelVersions) {
 }
 
 }  // namespace
-}  // namespace m2mlat::capture
+}  // namespace m2mlat::setup

@@ -1,4 +1,6 @@
 // `m2mlat doctor`'s checks: what a board needs to capture well, and what to fix when it does not.
+// A board check, beside the plans that prepare the board (`m2mlat setup`): it uses capture's GPIO
+// devices and rt's privileges, and reads the kernel clock with sync's one adjtimex reader.
 // GPIO chips and their lines (with consumers) and whether this user may open them; whether the
 // kernel can stamp events with CLOCK_REALTIME; real-time privileges (SCHED_FIFO, mlock); where the
 // interrupts of lines m2mlat holds are routed, and whether they may be moved; and the kernel's
@@ -14,8 +16,9 @@
 
 #include "m2mlat/capture/gpio_device.hpp"
 #include "m2mlat/rt/scheduling.hpp"
+#include "m2mlat/sync/kernel_clock.hpp"
 
-namespace m2mlat::capture {
+namespace m2mlat::setup {
 
 enum class Status { ok, warn, fail };  // fail: something needs fixing (doctor exits 1)
 std::string_view to_string(Status status);
@@ -28,31 +31,22 @@ struct Finding {
 };
 
 struct ChipReport {
-  ChipInfo chip;
-  std::string error;            // why it could not be opened (empty if it could)
-  std::vector<LineInfo> lines;  // every line, when it could be opened
+  capture::ChipInfo chip;
+  std::string error;                     // why it could not be opened (empty if it could)
+  std::vector<capture::LineInfo> lines;  // every line, when it could be opened
 };
-
-// The kernel's clock discipline, from adjtimex(2).
-struct ClockState {
-  bool available = false;     // adjtimex answered
-  bool synchronised = false;  // not TIME_ERROR / STA_UNSYNC
-  std::int64_t max_error_us = 0;
-  std::int64_t est_error_us = 0;
-};
-ClockState kernel_clock_state();
 
 struct DoctorInputs {
-  const GpioDevices* devices = nullptr;
+  const capture::GpioDevices* devices = nullptr;
   std::string kernel_release;  // uname -r
   rt::Privileges privileges;
-  ClockState clock;
-  std::string interrupts_text;  // /proc/interrupts
+  sync::KernelClockState clock;  // the kernel's clock discipline (adjtimex)
+  std::string interrupts_text;   // /proc/interrupts
   std::function<std::optional<std::string>(int irq)> irq_affinity;
   bool irq_writable = false;  // may this process write /proc/irq/*/smp_affinity_list
 };
 // The inputs of this machine.
-DoctorInputs machine_inputs(const GpioDevices& devices);
+DoctorInputs machine_inputs(const capture::GpioDevices& devices);
 
 struct DoctorReport {
   std::vector<ChipReport> chips;
@@ -65,4 +59,4 @@ DoctorReport run_doctor(const DoctorInputs& inputs);
 // "6.1.0-56-amd64" -> {6, 1}; false if it does not start with two numbers.
 bool parse_kernel_version(std::string_view release, int& major, int& minor);
 
-}  // namespace m2mlat::capture
+}  // namespace m2mlat::setup

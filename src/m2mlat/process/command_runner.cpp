@@ -1,8 +1,9 @@
 // ProcessRunner: posix_spawnp with the child's stdout and stderr on pipes, read with poll() until
 // both close or the deadline passes. No shell is involved, so arguments need no quoting.
-#include "m2mlat/sync/command_runner.hpp"
+#include "m2mlat/process/command_runner.hpp"
 
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
@@ -16,9 +17,11 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "m2mlat/core/printable.hpp"
+
 extern char** environ;
 
-namespace m2mlat::sync {
+namespace m2mlat::process {
 
 namespace {
 
@@ -162,4 +165,21 @@ CommandResult ProcessRunner::run(const std::vector<std::string>& argv, core::Dur
   return result;
 }
 
-}  // namespace m2mlat::sync
+std::string failure_text(const CommandResult& result) {
+  if (result.ok()) return {};
+  if (!result.started) return core::printable(result.err);
+  if (result.timed_out) return "timed out";
+  std::string_view said = result.err.empty() ? result.out : result.err;
+  while (!said.empty() && std::string_view(" \t\r\n").find(said.front()) != std::string_view::npos)
+    said.remove_prefix(1);
+  while (!said.empty() && std::string_view(" \t\r\n").find(said.back()) != std::string_view::npos)
+    said.remove_suffix(1);
+  const std::string status = fmt::format("exit status {}", result.exit_code);
+  return said.empty() ? status : status + ": " + core::printable(said.substr(0, 300));
+}
+
+core::Error command_error(const std::vector<std::string>& argv, const CommandResult& result) {
+  return core::Error(core::ErrorKind::io, fmt::format("{}: {}", command_line(argv), failure_text(result)));
+}
+
+}  // namespace m2mlat::process

@@ -1,8 +1,7 @@
 // The doctor's checks, each a Finding with its fix.
-#include "m2mlat/capture/doctor.hpp"
+#include "m2mlat/setup/doctor.hpp"
 
 #include <fmt/format.h>
-#include <sys/timex.h>
 #include <sys/utsname.h>
 #include <unistd.h>
 
@@ -14,7 +13,7 @@
 #include "m2mlat/capture/chip_lookup.hpp"
 #include "m2mlat/rt/irq.hpp"
 
-namespace m2mlat::capture {
+namespace m2mlat::setup {
 
 std::string_view to_string(Status status) {
   switch (status) {
@@ -23,18 +22,6 @@ std::string_view to_string(Status status) {
     case Status::fail: return "FIX";
   }
   return "?";
-}
-
-ClockState kernel_clock_state() {
-  ClockState state;
-  timex tx{};
-  const int rc = adjtimex(&tx);
-  if (rc < 0) return state;
-  state.available = true;
-  state.synchronised = rc != TIME_ERROR && (tx.status & STA_UNSYNC) == 0;
-  state.max_error_us = tx.maxerror;
-  state.est_error_us = tx.esterror;
-  return state;
 }
 
 bool parse_kernel_version(std::string_view release, int& major, int& minor) {
@@ -46,13 +33,13 @@ bool parse_kernel_version(std::string_view release, int& major, int& minor) {
   return r2.ec == std::errc{};
 }
 
-DoctorInputs machine_inputs(const GpioDevices& devices) {
+DoctorInputs machine_inputs(const capture::GpioDevices& devices) {
   DoctorInputs in;
   in.devices = &devices;
   utsname u{};
   if (uname(&u) == 0) in.kernel_release = u.release;
   in.privileges = rt::current_privileges();
-  in.clock = kernel_clock_state();
+  in.clock = sync::read_kernel_clock();
   std::ifstream interrupts("/proc/interrupts");
   std::ostringstream text;
   text << interrupts.rdbuf();
@@ -88,7 +75,7 @@ DoctorReport run_doctor(const DoctorInputs& in) {
       for (std::uint32_t i = 0; i < chip.chip.lines; ++i)
         chip.lines.push_back(in.devices->line_info(path, i));
     } catch (const std::system_error& e) {
-      chip.error = explain_gpio_error(e, *in.devices, chip.chip).what();
+      chip.error = capture::explain_gpio_error(e, *in.devices, chip.chip).what();
       const int err = e.code().value();
       if (err == EACCES || err == EPERM) any_denied = true;
     }
@@ -97,7 +84,7 @@ DoctorReport run_doctor(const DoctorInputs& in) {
   if (!paths.empty()) {
     if (any_denied)
       add("permissions", Status::fail, "some GPIO chips cannot be opened by this user",
-          permission_advice(paths.front()));
+          capture::permission_advice(paths.front()));
     else
       add("permissions", Status::ok, fmt::format("{} GPIO chip(s), all readable and writable", paths.size()));
   }
@@ -158,9 +145,9 @@ DoctorReport run_doctor(const DoctorInputs& in) {
         "run chrony (or ptp4l/phc2sys, or gpsd with PPS) on both boards, so that their CLOCK_REALTIME agree");
   else
     add("clock", Status::ok,
-        fmt::format("clock synchronised: estimated error {} us, maximum error {} us", in.clock.est_error_us,
-                    in.clock.max_error_us));
+        fmt::format("clock synchronised: estimated error {} us, maximum error {} us",
+                    in.clock.est_error_ns / 1000, in.clock.max_error_ns / 1000));
   return report;
 }
 
-}  // namespace m2mlat::capture
+}  // namespace m2mlat::setup
