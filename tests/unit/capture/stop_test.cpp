@@ -1,7 +1,9 @@
 // Stopping within a bound: a stop with drain ends after drain_limit even when the source always has
 // more (an unpaced simulation, a line that never stops firing), and the recorder then commits what
-// was read and closes the session, well within the 1 s a SIGTERM may take. With the GPIO source's
-// twin, a full kernel buffer at the stop is drained completely.
+// was read and closes the session. The time bounds here only show that a stop ends (they leave room
+// for the sanitizers and the arm64 emulator); the 1 s a SIGTERM may take is asserted on the real
+// executable in tests/integration/stop_signals.sh. With the GPIO source's twin, a full kernel buffer
+// at the stop is drained completely.
 #include <gtest/gtest.h>
 #include <sys/eventfd.h>
 #include <unistd.h>
@@ -84,13 +86,13 @@ TEST(Stop, ADrainOfASourceThatNeverRunsDryEndsAfterTheDrainLimit) {
   const auto took = std::chrono::steady_clock::now() - start;
   ASSERT_TRUE(reader.status().ended);
   EXPECT_GE(took, 50ms);
-  EXPECT_LT(took, 500ms);
+  EXPECT_LT(took, 2s);  // bounded (room for the sanitizers and the arm64 emulator)
   take();
   EXPECT_GT(got, 0u);
   EXPECT_EQ(reader.error(), nullptr);
 }
 
-TEST(Stop, TheRecorderOfAnEndlessSourceCommitsAndClosesTheSessionWithinASecond) {
+TEST(Stop, TheRecorderOfAnEndlessSourceStopsCommitsAndClosesTheSession) {
   const auto path = store_path("endless");
   {
     auto store = store::Store::open(path);
@@ -110,7 +112,10 @@ TEST(Stop, TheRecorderOfAnEndlessSourceCommitsAndClosesTheSessionWithinASecond) 
     const auto returned = std::chrono::steady_clock::now();
     signaller.join();  // before `asked` is read
     const auto took = returned - asked;
-    EXPECT_LT(took, 1s);
+    // Without the drain limit this source would never let the recorder return. The 1 s promise
+    // itself is asserted on real processes in tests/integration/stop_signals.sh; here the bound
+    // leaves room for the sanitizers and the arm64 emulator (2 s measured under qemu-aarch64).
+    EXPECT_LT(took, 5s);
     EXPECT_EQ(counters.stop_reason, "SIGTERM");
     EXPECT_GT(counters.events, 0u);
     EXPECT_EQ(static_cast<std::int64_t>(counters.events), store.last_seq());
@@ -141,7 +146,7 @@ TEST(Stop, TheGpioTwinsFullBufferIsDrainedAtAStopAndTheSessionClosed) {
     const auto start = std::chrono::steady_clock::now();
     Recorder recorder(store, source, options);
     const auto counters = recorder.run(stop.fd, [] { return std::string("SIGTERM"); });
-    EXPECT_LT(std::chrono::steady_clock::now() - start, 1s);
+    EXPECT_LT(std::chrono::steady_clock::now() - start, 5s);  // bounded, as above
     EXPECT_EQ(counters.events, 1024u);  // everything the kernel buffered, nothing lost
     EXPECT_EQ(store.last_seq(), 1024);
     const auto session = store.session(counters.session_id);
