@@ -54,8 +54,9 @@ namespace {
 using Steady = std::chrono::steady_clock;
 
 // One stream's state, shared by the copies httplib makes of the content provider.
-struct Stream {
-  Stream(std::shared_ptr<HttpServer::StreamSlot> s, const StreamSignal& g, EventStreamOptions o, NextEvents n)
+struct OpenStream {
+  OpenStream(std::shared_ptr<HttpServer::StreamSlot> s, const StreamSignal& g, EventStreamOptions o,
+             NextEvents n)
       : slot(std::move(s)), signal(g), options(o), next(std::move(n)) {}
 
   std::shared_ptr<HttpServer::StreamSlot> slot;
@@ -92,7 +93,7 @@ struct Stream {
 
 void serve_event_stream(httplib::Response& res, std::shared_ptr<HttpServer::StreamSlot> slot,
                         const StreamSignal& signal, EventStreamOptions options, NextEvents next) {
-  auto stream = std::make_shared<Stream>(std::move(slot), signal, options, std::move(next));
+  auto stream = std::make_shared<OpenStream>(std::move(slot), signal, options, std::move(next));
   res.set_chunked_content_provider(
       "text/event-stream", [stream](std::size_t, httplib::DataSink& sink) { return stream->step(sink); });
 }
