@@ -11,6 +11,8 @@
 #include <deque>
 #include <system_error>
 
+#include "m2mlat/core/fd.hpp"
+
 namespace m2mlat::capture {
 
 namespace {
@@ -53,8 +55,8 @@ class FakeLineRequest final : public LineRequest {
   FakeLineRequest(std::shared_ptr<FakeGpio::State> state, std::string path,
                   const gpio_v2_line_request& request)
       : state_(std::move(state)), path_(std::move(path)) {
-    fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
-    if (fd_ < 0) throw std::system_error(errno, std::generic_category(), "eventfd");
+    fd_.reset(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC));
+    if (!fd_) throw std::system_error(errno, std::generic_category(), "eventfd");
     offsets_.assign(request.offsets, request.offsets + request.num_lines);
     capacity_ = request.event_buffer_size == 0 ? 16 * request.num_lines
                                                : std::min(request.event_buffer_size, kMaxEventBufferSize);
@@ -68,10 +70,9 @@ class FakeLineRequest final : public LineRequest {
       line.flags = 0;
       line.debounce_us = 0;
     }
-    ::close(fd_);
   }
 
-  int fd() const override { return fd_; }
+  int fd() const override { return fd_.get(); }
 
   std::size_t read_events(std::span<gpio_v2_line_event> out) override {
     std::size_t n = 0;
@@ -81,7 +82,7 @@ class FakeLineRequest final : public LineRequest {
     }
     if (buffer_.empty()) {
       std::uint64_t drain = 0;
-      [[maybe_unused]] const auto r = ::read(fd_, &drain, sizeof drain);
+      [[maybe_unused]] const auto r = ::read(fd_.get(), &drain, sizeof drain);
     }
     return n;
   }
@@ -111,7 +112,7 @@ class FakeLineRequest final : public LineRequest {
     buffer_.push_back(event);
     ++state_->generated;
     const std::uint64_t one = 1;
-    [[maybe_unused]] const auto w = ::write(fd_, &one, sizeof one);
+    [[maybe_unused]] const auto w = ::write(fd_.get(), &one, sizeof one);
     return 1;
   }
 
@@ -122,7 +123,7 @@ class FakeLineRequest final : public LineRequest {
   std::size_t capacity_ = 16;
   std::deque<gpio_v2_line_event> buffer_;
   std::uint32_t seqno_ = 0;
-  int fd_ = -1;
+  core::Fd fd_;  // eventfd
 };
 
 }  // namespace

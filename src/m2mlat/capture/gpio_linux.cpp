@@ -9,8 +9,10 @@
 #include <cstring>
 #include <filesystem>
 #include <system_error>
+#include <utility>
 
 #include "m2mlat/capture/gpio_device.hpp"
+#include "m2mlat/core/fd.hpp"
 #include "m2mlat/core/number.hpp"
 
 namespace m2mlat::capture {
@@ -21,34 +23,19 @@ namespace {
   throw std::system_error(errno, std::generic_category(), what);
 }
 
-// An owned descriptor.
-class Fd {
- public:
-  explicit Fd(int fd) : fd_(fd) {}
-  Fd(const Fd&) = delete;
-  Fd& operator=(const Fd&) = delete;
-  ~Fd() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  int get() const { return fd_; }
-
- private:
-  int fd_;
-};
-
-Fd open_chip(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
-  if (fd < 0) fail(path);
-  return Fd(fd);
+core::Fd open_chip(const std::string& path) {
+  core::Fd chip(::open(path.c_str(), O_RDWR | O_CLOEXEC));
+  if (!chip) fail(path);
+  return chip;
 }
 
 std::string text(const char* field, std::size_t size) { return std::string(field, strnlen(field, size)); }
 
 class LinuxLineRequest final : public LineRequest {
  public:
-  explicit LinuxLineRequest(int fd) : fd_(fd) {
-    const int flags = ::fcntl(fd, F_GETFL);
-    if (flags < 0 || ::fcntl(fd, F_SETFL, flags | O_NONBLOCK) < 0) fail("line request: fcntl");
+  explicit LinuxLineRequest(core::Fd fd) : fd_(std::move(fd)) {
+    const int flags = ::fcntl(fd_.get(), F_GETFL);
+    if (flags < 0 || ::fcntl(fd_.get(), F_SETFL, flags | O_NONBLOCK) < 0) fail("line request: fcntl");
   }
   int fd() const override { return fd_.get(); }
 
@@ -71,7 +58,7 @@ class LinuxLineRequest final : public LineRequest {
   }
 
  private:
-  Fd fd_;
+  core::Fd fd_;
 };
 
 class LinuxGpioDevices final : public GpioDevices {
@@ -122,7 +109,8 @@ class LinuxGpioDevices final : public GpioDevices {
                                              gpio_v2_line_request& request) override {
     const auto chip = open_chip(path);
     if (::ioctl(chip.get(), GPIO_V2_GET_LINE_IOCTL, &request) < 0) fail(path + ": line request");
-    return std::make_unique<LinuxLineRequest>(request.fd);
+    core::Fd line(request.fd);  // ours from here, whatever happens next
+    return std::make_unique<LinuxLineRequest>(std::move(line));
   }
 
  private:

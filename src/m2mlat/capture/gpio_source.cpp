@@ -51,48 +51,43 @@ GpioSource::GpioSource(GpioDevices& devices, const std::vector<ChannelSpec>& cha
     : options_(std::move(options)) {
   if (channels.empty())
     throw core::Error(core::ErrorKind::usage, "no channel to capture: give --channel NAME=CHIP:LINE");
-  epoll_fd_ = ::epoll_create1(EPOLL_CLOEXEC);
-  if (epoll_fd_ < 0) throw core::Error(core::ErrorKind::io, fmt::format("epoll: {}", std::strerror(errno)));
-  try {
-    for (const auto& spec : channels) {
-      for (const auto& other : channels_)
-        if (other.spec.name == spec.name)
-          throw core::Error(core::ErrorKind::usage,
-                            fmt::format("channel '{}' is configured twice", spec.name));
-      Channel channel;
-      channel.spec = spec;
-      channel.chip = find_chip(devices, spec.chip);
-      const auto offset = find_line(devices, channel.chip, spec.line);
-      for (const auto& other : channels_)
-        if (other.chip.path == channel.chip.path && other.line.offset == offset)
-          throw core::Error(core::ErrorKind::usage,
-                            fmt::format("channels '{}' and '{}' are the same line {} of {}", other.spec.name,
-                                        spec.name, offset, channel.chip.name));
-      channel.consumer = (options_.consumer_prefix + spec.name).substr(0, GPIO_MAX_NAME_SIZE - 1);
-      auto request = make_input_request(spec, offset, channel.consumer, options_.event_buffer_size);
-      try {
-        channel.line = devices.line_info(channel.chip.path, offset);
-        channel.request = devices.request_lines(channel.chip.path, request);
-        channel.line = devices.line_info(channel.chip.path, offset);  // with the settings now in force
-      } catch (const std::system_error& e) {
-        throw explain_gpio_error(e, devices, channel.chip, offset);
-      }
-      epoll_event ev{};
-      ev.events = EPOLLIN;
-      if (::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, channel.request->fd(), &ev) < 0)
-        throw core::Error(core::ErrorKind::io, fmt::format("epoll: {}", std::strerror(errno)));
-      channels_.push_back(std::move(channel));
+  epoll_fd_.reset(::epoll_create1(EPOLL_CLOEXEC));
+  if (!epoll_fd_) throw core::Error(core::ErrorKind::io, fmt::format("epoll: {}", std::strerror(errno)));
+  // A throw below releases what was requested: the channels' requests and the epoll descriptor are
+  // members.
+  for (const auto& spec : channels) {
+    for (const auto& other : channels_)
+      if (other.spec.name == spec.name)
+        throw core::Error(core::ErrorKind::usage,
+                          fmt::format("channel '{}' is configured twice", spec.name));
+    Channel channel;
+    channel.spec = spec;
+    channel.chip = find_chip(devices, spec.chip);
+    const auto offset = find_line(devices, channel.chip, spec.line);
+    for (const auto& other : channels_)
+      if (other.chip.path == channel.chip.path && other.line.offset == offset)
+        throw core::Error(core::ErrorKind::usage,
+                          fmt::format("channels '{}' and '{}' are the same line {} of {}", other.spec.name,
+                                      spec.name, offset, channel.chip.name));
+    channel.consumer = (options_.consumer_prefix + spec.name).substr(0, GPIO_MAX_NAME_SIZE - 1);
+    auto request = make_input_request(spec, offset, channel.consumer, options_.event_buffer_size);
+    try {
+      channel.line = devices.line_info(channel.chip.path, offset);
+      channel.request = devices.request_lines(channel.chip.path, request);
+      channel.line = devices.line_info(channel.chip.path, offset);  // with the settings now in force
+    } catch (const std::system_error& e) {
+      throw explain_gpio_error(e, devices, channel.chip, offset);
     }
-  } catch (...) {
-    channels_.clear();
-    ::close(epoll_fd_);
-    throw;
+    epoll_event ev{};
+    ev.events = EPOLLIN;
+    if (::epoll_ctl(epoll_fd_.get(), EPOLL_CTL_ADD, channel.request->fd(), &ev) < 0)
+      throw core::Error(core::ErrorKind::io, fmt::format("epoll: {}", std::strerror(errno)));
+    channels_.push_back(std::move(channel));
   }
 }
 
 GpioSource::~GpioSource() {
-  channels_.clear();
-  if (epoll_fd_ >= 0) ::close(epoll_fd_);
+  channels_.clear();  // the line requests first, then the epoll descriptor (a member)
 }
 
 void GpioSource::read_channel(Channel& channel, ReadResult& out, std::size_t max_events) {

@@ -17,6 +17,7 @@
 #include "m2mlat/capture/gpio_device.hpp"
 #include "m2mlat/capture/sequence_tracker.hpp"
 #include "m2mlat/capture/source.hpp"
+#include "m2mlat/core/fd.hpp"
 
 namespace m2mlat::capture {
 
@@ -36,7 +37,7 @@ class GpioSource final : public Source {
   GpioSource& operator=(const GpioSource&) = delete;
 
   void read(ReadResult& out, std::size_t max_events) override;
-  int fd() const override { return epoll_fd_; }
+  int fd() const override { return epoll_fd_.get(); }
   std::vector<std::string> describe() const override;
   std::vector<std::string> channels() const override;
 
@@ -60,7 +61,7 @@ class GpioSource final : public Source {
   GpioSourceOptions options_;
   std::vector<Channel> channels_;
   std::size_t next_ = 0;  // round-robin start, so a busy channel cannot starve the others
-  int epoll_fd_ = -1;
+  core::Fd epoll_fd_;
   // One read(2) takes up to a whole kernel buffer (1024 events of 48 bytes): under a high edge rate
   // the cost of the system call is shared by many events.
   std::vector<gpio_v2_line_event> scratch_ = std::vector<gpio_v2_line_event>(kMaxEventBufferSize);

@@ -57,8 +57,8 @@ KmsgSource::KmsgSource(KmsgSourceOptions options) : options_(std::move(options))
     if (!by_pin_.emplace(pin, i).second)
       throw core::Error(core::ErrorKind::usage, fmt::format("two channels watch pin {}", pin));
   }
-  fd_ = ::open(options_.path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd_ < 0) {
+  fd_.reset(::open(options_.path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));
+  if (!fd_) {
     const int err = errno;
     if (err == ENOENT)
       throw core::Error(core::ErrorKind::no_input, fmt::format("{}: no such file", options_.path));
@@ -71,12 +71,12 @@ KmsgSource::KmsgSource(KmsgSourceOptions options) : options_(std::move(options))
     throw core::Error(core::ErrorKind::io, fmt::format("{}: {}", options_.path, std::strerror(err)));
   }
   struct stat st {};
-  device_ = ::fstat(fd_, &st) == 0 && S_ISCHR(st.st_mode);
+  device_ = ::fstat(fd_.get(), &st) == 0 && S_ISCHR(st.st_mode);
   // The device: only records from now on (older ones belong to earlier runs).
-  if (device_) ::lseek(fd_, 0, SEEK_END);
+  if (device_) ::lseek(fd_.get(), 0, SEEK_END);
 }
 
-KmsgSource::~KmsgSource() { ::close(fd_); }
+KmsgSource::~KmsgSource() = default;
 
 void KmsgSource::take_line(std::string_view line, ReadResult& out) {
   ++lines_;
@@ -114,7 +114,7 @@ void KmsgSource::read(ReadResult& out, std::size_t max_events) {
   const auto start = out.events.size();
   std::array<char, 8192> buffer{};
   while (out.events.size() - start < max_events) {
-    const ssize_t n = ::read(fd_, buffer.data(), buffer.size());
+    const ssize_t n = ::read(fd_.get(), buffer.data(), buffer.size());
     if (n < 0) {
       if (errno == EINTR) continue;
       if (errno == EAGAIN) break;

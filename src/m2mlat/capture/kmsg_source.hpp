@@ -18,6 +18,7 @@
 #include "m2mlat/capture/channel.hpp"
 #include "m2mlat/capture/sequence_tracker.hpp"
 #include "m2mlat/capture/source.hpp"
+#include "m2mlat/core/fd.hpp"
 
 namespace m2mlat::capture {
 
@@ -38,7 +39,7 @@ class KmsgSource final : public Source {
   KmsgSource& operator=(const KmsgSource&) = delete;
 
   void read(ReadResult& out, std::size_t max_events) override;
-  int fd() const override { return device_ ? fd_ : -1; }
+  int fd() const override { return device_ ? fd_.get() : -1; }
   std::vector<std::string> describe() const override;
   std::vector<std::string> channels() const override;
   std::vector<std::string> notes() const override;
@@ -50,7 +51,7 @@ class KmsgSource final : public Source {
   void take_line(std::string_view line, ReadResult& out);
 
   KmsgSourceOptions options_;
-  int fd_ = -1;
+  core::Fd fd_;
   bool device_ = false;
   std::map<std::uint32_t, std::size_t> by_pin_;  // pin -> index in options_.channels
   SequenceTracker kmsg_seq_{0, 64};

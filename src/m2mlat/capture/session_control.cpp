@@ -14,17 +14,17 @@
 namespace m2mlat::capture {
 
 SessionControl::SessionControl() : fd_(::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK)) {
-  if (fd_ < 0) throw core::Error(core::ErrorKind::io, fmt::format("eventfd: {}", std::strerror(errno)));
+  if (!fd_) throw core::Error(core::ErrorKind::io, fmt::format("eventfd: {}", std::strerror(errno)));
 }
 
-SessionControl::~SessionControl() { ::close(fd_); }
+SessionControl::~SessionControl() = default;
 
 std::uint64_t SessionControl::enqueue(std::optional<store::Session> begin) {
   std::lock_guard lock(mutex_);
   const auto ticket = next_ticket_++;
   pending_.push_back({ticket, std::move(begin)});
   const std::uint64_t one = 1;
-  [[maybe_unused]] const auto written = ::write(fd_, &one, sizeof one);  // a full counter is still readable
+  [[maybe_unused]] const auto written = ::write(fd_.get(), &one, sizeof one);  // a full counter is still readable
   return ticket;
 }
 
@@ -46,7 +46,7 @@ std::optional<SessionControl::Request> SessionControl::next() {
   std::lock_guard lock(mutex_);
   if (pending_.empty()) {
     std::uint64_t count = 0;
-    [[maybe_unused]] const auto got = ::read(fd_, &count, sizeof count);  // drain: nothing pending
+    [[maybe_unused]] const auto got = ::read(fd_.get(), &count, sizeof count);  // drain: nothing pending
     return std::nullopt;
   }
   auto request = std::move(pending_.front());

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <optional>
 
+#include "m2mlat/core/fd.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/store/records.hpp"
 
@@ -38,7 +39,7 @@ class SessionControl {
   std::optional<Outcome> wait(std::uint64_t ticket, core::Duration timeout);
 
   // Recorder side: a descriptor that polls readable while requests are pending.
-  int fd() const { return fd_; }
+  int fd() const { return fd_.get(); }
   struct Request {
     std::uint64_t ticket = 0;
     std::optional<store::Session> begin;  // empty: stop
@@ -51,7 +52,7 @@ class SessionControl {
 
  private:
   std::uint64_t enqueue(std::optional<store::Session> begin);
-  int fd_ = -1;  // eventfd
+  core::Fd fd_;  // eventfd
   std::mutex mutex_;
   std::condition_variable done_;
   std::deque<Request> pending_;

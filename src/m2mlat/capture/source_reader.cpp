@@ -20,9 +20,9 @@ namespace m2mlat::capture {
 
 namespace {
 
-int make_eventfd() {
-  const int fd = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
-  if (fd < 0) throw core::Error(core::ErrorKind::io, fmt::format("eventfd: {}", std::strerror(errno)));
+core::Fd make_eventfd() {
+  core::Fd fd(::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK));
+  if (!fd) throw core::Error(core::ErrorKind::io, fmt::format("eventfd: {}", std::strerror(errno)));
   return fd;
 }
 
@@ -53,12 +53,7 @@ SourceReader::SourceReader(Source& source, SourceReaderOptions options) : source
   options_.wake_events =
       std::clamp<std::size_t>(options_.wake_events, 1, (options_.chunks - 1) * options_.chunk_events);
   wake_consumer_fd_ = make_eventfd();
-  try {
-    wake_reader_fd_ = make_eventfd();
-  } catch (...) {
-    ::close(wake_consumer_fd_);
-    throw;
-  }
+  wake_reader_fd_ = make_eventfd();
   for (std::size_t i = 0; i < options_.chunks; ++i) {
     auto chunk = std::make_unique<ReadResult>();
     chunk->events.reserve(options_.chunk_events);
@@ -70,11 +65,9 @@ SourceReader::SourceReader(Source& source, SourceReaderOptions options) : source
 SourceReader::~SourceReader() {
   stop(false);
   if (thread_.joinable()) thread_.join();
-  ::close(wake_reader_fd_);
-  ::close(wake_consumer_fd_);
 }
 
-void SourceReader::clear_wake() { drain_fd(wake_consumer_fd_); }
+void SourceReader::clear_wake() { drain_fd(wake_consumer_fd_.get()); }
 
 SourceReader::Status SourceReader::status() const {
   std::lock_guard lock(mutex_);
@@ -111,7 +104,7 @@ void SourceReader::stop(bool drain) {
     drain_ = drain;
   }
   chunk_freed_.notify_one();
-  signal_fd(wake_reader_fd_);
+  signal_fd(wake_reader_fd_.get());
 }
 
 std::exception_ptr SourceReader::error() const {
@@ -119,10 +112,10 @@ std::exception_ptr SourceReader::error() const {
   return error_;
 }
 
-void SourceReader::wake_consumer() { signal_fd(wake_consumer_fd_); }
+void SourceReader::wake_consumer() { signal_fd(wake_consumer_fd_.get()); }
 
 void SourceReader::wait_source(core::Duration timeout) {
-  pollfd fds[2] = {{wake_reader_fd_, POLLIN, 0}, {source_.fd(), POLLIN, 0}};
+  pollfd fds[2] = {{wake_reader_fd_.get(), POLLIN, 0}, {source_.fd(), POLLIN, 0}};
   const auto ts = to_timespec(timeout);
   if (::ppoll(fds, 2, timeout.count() < 0 ? nullptr : &ts, nullptr) < 0 && errno != EINTR)
     throw core::Error(core::ErrorKind::io, fmt::format("poll: {}", std::strerror(errno)));
@@ -189,7 +182,7 @@ void SourceReader::run() {
         // read takes many. Slower ones are read as they come: a pause would only add a wake-up.
         const auto now = monotonic_now();
         if (last_read_ && now - *last_read_ < options_.coalesce) {
-          pollfd fd{wake_reader_fd_, POLLIN, 0};  // a stop ends the pause at once
+          pollfd fd{wake_reader_fd_.get(), POLLIN, 0};  // a stop ends the pause at once
           const auto ts = to_timespec(options_.coalesce);
           ::ppoll(&fd, 1, &ts, nullptr);
         }

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "m2mlat/capture/source.hpp"
+#include "m2mlat/core/fd.hpp"
 #include "m2mlat/core/time.hpp"
 
 namespace m2mlat::capture {
@@ -58,7 +59,7 @@ class SourceReader {
 
   // An eventfd that polls readable when the consumer should look: the first events after a take
   // (to start its commit clock), wake_events queued, or the thread ended. clear_wake() consumes it.
-  int fd() const { return wake_consumer_fd_; }
+  int fd() const { return wake_consumer_fd_.get(); }
   void clear_wake();
 
   struct Status {
@@ -93,8 +94,8 @@ class SourceReader {
 
   Source& source_;
   SourceReaderOptions options_;
-  int wake_consumer_fd_ = -1;  // eventfd: the reader -> the consumer
-  int wake_reader_fd_ = -1;    // eventfd: stop() -> the reader
+  core::Fd wake_consumer_fd_;  // eventfd: the reader -> the consumer
+  core::Fd wake_reader_fd_;    // eventfd: stop() -> the reader
 
   mutable std::mutex mutex_;
   std::condition_variable chunk_freed_;

@@ -19,8 +19,8 @@ StopSignal::StopSignal() {
   sigaddset(&set, SIGTERM);
   if (sigprocmask(SIG_BLOCK, &set, &previous_) != 0)
     throw core::Error(core::ErrorKind::io, fmt::format("sigprocmask: {}", std::strerror(errno)));
-  fd_ = signalfd(-1, &set, SFD_NONBLOCK | SFD_CLOEXEC);
-  if (fd_ < 0) {
+  fd_.reset(signalfd(-1, &set, SFD_NONBLOCK | SFD_CLOEXEC));
+  if (!fd_) {
     const int err = errno;
     sigprocmask(SIG_SETMASK, &previous_, nullptr);
     throw core::Error(core::ErrorKind::io, fmt::format("signalfd: {}", std::strerror(err)));
@@ -28,13 +28,13 @@ StopSignal::StopSignal() {
 }
 
 StopSignal::~StopSignal() {
-  ::close(fd_);
+  fd_.reset();  // before the signals are unblocked
   sigprocmask(SIG_SETMASK, &previous_, nullptr);
 }
 
 std::string StopSignal::take() {
   signalfd_siginfo info{};
-  if (::read(fd_, &info, sizeof info) != static_cast<ssize_t>(sizeof info)) return {};
+  if (::read(fd_.get(), &info, sizeof info) != static_cast<ssize_t>(sizeof info)) return {};
   return info.ssi_signo == SIGINT ? "SIGINT" : info.ssi_signo == SIGTERM ? "SIGTERM" : "signal";
 }
 

@@ -7,6 +7,8 @@
 #include <csignal>
 #include <string>
 
+#include "m2mlat/core/fd.hpp"
+
 namespace m2mlat::capture {
 
 class StopSignal {
@@ -16,12 +18,12 @@ class StopSignal {
   StopSignal(const StopSignal&) = delete;
   StopSignal& operator=(const StopSignal&) = delete;
 
-  int fd() const { return fd_; }
+  int fd() const { return fd_.get(); }
   // The name of the signal that arrived ("SIGINT"), consuming it; empty if none is pending.
   std::string take();
 
  private:
-  int fd_ = -1;
+  core::Fd fd_;
   sigset_t previous_{};
 };
 

@@ -5,11 +5,13 @@
 #include <httplib.h>
 
 #include <cmath>
+#include <iterator>
 
 #include "m2mlat/collect/web_assets.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/number.hpp"
 #include "m2mlat/net/auth.hpp"
+#include "m2mlat/net/event_stream.hpp"
 #include "m2mlat/net/query.hpp"
 #include "m2mlat/net/wire.hpp"
 
@@ -174,30 +176,23 @@ Dashboard::Dashboard(DashboardOptions options) : options_(checked(std::move(opti
   });
 
   svr.Get("/api/live/stream", [this](const httplib::Request&, httplib::Response& res) {
-    auto slot = server_.stream_slot();  // held until the stream ends (the provider is dropped)
-    if (!slot) {
-      error_body(res, 503, fmt::format("too many event streams (at most {})", server_.max_streams()));
-      return;
+    std::shared_ptr<net::HttpServer::StreamSlot> slot;
+    try {
+      slot = net::take_stream_slot(server_);
+    } catch (const net::RequestError& e) {
+      return error_body(res, e.status(), e.what());
     }
-    // 0: nothing sent yet, so the newest snapshot goes out at once.
-    auto sent = std::make_shared<std::uint64_t>(0);
     res.set_header("X-Accel-Buffering", "no");
-    res.set_chunked_content_provider(
-        "text/event-stream", [this, sent, slot](std::size_t, httplib::DataSink& sink) {
-          std::unique_lock lock(mutex_);
-          const bool fresh = changed_.wait_for(
-              lock, options_.ping_interval, [&] { return stopping_ || (version_ > 0 && version_ != *sent); });
-          if (stopping_) return false;
-          std::string message;
-          if (fresh) {
-            message = fmt::format("id: {}\nevent: snapshot\ndata: {}\n\n", version_, snapshot_);
-            *sent = version_;
-          } else {
-            message = ": ping\n\n";
-          }
-          lock.unlock();
-          return sink.is_writable() && sink.write(message.data(), message.size());
-        });
+    // The newest snapshot when it is not the one sent last; `sent` 0: nothing sent yet, so the
+    // newest goes out at once. Every publish() notifies, so there is nothing to poll between pings.
+    auto next = [this, sent = std::uint64_t{0}](std::string& out) mutable {
+      std::lock_guard lock(mutex_);
+      if (version_ == 0 || version_ == sent) return;
+      fmt::format_to(std::back_inserter(out), "id: {}\nevent: snapshot\ndata: {}\n\n", version_, snapshot_);
+      sent = version_;
+    };
+    net::serve_event_stream(res, std::move(slot), published_,
+                            {options_.ping_interval, options_.ping_interval}, std::move(next));
   });
 
   svr.Get(R"(/[A-Za-z0-9_.-]*)", [](const httplib::Request& req, httplib::Response& res) {
@@ -222,15 +217,11 @@ void Dashboard::publish(const nlohmann::json& snapshot) {
     snapshot_ = std::move(text);
     ++version_;
   }
-  changed_.notify_all();
+  published_.notify();
 }
 
 void Dashboard::stop() {
-  {
-    std::lock_guard lock(mutex_);
-    stopping_ = true;
-  }
-  changed_.notify_all();  // the streams end
+  published_.stop();  // the streams end, so that the server's threads can be joined
   server_.stop();
 }
 

@@ -17,7 +17,6 @@
 #pragma once
 
 #include <chrono>
-#include <condition_variable>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -27,6 +26,7 @@
 
 #include "m2mlat/collect/health.hpp"
 #include "m2mlat/collect/live_pairing.hpp"
+#include "m2mlat/net/event_stream.hpp"
 #include "m2mlat/net/http_server.hpp"
 
 namespace m2mlat::collect {
@@ -81,10 +81,9 @@ class Dashboard {
   net::HttpServer server_;
 
   std::mutex mutex_;
-  std::condition_variable changed_;
   std::string snapshot_ = "{}";  // serialised
   std::uint64_t version_ = 0;    // publish() count
-  bool stopping_ = false;
+  net::StreamSignal published_;  // publish() wakes the event streams
 };
 
 }  // namespace m2mlat::collect

@@ -14,6 +14,7 @@
 #include <streambuf>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/fd.hpp"
 
 namespace m2mlat::core {
 
@@ -141,26 +142,26 @@ void write_output_file(const std::string& path, const std::function<void(std::os
   const std::string dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
   const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
   std::string temporary;
-  int fd = -1;
-  for (int attempt = 0; fd < 0; ++attempt) {
+  Fd fd;
+  for (int attempt = 0; !fd; ++attempt) {
     temporary = temporary_name(dir, base);
     // 0666: the umask takes its share, as for any file a program creates.
-    fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
-    if (fd < 0 && (errno != EEXIST || attempt >= 16))
+    fd.reset(::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666));
+    if (!fd && (errno != EEXIST || attempt >= 16))
       io_error(path, fmt::format("cannot create a file in {}", dir.empty() ? "." : dir), errno);
   }
   try {
     if (options.mode >= 0) {
-      if (::fchmod(fd, static_cast<mode_t>(options.mode)) != 0)
+      if (::fchmod(fd.get(), static_cast<mode_t>(options.mode)) != 0)
         io_error(temporary, "cannot set its mode", errno);
     } else if (replacing) {
-      if (::fchmod(fd, target.st_mode & 07777) != 0) io_error(temporary, "cannot set its mode", errno);
+      if (::fchmod(fd.get(), target.st_mode & 07777) != 0) io_error(temporary, "cannot set its mode", errno);
     }
     // As root, a replaced file keeps its owner (root's files stay root's, a user's stay theirs).
-    if (replacing && ::geteuid() == 0 && ::fchown(fd, target.st_uid, target.st_gid) != 0)
+    if (replacing && ::geteuid() == 0 && ::fchown(fd.get(), target.st_uid, target.st_gid) != 0)
       io_error(temporary, "cannot set its owner", errno);
     {
-      FdBuffer buffer(fd);
+      FdBuffer buffer(fd.get());
       std::ostream out(&buffer);
       try {
         write(out);
@@ -172,26 +173,21 @@ void write_output_file(const std::string& path, const std::function<void(std::os
       }
       if (!out || buffer.error() != 0) io_error(path, "write failed", buffer.error());
     }
-    if (::fsync(fd) != 0) io_error(path, "write failed (fsync)", errno);
-    const int closed = ::close(fd);
-    fd = -1;
-    if (closed != 0) io_error(path, "write failed (close)", errno);
+    if (::fsync(fd.get()) != 0) io_error(path, "write failed (fsync)", errno);
+    if (fd.close() != 0) io_error(path, "write failed (close)", errno);
     // Again just before the rename: the target may have been swapped for a link or a device
     // meanwhile. (rename(2) itself never follows a link: it would replace the link, not its target.)
     examine(path, target);
     if (::rename(temporary.c_str(), path.c_str()) != 0) io_error(path, "cannot replace it", errno);
   } catch (...) {
-    if (fd >= 0) ::close(fd);
+    fd.reset();
     ::unlink(temporary.c_str());
     throw;
   }
   // The new name on disk too (power loss); a folder that cannot be synced still holds a complete
   // file under the new name, so a failure here is not an error.
-  const int dir_fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dir_fd >= 0) {
-    (void)::fsync(dir_fd);
-    ::close(dir_fd);
-  }
+  const Fd dir_fd(::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+  if (dir_fd) (void)::fsync(dir_fd.get());
 }
 
 void write_output_file(const std::string& path, std::string_view content, const OutputFileOptions& options) {

@@ -13,26 +13,12 @@
 #include <system_error>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/fd.hpp"
 #include "m2mlat/formats/fields.hpp"
 
 namespace m2mlat::formats {
 
 namespace {
-
-// Closes the descriptor when the read ends, whichever way it ends.
-class FileDescriptor {
- public:
-  explicit FileDescriptor(int fd) : fd_(fd) {}
-  FileDescriptor(const FileDescriptor&) = delete;
-  FileDescriptor& operator=(const FileDescriptor&) = delete;
-  ~FileDescriptor() {
-    if (fd_ > 2) ::close(fd_);  // never close stdin
-  }
-  int get() const { return fd_; }
-
- private:
-  int fd_;
-};
 
 [[noreturn]] void throw_io(const std::string& name, const char* what, int err) {
   throw core::Error(core::ErrorKind::io,
@@ -44,17 +30,18 @@ class FileDescriptor {
 InputText InputText::read_file(const std::string& path) {
   const bool is_stdin = path == "-";
   const std::string name = is_stdin ? "<stdin>" : path;
-  const int raw_fd = is_stdin ? 0 : ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (raw_fd < 0) {
+  // Closed when the read ends, whichever way it ends; standard input is never closed.
+  const core::Fd opened(is_stdin ? -1 : ::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+  const int fd = is_stdin ? 0 : opened.get();
+  if (fd < 0) {
     const int err = errno;
     if (err == ENOENT || err == ENOTDIR)
       throw core::Error(core::ErrorKind::no_input, fmt::format("{}: no such file", name));
     throw_io(name, "cannot open", err);
   }
-  FileDescriptor fd(raw_fd);
 
   struct stat st {};
-  if (::fstat(fd.get(), &st) != 0) throw_io(name, "cannot stat", errno);
+  if (::fstat(fd, &st) != 0) throw_io(name, "cannot stat", errno);
   if (S_ISDIR(st.st_mode))
     throw core::Error(core::ErrorKind::no_input, fmt::format("{}: is a directory, not a file", name));
   // A named device is no input file: /dev/zero and /dev/urandom never end. Standard input is
@@ -79,7 +66,7 @@ InputText InputText::read_file(const std::string& path) {
       buffer = std::move(bigger);
       capacity = grown;
     }
-    const ssize_t got = ::read(fd.get(), buffer.get() + size, capacity - size);
+    const ssize_t got = ::read(fd, buffer.get() + size, capacity - size);
     if (got < 0) {
       if (errno == EINTR) continue;
       throw_io(name, "cannot read", errno);

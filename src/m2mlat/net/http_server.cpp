@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/fd.hpp"
 #include "m2mlat/net/connection_budget.hpp"
 #include "m2mlat/net/connection_stream.hpp"
 #include "m2mlat/net/secret_file.hpp"
@@ -92,6 +93,7 @@ class GuardedServer final : public httplib::Server {
 
  private:
   bool process_and_close_socket(socket_t sock) override {
+    const core::Fd owned(sock);  // closed on every way out, after the shutdown below
     if (refusing_connection()) {
       refuse(sock);
       return false;
@@ -100,11 +102,11 @@ class GuardedServer final : public httplib::Server {
     const bool ok = set_non_blocking(sock) && serve(sock, id);
     table_.remove(id);
     ::shutdown(sock, SHUT_RDWR);
-    ::close(sock);
     return ok;
   }
 
-  // Every place is taken by a connection being served: say so at once and close.
+  // Every place is taken by a connection being served: say so at once and shut the connection (its
+  // descriptor is closed by the caller).
   void refuse(socket_t sock) {
     table_.count_refused();
     if (tls_ == nullptr) {
@@ -119,7 +121,6 @@ class GuardedServer final : public httplib::Server {
           ::send(sock, response.data(), response.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
     }
     ::shutdown(sock, SHUT_RDWR);
-    ::close(sock);
   }
 
   // The keep-alive loop: wait for a request (idle timeout), read and serve it (request deadline).

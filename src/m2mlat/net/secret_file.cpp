@@ -10,18 +10,16 @@
 #include <cstring>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/fd.hpp"
 
 namespace m2mlat::net {
 
 std::string read_secret_file(const std::string& path, std::string_view what) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY);
+  const core::Fd opened(::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY));
+  const int fd = opened.get();
   if (fd < 0)
     throw core::Error(core::ErrorKind::no_input,
                       fmt::format("{} {}: cannot open: {}", what, path, std::strerror(errno)));
-  struct Closer {
-    int fd;
-    ~Closer() { ::close(fd); }
-  } closer{fd};
   struct stat st {};
   if (::fstat(fd, &st) != 0)
     throw core::Error(core::ErrorKind::no_input,

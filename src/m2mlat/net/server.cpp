@@ -1,4 +1,4 @@
-// Routes, the pre-routing gate, the SSE loop, and the leased read-only stores.
+// Routes, the pre-routing gate, the event stream's source, and the leased read-only stores.
 #include "m2mlat/net/server.hpp"
 
 #include <fmt/format.h>
@@ -6,16 +6,14 @@
 #include <time.h>
 
 #include <array>
-#include <atomic>
-#include <condition_variable>
 #include <iterator>
 #include <map>
-#include <mutex>
 #include <type_traits>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/version.hpp"
 #include "m2mlat/net/auth.hpp"
+#include "m2mlat/net/event_stream.hpp"
 #include "m2mlat/net/metrics.hpp"
 #include "m2mlat/net/reader_pool.hpp"
 #include "m2mlat/store/store.hpp"
@@ -100,10 +98,8 @@ struct AgentServer::Impl {
   // Stores kept open between requests: about one per request served at once.
   ReaderPool readers{options.store_path, 8};
 
-  std::mutex commit_mutex;
-  std::condition_variable commit_cv;
-  std::int64_t committed = 0;  // the latest seq notify_commit() gave
-  std::atomic<bool> stopping{false};
+  // notify_commit() wakes the event streams.
+  StreamSignal commits;
   std::map<std::string, httplib::Server::Handler> post_handlers;  // by path
 
   Impl(ServerOptions o, AgentBackend& b) : options(checked(std::move(o))), backend(b), http(options) {
@@ -220,51 +216,21 @@ struct AgentServer::Impl {
         throw RequestError(400, "Last-Event-ID given twice");
       cursor = parse_after(req.get_header_value("Last-Event-ID"), "Last-Event-ID");
     }
-    auto slot = http.stream_slot();  // held until the stream ends (the provider is dropped)
-    if (!slot)
-      throw RequestError(503, fmt::format("too many event streams (at most {})", http.max_streams()));
+    auto slot = take_stream_slot(http);  // before any header: a refusal carries none
     res.set_header("Cache-Control", "no-cache");
     res.set_header(std::string(kLastSeqHeader), std::to_string(reader()->last_seq()));
-    auto next = std::make_shared<std::int64_t>(cursor);
-    auto last_write = std::make_shared<core::Duration>(monotonic());
-    res.set_chunked_content_provider("text/event-stream",
-                                     [this, next, last_write, slot](std::size_t, httplib::DataSink& sink) {
-                                       return stream_step(*next, *last_write, sink);
-                                     });
-  }
-
-  static core::Duration monotonic() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return core::Duration{std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec};
-  }
-
-  // One step of an SSE stream: the events after `next` if any, else wait for a commit (or the poll
-  // interval) and send a ping when idle for ping_interval. False ends the stream.
-  bool stream_step(std::int64_t& next, core::Duration& last_write, httplib::DataSink& sink) {
-    while (!stopping) {
-      const auto page = reader()->events_after(next, 1000);
-      if (!page.empty()) {
-        std::string out;
-        for (const auto& e : page) {
-          fmt::format_to(std::back_inserter(out), "id: {}\nevent: event\ndata: ", e.seq);
-          append_json(out, e);
-          out += "\n\n";
-        }
-        next = page.back().seq;
-        last_write = monotonic();
-        return sink.write(out.data(), out.size());
+    // The committed events after the cursor, a page at a time.
+    auto next = [this, cursor](std::string& out) mutable {
+      const auto page = reader()->events_after(cursor, 1000);
+      for (const auto& e : page) {
+        fmt::format_to(std::back_inserter(out), "id: {}\nevent: event\ndata: ", e.seq);
+        append_json(out, e);
+        out += "\n\n";
       }
-      if (monotonic() - last_write >= options.ping_interval) {
-        last_write = monotonic();
-        static constexpr std::string_view ping = ": ping\n\n";
-        return sink.write(ping.data(), ping.size());
-      }
-      std::unique_lock lock(commit_mutex);
-      const auto seen = committed;
-      commit_cv.wait_for(lock, options.poll_interval, [&] { return committed != seen || stopping; });
-    }
-    return false;
+      if (!page.empty()) cursor = page.back().seq;
+    };
+    serve_event_stream(res, std::move(slot), commits, {options.ping_interval, options.poll_interval},
+                       std::move(next));
   }
 
   void post_session(const httplib::Request& req, httplib::Response& res) {
@@ -346,11 +312,7 @@ void AgentServer::start() { impl_->http.start(); }
 
 void AgentServer::stop() {
   auto& i = *impl_;
-  {
-    std::lock_guard lock(i.commit_mutex);
-    i.stopping = true;
-  }
-  i.commit_cv.notify_all();
+  i.commits.stop();  // the streams end, so that the server's threads can be joined
   i.http.stop();
 }
 
@@ -362,12 +324,6 @@ std::string AgentServer::address() const { return impl_->http.address(); }
 
 ConnectionCounts AgentServer::counts() const { return impl_->http.counts(); }
 
-void AgentServer::notify_commit(std::int64_t seq) {
-  {
-    std::lock_guard lock(impl_->commit_mutex);
-    impl_->committed = seq;
-  }
-  impl_->commit_cv.notify_all();
-}
+void AgentServer::notify_commit(std::int64_t /*seq: the streams read the store*/) { impl_->commits.notify(); }
 
 }  // namespace m2mlat::net

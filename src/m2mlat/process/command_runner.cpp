@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "m2mlat/core/fd.hpp"
 #include "m2mlat/core/printable.hpp"
 
 extern char** environ;
@@ -50,16 +51,6 @@ int not_executable(const std::string& program) {
   return why;
 }
 
-// Closes a descriptor once.
-struct Fd {
-  int fd = -1;
-  ~Fd() { reset(); }
-  void reset() {
-    if (fd >= 0) ::close(fd);
-    fd = -1;
-  }
-};
-
 }  // namespace
 
 std::string command_line(const std::vector<std::string>& argv) {
@@ -90,18 +81,18 @@ CommandResult ProcessRunner::run(const std::vector<std::string>& argv, core::Dur
     result.err = std::string("pipe: ") + std::strerror(errno);
     return result;
   }
-  Fd out_read{out_pipe[0]}, out_write{out_pipe[1]};
+  core::Fd out_read(out_pipe[0]), out_write(out_pipe[1]);
   if (::pipe2(err_pipe.data(), O_CLOEXEC) != 0) {
     result.err = std::string("pipe: ") + std::strerror(errno);
     return result;
   }
-  Fd err_read{err_pipe[0]}, err_write{err_pipe[1]};
+  core::Fd err_read(err_pipe[0]), err_write(err_pipe[1]);
 
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_adddup2(&actions, out_write.fd, 1);
-  posix_spawn_file_actions_adddup2(&actions, err_write.fd, 2);
+  posix_spawn_file_actions_adddup2(&actions, out_write.get(), 1);
+  posix_spawn_file_actions_adddup2(&actions, err_write.get(), 2);
 
   std::vector<char*> args;
   args.reserve(argv.size() + 1);
@@ -121,13 +112,13 @@ CommandResult ProcessRunner::run(const std::vector<std::string>& argv, core::Dur
 
   const std::int64_t deadline = monotonic_ns() + timeout.count();
   std::array<char, 4096> buffer{};
-  while (out_read.fd >= 0 || err_read.fd >= 0) {
+  while (out_read || err_read) {
     const std::int64_t left_ns = deadline - monotonic_ns();
     if (left_ns <= 0) {
       result.timed_out = true;
       break;
     }
-    std::array<pollfd, 2> fds{pollfd{out_read.fd, POLLIN, 0}, pollfd{err_read.fd, POLLIN, 0}};
+    std::array<pollfd, 2> fds{pollfd{out_read.get(), POLLIN, 0}, pollfd{err_read.get(), POLLIN, 0}};
     const int n = ::poll(fds.data(), fds.size(), static_cast<int>(left_ns / 1'000'000 + 1));
     if (n < 0) {
       if (errno == EINTR) continue;
@@ -135,9 +126,9 @@ CommandResult ProcessRunner::run(const std::vector<std::string>& argv, core::Dur
     }
     for (std::size_t i = 0; i < fds.size(); ++i) {
       if (fds[i].fd < 0 || fds[i].revents == 0) continue;
-      Fd& fd = i == 0 ? out_read : err_read;
+      core::Fd& fd = i == 0 ? out_read : err_read;
       std::string& sink = i == 0 ? result.out : result.err;
-      const ssize_t got = ::read(fd.fd, buffer.data(), buffer.size());
+      const ssize_t got = ::read(fd.get(), buffer.data(), buffer.size());
       if (got > 0)
         sink.append(buffer.data(), static_cast<std::size_t>(got));
       else if (got == 0 || errno != EINTR)

@@ -20,6 +20,7 @@
 #include <utility>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/fd.hpp"
 #include "m2mlat/core/version.hpp"
 #include "m2mlat/store/row_check.hpp"
 #include "m2mlat/store/rows.hpp"
@@ -63,17 +64,17 @@ void create_store(const std::string& path, const Options& options) {
   // Made with open(O_EXCL) and the mode SQLite gives a file it creates (0644 less the umask); mkstemp
   // would make it 0600, unreadable to a dashboard or backup running as another user.
   std::string temp;
-  int fd = -1;
+  core::Fd fd;
   std::random_device random;
-  for (int attempt = 0; fd < 0 && attempt < 100; ++attempt) {
+  for (int attempt = 0; !fd && attempt < 100; ++attempt) {
     temp = (dir / fmt::format(".{}.{:08x}", target.filename().string(), random())).string();
-    fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (fd < 0 && errno != EEXIST) break;
+    fd.reset(::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644));
+    if (!fd && errno != EEXIST) break;
   }
-  if (fd < 0)
+  if (!fd)
     throw core::Error(core::ErrorKind::io,
                       fmt::format("{}: cannot create the store: {}", path, std::strerror(errno)));
-  ::close(fd);  // a file only this call knows: no connection to it exists
+  fd.reset();  // a file only this call knows: no connection to it exists
   try {
     auto db = sqlite::Database::open(temp, sqlite::Database::Mode::read_write);
     db.set_busy_timeout(options.busy_timeout_ms);

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/fd.hpp"
 #include "m2mlat/net/wire.hpp"
 #include "m2mlat/store/store.hpp"
 
@@ -64,7 +65,6 @@ class AgentTest : public ::testing::Test {
   }
   void TearDown() override {
     for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path_ + suffix);
-    ::close(stop_);
   }
   AgentOptions options() {
     AgentOptions o;
@@ -88,10 +88,10 @@ class AgentTest : public ::testing::Test {
   }
   void stop() {
     const std::uint64_t one = 1;
-    ASSERT_EQ(::write(stop_, &one, sizeof one), static_cast<ssize_t>(sizeof one));
+    ASSERT_EQ(::write(stop_.get(), &one, sizeof one), static_cast<ssize_t>(sizeof one));
   }
   std::string path_;
-  int stop_ = ::eventfd(0, EFD_CLOEXEC);
+  core::Fd stop_{::eventfd(0, EFD_CLOEXEC)};
 };
 
 net::Status status(httplib::Client& c) {
@@ -105,7 +105,7 @@ TEST_F(AgentTest, SessionsFromTheApiAndDroppedEdgesBetweenThem) {
   Agent agent(options(), source);
   agent.start();
   capture::RecordCounters counters;
-  std::thread run([&] { counters = agent.run(stop_, [] { return std::string("SIGTERM"); }); });
+  std::thread run([&] { counters = agent.run(stop_.get(), [] { return std::string("SIGTERM"); }); });
   httplib::Client c("127.0.0.1", agent.port());
 
   ASSERT_TRUE(eventually([&] { return status(c).session.has_value(); }));
@@ -167,7 +167,7 @@ TEST_F(AgentTest, ClockSamplesFromTheHookGoIntoTheOpenSessionAndTheStatus) {
   };
   Agent agent(o, source);
   agent.start();
-  std::thread run([&] { agent.run(stop_); });
+  std::thread run([&] { agent.run(stop_.get()); });
   httplib::Client c("127.0.0.1", agent.port());
   ASSERT_TRUE(eventually([&] {
     const auto s = status(c);

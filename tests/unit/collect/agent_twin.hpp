@@ -12,7 +12,6 @@
 #include <cstdint>
 #include <filesystem>
 #include <mutex>
-#include <random>
 #include <string>
 #include <thread>
 #include <vector>
@@ -20,27 +19,9 @@
 #include "m2mlat/core/event.hpp"
 #include "m2mlat/net/wire.hpp"
 #include "m2mlat/store/store.hpp"
+#include "temp_dir.hpp"
 
 namespace m2mlat::testing {
-
-// A temporary folder removed at the end of the test.
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    path_ = std::filesystem::temp_directory_path() /
-            ("m2mlat-collect-" + std::to_string(rd()) + std::to_string(rd()));
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
-};
 
 enum class Fault {
   none,

@@ -18,6 +18,7 @@
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/sim/presets.hpp"
 #include "m2mlat/store/store.hpp"
+#include "temp_dir.hpp"
 
 using namespace m2mlat;
 
@@ -291,11 +292,8 @@ TEST(Dashboard, ParsesListenAddresses) {
 // The live view pairs a simulated campaign store and serves the result: the numbers on the page
 // are the pairing's.
 TEST(Dashboard, LiveViewServesThePairing) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("m2mlat-dashboard-" + std::to_string(::getpid()) + "-" +
-                    ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  std::filesystem::create_directories(dir);
-  const auto path = (dir / "campaign.db").string();
+  const m2mlat::testing::TempDir dir;
+  const auto path = dir.file("campaign.db");
   {
     auto store = store::Store::open(path);
     auto config = sim::preset("static_wifi");
@@ -328,5 +326,4 @@ TEST(Dashboard, LiveViewServesThePairing) {
     const auto final_summary = view.finish({n}, kNow);
     EXPECT_EQ(final_summary.summary.n, view.summary().summary.n);
   }
-  std::filesystem::remove_all(dir);
 }

@@ -3,7 +3,6 @@
 #include "m2mlat/collect/live_pairing.hpp"
 
 #include <gtest/gtest.h>
-#include <stdlib.h>
 
 #include <algorithm>
 #include <chrono>
@@ -16,29 +15,12 @@
 #include "m2mlat/capture/sim_to_store.hpp"
 #include "m2mlat/sim/presets.hpp"
 #include "m2mlat/store/store.hpp"
+#include "temp_dir.hpp"
 
 using namespace m2mlat;
+using m2mlat::testing::TempDir;
 
 namespace {
-
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "m2mlat-live-XXXXXX").string();
-    if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-    path_ = pattern;
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
-};
 
 // A simulated run of `preset` with field sensor faults (misses, bounces, spurious edges).
 // `magnets` > 1 gives bursts of edges on each side, the matcher's hard case.

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "m2mlat/core/error.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using m2mlat::core::Error;
@@ -48,13 +49,6 @@ class FileSizeLimit {
 
 class OutputFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    char pattern[] = "/tmp/m2mlat-output-XXXXXX";
-    ASSERT_NE(::mkdtemp(pattern), nullptr);
-    dir_ = pattern;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   static std::string read(const std::string& p) {
     std::ifstream in(p, std::ios::binary);
@@ -85,7 +79,8 @@ class OutputFile : public ::testing::Test {
     return {};
   }
 
-  fs::path dir_;
+  m2mlat::testing::TempDir temp_;
+  const fs::path dir_ = temp_.path();
 };
 
 TEST_F(OutputFile, NewFileGetsContentAndUmaskMode) {

@@ -9,6 +9,7 @@
 #include "m2mlat/formats/format.hpp"
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/formats/input_text.hpp"
+#include "temp_dir.hpp"
 
 namespace m2mlat::formats {
 namespace {
@@ -104,9 +105,8 @@ TEST(ImportFile, LeanTimestamps) {
 }
 
 TEST(ExportFile, EventsAndPairsThroughFilesOneNanosecondApart) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("m2mlat_formats_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
+  const m2mlat::testing::TempDir temp;
+  const auto& dir = temp.path();
   const std::int64_t t = 1'762'872'545'550'296'135;  // beyond double precision: 1 ns steps are lost there
   std::vector<core::Event> events;
   for (std::int64_t i = 0; i < 3; ++i)
@@ -129,7 +129,6 @@ TEST(ExportFile, EventsAndPairsThroughFilesOneNanosecondApart) {
   EXPECT_EQ(std::get<PairedImport>(back.content).pairs[0].latency(), core::Duration{1});
   EXPECT_THROW(export_events((dir / "x").string(), Format::kernel_log, events), core::Error);
   EXPECT_THROW(export_pairs((dir / "y").string(), Format::events_csv, pairs), core::Error);
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/formats/import_file.hpp"
+#include "temp_dir.hpp"
 
 namespace m2mlat::formats {
 namespace {
@@ -33,17 +34,13 @@ std::vector<core::Event> events_named(const std::string& last_node) {
 
 class ExportTarget : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("m2mlat_export_target_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::size_t entries() const {
     std::size_t n = 0;
     for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++n;
     return n;
   }
-  fs::path dir_;
+  m2mlat::testing::TempDir temp_;
+  const fs::path dir_ = temp_.path();
 };
 
 // The last event's node name holds a line break: the export is refused (data) after most of it was

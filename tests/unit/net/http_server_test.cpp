@@ -17,6 +17,7 @@
 
 #include "m2mlat/core/error.hpp"
 #include "raw_client.hpp"
+#include "temp_dir.hpp"
 
 namespace m2mlat::net {
 namespace {
@@ -223,19 +224,17 @@ TEST(HttpServer, NoOtherSocketCanShareThePort) {
 // A temporary folder with a self-signed certificate and its key (mode 0600), made by the openssl
 // command (the test is skipped where it is missing).
 struct TlsFiles {
-  std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("m2mlat-tls-" + std::to_string(::getpid()));
+  m2mlat::testing::TempDir temp;
+  const std::filesystem::path& dir = temp.path();
   std::string cert = (dir / "cert.pem").string(), key = (dir / "key.pem").string();
   bool made = false;
   TlsFiles() {
-    std::filesystem::create_directories(dir);
     const auto command =
         "openssl req -x509 -newkey rsa:2048 -nodes -days 1 -subj /CN=127.0.0.1 "
         "-addext subjectAltName=IP:127.0.0.1 -keyout " +
         key + " -out " + cert + " >/dev/null 2>&1";
     made = std::system(command.c_str()) == 0 && ::chmod(key.c_str(), 0600) == 0;
   }
-  ~TlsFiles() { std::filesystem::remove_all(dir); }
 };
 
 TEST(HttpServer, TlsServesAndCutsAStalledHandshake) {

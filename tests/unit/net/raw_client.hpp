@@ -19,6 +19,8 @@
 #include <thread>
 #include <vector>
 
+#include "m2mlat/core/fd.hpp"
+
 namespace m2mlat::test {
 
 class RawClient {
@@ -28,19 +30,16 @@ class RawClient {
     addr.sin_family = AF_INET;
     addr.sin_port = htons(static_cast<std::uint16_t>(port));
     addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    connected_ = fd_ >= 0 && ::connect(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
+    connected_ = fd_ && ::connect(fd_.get(), reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
   }
-  ~RawClient() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  RawClient(RawClient&& o) noexcept : fd_(o.fd_), connected_(o.connected_) { o.fd_ = -1; }
+  RawClient(RawClient&&) noexcept = default;
   RawClient(const RawClient&) = delete;
   RawClient& operator=(const RawClient&) = delete;
   RawClient& operator=(RawClient&&) = delete;
 
   bool connected() const { return connected_; }
   bool send(std::string_view bytes) {
-    return ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL | MSG_DONTWAIT) ==
+    return ::send(fd_.get(), bytes.data(), bytes.size(), MSG_NOSIGNAL | MSG_DONTWAIT) ==
            static_cast<ssize_t>(bytes.size());
   }
   // Whether the server closes the connection (end of file or reset) within `timeout`; whatever it
@@ -50,10 +49,10 @@ class RawClient {
     for (;;) {
       const auto left =
           std::chrono::duration_cast<std::chrono::milliseconds>(until - std::chrono::steady_clock::now());
-      pollfd p{fd_, POLLIN, 0};
+      pollfd p{fd_.get(), POLLIN, 0};
       if (::poll(&p, 1, static_cast<int>(std::max<long>(left.count(), 0))) <= 0) return false;
       char buffer[4096];
-      const auto n = ::recv(fd_, buffer, sizeof buffer, MSG_DONTWAIT);
+      const auto n = ::recv(fd_.get(), buffer, sizeof buffer, MSG_DONTWAIT);
       if (n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR)) return true;
     }
   }
@@ -65,17 +64,17 @@ class RawClient {
     for (;;) {
       const auto left =
           std::chrono::duration_cast<std::chrono::milliseconds>(until - std::chrono::steady_clock::now());
-      pollfd p{fd_, POLLIN, 0};
+      pollfd p{fd_.get(), POLLIN, 0};
       if (::poll(&p, 1, static_cast<int>(std::max<long>(left.count(), 0))) <= 0) return got;
       char buffer[4096];
-      const auto n = ::recv(fd_, buffer, sizeof buffer, MSG_DONTWAIT);
+      const auto n = ::recv(fd_.get(), buffer, sizeof buffer, MSG_DONTWAIT);
       if (n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR)) return got;
       if (n > 0) got.append(buffer, static_cast<std::size_t>(n));
     }
   }
 
  private:
-  int fd_;
+  core::Fd fd_;
   bool connected_ = false;
 };
 

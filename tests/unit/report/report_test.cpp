@@ -17,6 +17,7 @@
 #include "m2mlat/report/report_json.hpp"
 #include "m2mlat/report/report_tables.hpp"
 #include "m2mlat/report/svg_plot.hpp"
+#include "temp_dir.hpp"
 
 namespace m2mlat::report {
 namespace {
@@ -205,7 +206,8 @@ TEST(Html, SelfContainedWithEveryChart) {
 }
 
 TEST(Pgfplots, WritesFiguresAndData) {
-  const auto dir = std::filesystem::temp_directory_path() / ("m2mlat-pgf-test-" + std::to_string(::getpid()));
+  const m2mlat::testing::TempDir temp;
+  const auto dir = temp.path() / "figures";  // made by write_pgfplots
   const auto files = write_pgfplots(sample_report(), dir);
   for (const char* f : {"box.tex", "box.dat", "ecdf.tex", "histogram.tex", "histogram.dat", "figures.tex",
                         "timeseries-static_wifi.tex", "timeseries-static_wifi.dat", "clock-static_wifi.tex"})
@@ -214,14 +216,12 @@ TEST(Pgfplots, WritesFiguresAndData) {
   std::stringstream text;
   text << box.rdbuf();
   EXPECT_NE(text.str().find("boxplot prepared"), std::string::npos);
-  std::filesystem::remove_all(dir);
 }
 
 // A link planted in the figures folder under a figure's name is not written through.
 TEST(Pgfplots, PlantedSymlinkRefused) {
-  const auto dir =
-      std::filesystem::temp_directory_path() / ("m2mlat-pgf-link-test-" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
+  const m2mlat::testing::TempDir temp;
+  const auto& dir = temp.path();
   std::ofstream(dir / "victim") << "precious\n";
   std::filesystem::create_symlink(dir / "victim", dir / "box.tex");
   try {
@@ -236,7 +236,6 @@ TEST(Pgfplots, PlantedSymlinkRefused) {
   text << victim.rdbuf();
   EXPECT_EQ(text.str(), "precious\n");
   EXPECT_TRUE(std::filesystem::is_symlink(dir / "box.tex"));
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "temp_dir.hpp"
+
 namespace m2mlat::rt {
 namespace {
 
@@ -39,8 +41,8 @@ TEST(Interrupts, FindsTheIrqByTheExactConsumerLabel) {
 }
 
 TEST(Interrupts, PinWritesTheCpuAndReadsItBack) {
-  const auto root = std::filesystem::temp_directory_path() / "m2mlat-rt-proc";
-  std::filesystem::remove_all(root);
+  const m2mlat::testing::TempDir temp;  // stands for /proc
+  const auto& root = temp.path();
   std::filesystem::create_directories(root / "irq" / "155");
   std::ofstream(root / "irq" / "155" / "smp_affinity_list") << "0-3\n";
   EXPECT_EQ(irq_affinity(155, root.string()), "0-3");
@@ -51,7 +53,6 @@ TEST(Interrupts, PinWritesTheCpuAndReadsItBack) {
   EXPECT_FALSE(missing.ok);
   EXPECT_NE(missing.message.find("999"), std::string::npos);
   EXPECT_FALSE(irq_affinity(999, root.string()).has_value());
-  std::filesystem::remove_all(root);
 }
 
 }  // namespace

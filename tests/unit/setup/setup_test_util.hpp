@@ -11,18 +11,13 @@
 #include <string>
 
 #include "m2mlat/setup/apply.hpp"
+#include "temp_dir.hpp"
 
 namespace m2mlat::setup::testing {
 
+// A temporary folder standing for the root of a board's file system.
 class TempRoot {
  public:
-  TempRoot() {
-    std::string tmpl = (std::filesystem::temp_directory_path() / "m2mlat-setup-XXXXXX").string();
-    path_ = ::mkdtemp(tmpl.data());
-  }
-  ~TempRoot() { std::filesystem::remove_all(path_); }
-  TempRoot(const TempRoot&) = delete;
-  TempRoot& operator=(const TempRoot&) = delete;
   const std::string& path() const { return path_; }
   std::string file(const std::string& target) const { return under_root(path_, target); }
   void write(const std::string& target, const std::string& content) const {
@@ -37,7 +32,8 @@ class TempRoot {
   }
 
  private:
-  std::string path_;
+  m2mlat::testing::TempDir dir_;
+  std::string path_ = dir_.path().string();
 };
 
 struct Applied {

@@ -1,7 +1,6 @@
 // Offline merge: two board stores joined into a campaign store hold every board event once, keep the
 // nodes' sessions apart, and merging again (or a store that grew) adds only what is new.
 #include <gtest/gtest.h>
-#include <stdlib.h>
 
 #include <filesystem>
 #include <string>
@@ -10,26 +9,12 @@
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/store/merge.hpp"
 #include "m2mlat/store/store.hpp"
+#include "temp_dir.hpp"
 
 namespace m2mlat::store::merge_test {
 namespace {
 
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "m2mlat-merge-XXXXXX").string();
-    if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
-};
+using testing::TempDir;
 
 core::TimePoint rt(std::int64_t ns) { return core::TimePoint::from_ns(core::Clock::realtime, ns); }
 
