@@ -12,10 +12,9 @@ namespace m2mlat::analysis {
 
 namespace {
 
-std::optional<double> median_ms(std::vector<std::int64_t> v) {
-  if (v.empty()) return std::nullopt;
-  std::sort(v.begin(), v.end());
-  return stats::quantile(std::span<const std::int64_t>(v), 0.5) / 1e6;
+std::optional<double> median_ms(std::vector<std::int64_t> ns) {
+  if (ns.empty()) return std::nullopt;
+  return stats::median(std::move(ns)) / 1e6;
 }
 
 // The node's samples on `clock`, in time order (sessions of one node follow each other, but a

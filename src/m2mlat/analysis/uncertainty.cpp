@@ -32,12 +32,6 @@ bool synchronised(const store::ClockSample& s) {
   return s.synchronised && s.max_error_ns != kUnbounded && s.max_error_ns >= 0;
 }
 
-double median_ms(std::vector<std::int64_t> values) {
-  if (values.empty()) return stats::Summary::kNaN;
-  std::sort(values.begin(), values.end());
-  return stats::quantile(std::span<const std::int64_t>(values), 0.5) / 1e6;
-}
-
 }  // namespace
 
 ClockTrack make_clock_track(std::vector<store::ClockSample> samples, core::Clock clock) {
@@ -161,7 +155,7 @@ UncertaintySummary summarize_uncertainty(std::span<const SampleUncertainty> samp
     }
   }
   if (!max.empty()) {
-    s.median_est_ms = median_ms(est);
+    s.median_est_ms = stats::median(std::move(est)) / 1e6;
     std::sort(max.begin(), max.end());
     s.median_max_ms = stats::quantile(std::span<const std::int64_t>(max), 0.5) / 1e6;
     s.p95_max_ms = stats::quantile(std::span<const std::int64_t>(max), 0.95) / 1e6;

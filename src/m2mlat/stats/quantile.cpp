@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -69,6 +70,11 @@ double quantile(std::span<const double> sorted, double p) {
   const QuantilePosition at = quantile_position(sorted.size(), p);
   if (at.fraction == 0.0) return sorted[at.lower];
   return interpolate(sorted[at.lower], sorted[at.lower + 1], at.fraction);
+}
+
+double median(std::vector<std::int64_t> values) {
+  std::sort(values.begin(), values.end());
+  return quantile(std::span<const std::int64_t>(values), 0.5);
 }
 
 }  // namespace m2mlat::stats

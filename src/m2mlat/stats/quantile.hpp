@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 namespace m2mlat::stats {
 
@@ -38,5 +39,8 @@ double interpolate(std::int64_t a, std::int64_t b, double t);
 // neighbours is taken in integers, as numpy does for int64 arrays, so it is exact.
 double quantile(std::span<const std::int64_t> sorted, double p);
 double quantile(std::span<const double> sorted, double p);
+
+// The type-7 median of an unsorted sample (taken by value and sorted here); NaN when empty.
+double median(std::vector<std::int64_t> values);
 
 }  // namespace m2mlat::stats

@@ -9,8 +9,7 @@
 #include "m2mlat/analysis/scenario_result.hpp"
 #include "m2mlat/analysis/selection.hpp"
 
-using namespace m2mlat;
-
+namespace m2mlat::analysis::board_record_test {
 namespace {
 constexpr std::int64_t kMs = 1'000'000;
 constexpr std::int64_t kS = 1'000 * kMs;
@@ -142,3 +141,5 @@ TEST_F(BoardRecordTest, NoSamplesLeavesEverythingEmpty) {
   EXPECT_FALSE(result.cause_clock_ms.has_value());
   EXPECT_FALSE(result.effect_clock_ms.has_value());
 }
+
+}  // namespace m2mlat::analysis::board_record_test

@@ -12,9 +12,9 @@
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/store/store.hpp"
+#include "temp_dir.hpp"
 
-using namespace m2mlat;
-
+namespace m2mlat::analysis::pipeline_test {
 namespace {
 constexpr std::int64_t kMs = 1'000'000;
 constexpr std::int64_t kT0 = 1'700'000'000'000'000'000;
@@ -30,15 +30,7 @@ core::Event edge(const std::string& node, std::int64_t t_ns) {
 
 class PipelineTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("m2mlat-pipeline-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::string file(const std::string& name) const { return (dir_ / name).string(); }
+  std::string file(const std::string& name) const { return dir_.file(name); }
 
   // Two scenarios of 20 manoeuvres 4 s apart, latency 800 ms + i ms; clock samples on both boards.
   std::string make_store() const {
@@ -71,7 +63,7 @@ class PipelineTest : public ::testing::Test {
     }
     return path;
   }
-  std::filesystem::path dir_;
+  testing::TempDir dir_;
 };
 
 core::ErrorKind kind_of(const analysis::PipelineInputs& inputs) {
@@ -165,3 +157,5 @@ TEST_F(PipelineTest, BadInputsFailWithTheirKind) {
   missing.inputs = {file("nope.db")};
   EXPECT_EQ(kind_of(missing), core::ErrorKind::no_input);
 }
+
+}  // namespace m2mlat::analysis::pipeline_test

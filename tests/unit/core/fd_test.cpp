@@ -69,7 +69,8 @@ TEST(Fd, MoveHandsOverWithoutClosing) {
   EXPECT_FALSE(is_open(raw));
   EXPECT_EQ(moved.get(), other_raw);
   EXPECT_TRUE(at_eof(pipe.read));
-  moved = std::move(moved);  // self-assignment keeps it
+  auto& same = moved;  // through a reference: the compiler would refuse a plain self-move
+  moved = std::move(same);  // self-assignment keeps it
   EXPECT_TRUE(is_open(other_raw));
 }
 
