@@ -35,19 +35,6 @@ struct DemoCommand {
   bool json = false;
 };
 
-nlohmann::json truth_json(const analysis::TruthCheck& t) {
-  return {{"true_pairs", t.true_pairs},
-          {"found", t.found},
-          {"correct", t.correct},
-          {"wrong", t.wrong},
-          {"wrong_not_ambiguous", t.wrong_clear},
-          {"ambiguous", t.ambiguous},
-          {"missed", t.missed},
-          {"true_median_ms", t.true_median_ms},
-          {"max_abs_error_ns", t.max_abs_error_ns},
-          {"mean_error_ns", t.mean_error_ns}};
-}
-
 int run_demo(const DemoCommand& c) {
   const auto match_options = c.match.options();
   const auto summary_options = c.stats.options();
@@ -86,8 +73,7 @@ int run_demo(const DemoCommand& c) {
   }
 
   if (c.json) {
-    auto doc = report::stats_document(results);
-    for (std::size_t k = 0; k < checks.size(); ++k) doc["scenarios"][k]["truth"] = truth_json(checks[k]);
+    auto doc = report::stats_document(results, checks);
     if (!temporary) doc["store"] = path;
     print_json(doc);
   } else {

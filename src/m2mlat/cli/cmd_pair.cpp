@@ -53,10 +53,7 @@ Runner attach_pair(CLI::App& sub) {
     }
     if (!c->unmatched_out.empty()) analysis::write_unmatched_file(c->unmatched_out, results);
     if (c->json) {
-      nlohmann::json doc{{"format", report::kStatsFormat}, {"scenarios", nlohmann::json::array()}};
-      for (const auto& r : results)
-        doc["scenarios"].push_back({{"scenario", r.input.scenario}, {"pairing", report::pairing_json(r)}});
-      print_json(doc);
+      print_json(report::pairing_document(results));
     } else if (c->out != "-") {
       fmt::print("{}", report::pairing_table(results));
     }

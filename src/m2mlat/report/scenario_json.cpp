@@ -103,4 +103,30 @@ nlohmann::json stats_document(std::span<const analysis::ScenarioResult> results)
   return doc;
 }
 
+nlohmann::json pairing_document(std::span<const analysis::ScenarioResult> results) {
+  nlohmann::json doc{{"format", kStatsFormat}, {"scenarios", nlohmann::json::array()}};
+  for (const auto& r : results)
+    doc["scenarios"].push_back({{"scenario", r.input.scenario}, {"pairing", pairing_json(r)}});
+  return doc;
+}
+
+nlohmann::json stats_document(std::span<const analysis::ScenarioResult> results,
+                              std::span<const analysis::TruthCheck> checks) {
+  auto doc = stats_document(results);
+  for (std::size_t k = 0; k < checks.size() && k < results.size(); ++k) {
+    const auto& t = checks[k];
+    doc["scenarios"][k]["truth"] = {{"true_pairs", t.true_pairs},
+                                    {"found", t.found},
+                                    {"correct", t.correct},
+                                    {"wrong", t.wrong},
+                                    {"wrong_not_ambiguous", t.wrong_clear},
+                                    {"ambiguous", t.ambiguous},
+                                    {"missed", t.missed},
+                                    {"true_median_ms", t.true_median_ms},
+                                    {"max_abs_error_ns", t.max_abs_error_ns},
+                                    {"mean_error_ns", t.mean_error_ns}};
+  }
+  return doc;
+}
+
 }  // namespace m2mlat::report

@@ -7,6 +7,7 @@
 #include <span>
 
 #include "m2mlat/analysis/scenario_result.hpp"
+#include "m2mlat/analysis/truth_check.hpp"
 
 namespace m2mlat::report {
 
@@ -20,5 +21,11 @@ nlohmann::json scenario_json(const analysis::ScenarioResult& result);  // both o
 nlohmann::json uncertainty_json(const analysis::UncertaintySummary& summary);
 // {"format": "m2mlat-stats/1", "scenarios": [...]}
 nlohmann::json stats_document(std::span<const analysis::ScenarioResult> results);
+// `pair --json`: the same document with only the scenario's name and its pairing counts.
+nlohmann::json pairing_document(std::span<const analysis::ScenarioResult> results);
+// `demo --json`: stats_document with each scenario's comparison with the simulator's truth as
+// "truth" (checks[k] belongs to results[k]).
+nlohmann::json stats_document(std::span<const analysis::ScenarioResult> results,
+                              std::span<const analysis::TruthCheck> checks);
 
 }  // namespace m2mlat::report
