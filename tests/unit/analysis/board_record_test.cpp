@@ -4,27 +4,13 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
-
 #include "m2mlat/analysis/scenario_result.hpp"
 #include "m2mlat/analysis/selection.hpp"
+#include "store_fixture.hpp"
 
 namespace m2mlat::analysis::board_record_test {
 namespace {
-constexpr std::int64_t kMs = 1'000'000;
-constexpr std::int64_t kS = 1'000 * kMs;
-constexpr std::int64_t kT0 = 1'700'000'000'000'000'000;
-
-core::TimePoint rt(std::int64_t ns) { return core::TimePoint::from_ns(core::Clock::realtime, ns); }
-
-core::Event edge(const std::string& node, std::int64_t t_ns) {
-  core::Event e;
-  e.node = node;
-  e.channel = "wheel";
-  e.edge = core::Edge::falling;
-  e.time = rt(t_ns);
-  return e;
-}
+using namespace fixture;
 
 store::ClockSample sample(std::int64_t session, std::int64_t t_ns, const std::string& source,
                           std::int64_t max_error_ns, std::int64_t offset_ns = 0) {
@@ -39,42 +25,19 @@ store::ClockSample sample(std::int64_t session, std::int64_t t_ns, const std::st
   return s;
 }
 
-class BoardRecordTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    path_ = (std::filesystem::temp_directory_path() /
-             ("m2mlat-board-record-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-              "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".db"))
-                .string();
-    std::filesystem::remove(path_);
-  }
-  void TearDown() override {
-    for (const char* s : {"", "-wal", "-shm"}) std::filesystem::remove(path_ + s);
-  }
-  static std::int64_t session(store::Store& s, const std::string& scenario, const std::string& node,
-                              core::Role role, const std::vector<core::Event>& events) {
-    store::Session info;
-    info.scenario = scenario;
-    info.node = node;
-    info.role = role;
-    info.start = rt(kT0);
-    const auto id = s.begin_session(info);
-    s.append_events(id, events);
-    return id;
-  }
-  std::string path_;
-};
+using BoardRecordTest = StoreTest;
 }  // namespace
 
 TEST_F(BoardRecordTest, OneLoadGivesSeriesLossesBoundsAndBudget) {
   auto s = store::Store::open(path_);
-  const auto op = session(s, "run", "operator", core::Role::cause,
-                          {edge("operator", kT0 + 1 * kS), edge("operator", kT0 + 5 * kS)});
-  const auto veh =
-      session(s, "run", "vehicle", core::Role::effect,
-              {edge("vehicle", kT0 + 1 * kS + 800 * kMs), edge("vehicle", kT0 + 5 * kS + 850 * kMs)});
+  const auto op =
+      add_session(s, "run", "operator", core::Role::cause,
+                  {edge("operator", "wheel", kT0 + 1 * kS), edge("operator", "wheel", kT0 + 5 * kS)});
+  const auto veh = add_session(s, "run", "vehicle", core::Role::effect,
+                               {edge("vehicle", "wheel", kT0 + 1 * kS + 800 * kMs),
+                                edge("vehicle", "wheel", kT0 + 5 * kS + 850 * kMs)});
   // Another scenario's session on the same node: none of its samples or losses belong to "run".
-  const auto other = session(s, "other", "vehicle", core::Role::effect, {edge("vehicle", kT0)});
+  const auto other = add_session(s, "other", "vehicle", core::Role::effect, {edge("vehicle", "wheel", kT0)});
   // Stored out of time order; the vehicle has a step between its two samples.
   s.append_clock_samples(std::vector<store::ClockSample>{
       sample(op, kT0 + 4 * kS, "chrony", 300'000, 7), sample(op, kT0, "chrony", 100'000, 5),
@@ -131,8 +94,8 @@ TEST_F(BoardRecordTest, OneLoadGivesSeriesLossesBoundsAndBudget) {
 
 TEST_F(BoardRecordTest, NoSamplesLeavesEverythingEmpty) {
   auto s = store::Store::open(path_);
-  session(s, "run", "operator", core::Role::cause, {edge("operator", kT0)});
-  session(s, "run", "vehicle", core::Role::effect, {edge("vehicle", kT0 + 800 * kMs)});
+  add_session(s, "run", "operator", core::Role::cause, {edge("operator", "wheel", kT0)});
+  add_session(s, "run", "vehicle", core::Role::effect, {edge("vehicle", "wheel", kT0 + 800 * kMs)});
   auto result = analysis::analyse(analysis::load_scenario(s, "run", {}), {}, {});
   analysis::attach_board_record(result, s, {}, {});
   EXPECT_TRUE(result.clocks.empty());

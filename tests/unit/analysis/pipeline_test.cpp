@@ -5,33 +5,21 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <fstream>
+#include <tuple>
 
 #include "m2mlat/analysis/board_record.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/store/store.hpp"
-#include "temp_dir.hpp"
+#include "store_fixture.hpp"
 
 namespace m2mlat::analysis::pipeline_test {
 namespace {
-constexpr std::int64_t kMs = 1'000'000;
-constexpr std::int64_t kT0 = 1'700'000'000'000'000'000;
+using namespace fixture;
 
-core::Event edge(const std::string& node, std::int64_t t_ns) {
-  core::Event e;
-  e.node = node;
-  e.channel = "wheel";
-  e.edge = core::Edge::falling;
-  e.time = core::TimePoint::from_ns(core::Clock::realtime, t_ns);
-  return e;
-}
-
-class PipelineTest : public ::testing::Test {
+class PipelineTest : public StoreTest {
  protected:
-  std::string file(const std::string& name) const { return dir_.file(name); }
-
   // Two scenarios of 20 manoeuvres 4 s apart, latency 800 ms + i ms; clock samples on both boards.
   std::string make_store() const {
     const auto path = file("campaign.db");
@@ -39,21 +27,15 @@ class PipelineTest : public ::testing::Test {
     for (const std::string scenario : {"first", "second"}) {
       std::vector<core::Event> causes, effects;
       for (std::int64_t i = 0; i < 20; ++i) {
-        causes.push_back(edge("operator", kT0 + i * 4000 * kMs));
-        effects.push_back(edge("vehicle", kT0 + i * 4000 * kMs + (800 + i) * kMs));
+        causes.push_back(edge("operator", "wheel", kT0 + i * 4000 * kMs));
+        effects.push_back(edge("vehicle", "wheel", kT0 + i * 4000 * kMs + (800 + i) * kMs));
       }
       for (const auto& [node, role, events] : {std::tuple{"operator", core::Role::cause, causes},
                                                std::tuple{"vehicle", core::Role::effect, effects}}) {
-        store::Session info;
-        info.scenario = scenario;
-        info.node = node;
-        info.role = role;
-        info.start = core::TimePoint::from_ns(core::Clock::realtime, kT0);
-        const auto id = s.begin_session(info);
-        s.append_events(id, events);
+        const auto id = add_session(s, scenario, node, role, events);
         store::ClockSample c;
         c.session_id = id;
-        c.time = info.start;
+        c.time = rt(kT0);
         c.source = "chrony";
         c.max_error_ns = 250'000;
         c.est_error_ns = 50'000;
@@ -63,7 +45,6 @@ class PipelineTest : public ::testing::Test {
     }
     return path;
   }
-  testing::TempDir dir_;
 };
 
 core::ErrorKind kind_of(const analysis::PipelineInputs& inputs) {
@@ -115,8 +96,8 @@ TEST_F(PipelineTest, DataFilesGiveTheSamePairsAsTheStepsByHand) {
   // One events file with both sides, named after the file.
   std::vector<core::Event> events;
   for (std::int64_t i = 0; i < 10; ++i) {
-    events.push_back(edge("operator", kT0 + i * 4000 * kMs));
-    events.push_back(edge("vehicle", kT0 + i * 4000 * kMs + 900 * kMs));
+    events.push_back(edge("operator", "wheel", kT0 + i * 4000 * kMs));
+    events.push_back(edge("vehicle", "wheel", kT0 + i * 4000 * kMs + 900 * kMs));
   }
   formats::export_events(file("drive.csv"), formats::Format::events_csv, events);
   analysis::PipelineInputs inputs;

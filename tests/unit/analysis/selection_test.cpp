@@ -2,62 +2,24 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
-
 #include "m2mlat/analysis/scenario_result.hpp"
 #include "m2mlat/core/error.hpp"
+#include "store_fixture.hpp"
 
-using namespace m2mlat;
-
+namespace m2mlat::analysis::selection_test {
 namespace {
-constexpr std::int64_t kMs = 1'000'000;
-constexpr std::int64_t kT0 = 1'700'000'000'000'000'000;
-
-core::Event edge(const std::string& node, const std::string& channel, std::int64_t t_ns,
-                 core::Edge e = core::Edge::falling, core::Clock clock = core::Clock::realtime) {
-  core::Event ev;
-  ev.node = node;
-  ev.channel = channel;
-  ev.edge = e;
-  ev.time = core::TimePoint::from_ns(clock, t_ns);
-  return ev;
-}
-
-class SelectionTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    path_ = (std::filesystem::temp_directory_path() /
-             ("m2mlat-selection-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
-              ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".db"))
-                .string();
-    std::filesystem::remove(path_);
-  }
-  void TearDown() override {
-    for (const char* s : {"", "-wal", "-shm"}) std::filesystem::remove(path_ + s);
-  }
-  std::int64_t session(store::Store& s, const std::string& scenario, const std::string& node, core::Role role,
-                       const std::vector<core::Event>& events) {
-    store::Session info;
-    info.scenario = scenario;
-    info.node = node;
-    info.role = role;
-    info.start = core::TimePoint::from_ns(core::Clock::realtime, kT0);
-    const auto id = s.begin_session(info);
-    s.append_events(id, events);
-    return id;
-  }
-  std::string path_;
-};
+using namespace fixture;
+using SelectionTest = StoreTest;
 }  // namespace
 
 TEST_F(SelectionTest, LoadsBothSidesByRoleAndPairs) {
   auto s = store::Store::open(path_);
   // Stored out of time order on purpose: the loader sorts.
-  session(s, "run", "operator", core::Role::cause,
-          {edge("operator", "wheel", kT0 + 3000 * kMs), edge("operator", "wheel", kT0)});
-  session(s, "run", "vehicle", core::Role::effect,
-          {edge("vehicle", "wheel", kT0 + 800 * kMs), edge("vehicle", "wheel", kT0 + 3850 * kMs),
-           edge("vehicle", "wheel", kT0 + 3900 * kMs, core::Edge::rising)});
+  add_session(s, "run", "operator", core::Role::cause,
+              {edge("operator", "wheel", kT0 + 3000 * kMs), edge("operator", "wheel", kT0)});
+  add_session(s, "run", "vehicle", core::Role::effect,
+              {edge("vehicle", "wheel", kT0 + 800 * kMs), edge("vehicle", "wheel", kT0 + 3850 * kMs),
+               edge("vehicle", "wheel", kT0 + 3900 * kMs, core::Edge::rising)});
   const auto input = analysis::load_scenario(s, "run", {});
   EXPECT_EQ(input.cause_ref, (core::ChannelRef{"operator", "wheel"}));
   EXPECT_EQ(input.effect_ref, (core::ChannelRef{"vehicle", "wheel"}));
@@ -73,7 +35,7 @@ TEST_F(SelectionTest, LoadsBothSidesByRoleAndPairs) {
 
 TEST_F(SelectionTest, ClearErrors) {
   auto s = store::Store::open(path_);
-  session(s, "one-sided", "operator", core::Role::cause, {edge("operator", "wheel", kT0)});
+  add_session(s, "one-sided", "operator", core::Role::cause, {edge("operator", "wheel", kT0)});
   try {
     analysis::load_scenario(s, "one-sided", {});
     FAIL();
@@ -83,9 +45,9 @@ TEST_F(SelectionTest, ClearErrors) {
   }
   EXPECT_THROW(analysis::load_scenario(s, "missing", {}), core::Error);
 
-  session(s, "two-channels", "operator", core::Role::cause,
-          {edge("operator", "wheel", kT0), edge("operator", "pedal", kT0 + 1)});
-  session(s, "two-channels", "vehicle", core::Role::effect, {edge("vehicle", "wheel", kT0 + 800 * kMs)});
+  add_session(s, "two-channels", "operator", core::Role::cause,
+              {edge("operator", "wheel", kT0), edge("operator", "pedal", kT0 + 1)});
+  add_session(s, "two-channels", "vehicle", core::Role::effect, {edge("vehicle", "wheel", kT0 + 800 * kMs)});
   try {
     analysis::load_scenario(s, "two-channels", {});
     FAIL();
@@ -96,9 +58,9 @@ TEST_F(SelectionTest, ClearErrors) {
   chosen.cause = core::ChannelRef{"operator", "wheel"};
   EXPECT_EQ(analysis::load_scenario(s, "two-channels", chosen).cause.t_ns.size(), 1u);
 
-  session(s, "clocks", "operator", core::Role::cause,
-          {edge("operator", "wheel", 5, core::Edge::falling, core::Clock::monotonic)});
-  session(s, "clocks", "vehicle", core::Role::effect, {edge("vehicle", "wheel", kT0)});
+  add_session(s, "clocks", "operator", core::Role::cause,
+              {edge("operator", "wheel", 5, core::Edge::falling, core::Clock::monotonic)});
+  add_session(s, "clocks", "vehicle", core::Role::effect, {edge("vehicle", "wheel", kT0)});
   try {
     analysis::load_scenario(s, "clocks", {});
     FAIL();
@@ -176,3 +138,5 @@ TEST(Summarize, ExtremesNameTheCauseOfPairsInTheStatistics) {
   EXPECT_EQ(r.summary.max->id, 74);
   EXPECT_EQ(r.latencies_ns().front(), 500 * kMs);  // the result's pairs are not reordered
 }
+
+}  // namespace m2mlat::analysis::selection_test
