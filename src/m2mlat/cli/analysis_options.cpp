@@ -16,10 +16,14 @@ void MatchFlags::add_to(CLI::App& sub) {
       ->capture_default_str();
   group->add_option("--refractory", refractory, "Edges closer than this after a kept edge are bounces")
       ->capture_default_str();
-  group->add_option("--tolerance", tolerance, "Largest deviation of a pair from the local typical latency")
+  group->add_option("--tolerance", tolerance,
+                    "Largest deviation of a pair from the local typical latency (none: the data decide)")
       ->capture_default_str();
-  group->add_option("--burst-gap", burst_gap, "Edges closer than this form one burst (multi-magnet wheels)")
+  group->add_option("--burst-gap", burst_gap,
+                    "Edges closer than this form one burst (auto: from --magnets, 250ms for one magnet)")
       ->capture_default_str();
+  group->add_option("--magnets", magnets, "Magnet angles on the wheels in degrees, e.g. 0,90,180,270")
+      ->delimiter(',');
   group->add_flag("--include-ambiguous", include_ambiguous,
                   "Include pairs of bursts with a missed or extra edge in the statistics");
 }
@@ -38,8 +42,13 @@ pairing::MatchOptions MatchFlags::options() const {
   o.min_latency = latency("--min-latency", min_latency);
   o.max_latency = latency("--max-latency", max_latency);
   o.refractory = duration_flag("--refractory", refractory);
-  o.tolerance = duration_flag("--tolerance", tolerance);
-  o.burst_gap = duration_flag("--burst-gap", burst_gap);
+  o.tolerance = tolerance == "none" ? core::Duration{0} : duration_flag("--tolerance", tolerance);
+  o.burst_gap = burst_gap == "auto" ? core::Duration{0} : duration_flag("--burst-gap", burst_gap);
+  for (const double angle : magnets)
+    if (!(angle >= 0 && angle < 360))
+      throw core::Error(core::ErrorKind::usage,
+                        fmt::format("--magnets: {} is not an angle in [0, 360) degrees", angle));
+  o.magnets_deg = magnets;
   return o;
 }
 

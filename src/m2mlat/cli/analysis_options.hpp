@@ -18,10 +18,11 @@ namespace m2mlat::cli {
 
 struct MatchFlags {
   std::string min_latency = "0ms";
-  std::string max_latency = "3s";
+  std::string max_latency = "10s";
   std::string refractory = "10ms";
-  std::string tolerance = "1s";
-  std::string burst_gap = "250ms";
+  std::string tolerance = "none";
+  std::string burst_gap = "auto";
+  std::vector<double> magnets;  // the wheels' magnet layout, degrees (empty: one magnet)
   bool include_ambiguous = false;  // statistics over ambiguous pairs too
   void add_to(CLI::App& sub);
   pairing::MatchOptions options() const;  // throws core::Error(usage) naming the flag

@@ -29,7 +29,6 @@ struct DemoCommand {
                                      "dynamic_autonomous"};
   std::uint64_t seed = 1;
   std::int64_t manoeuvres = 0;  // 0: the presets' own count
-  std::vector<double> magnets;  // empty: the presets' own
   MatchFlags match;
   StatsFlags stats;
   bool json = false;
@@ -53,7 +52,7 @@ int run_demo(const DemoCommand& c) {
       auto config = sim::preset(c.scenarios[k]);
       config.seed = c.seed + k;  // each scenario its own random stream
       if (c.manoeuvres > 0) config.manoeuvres = c.manoeuvres;
-      if (!c.magnets.empty()) config.magnets_deg = c.magnets;
+      if (!c.match.magnets.empty()) config.magnets_deg = c.match.magnets;  // the wheels and the matcher
       std::vector<sim::TruePair> truth;
       capture::record_simulation(store, config, "demo", [&](const sim::Chunk& chunk, std::int64_t events) {
         truth.insert(truth.end(), chunk.pairs.begin(), chunk.pairs.end());
@@ -112,8 +111,6 @@ Runner attach_demo(CLI::App& sub) {
   sub.add_option("--seed", c->seed, "Seed of the first scenario (the next ones use seed+1, ...)")
       ->capture_default_str();
   sub.add_option("--manoeuvres", c->manoeuvres, "Manoeuvres per scenario (default: the preset's)");
-  sub.add_option("--magnets", c->magnets, "Magnet angles on the wheels in degrees, e.g. 0,20,40")
-      ->delimiter(',');
   c->match.add_to(sub);
   c->stats.add_to(sub);
   sub.add_flag("--json", c->json, "Print m2mlat-stats/1 JSON with a truth section per scenario");

@@ -102,7 +102,7 @@ std::size_t candidate_count(const Sides& sides) {
 // and never the window's width: a table of every bin while there are fewer bins than candidates,
 // else each candidate's bin, sorted.
 std::int64_t global_reference(const Sides& sides, std::size_t candidates) {
-  constexpr std::int64_t kBin = 20'000'000;  // ns
+  constexpr std::int64_t kBin = 100'000'000;  // ns
   const auto bin_count = static_cast<std::size_t>((sides.max_ns - sides.min_ns) / kBin + 1);
   // Calls use(bin) for every candidate. (The names are bound inside: C++20 lets clang capture no
   // structured binding.)
@@ -153,10 +153,10 @@ struct Candidates {
   std::vector<std::uint32_t> effect, pred, row_start;
 };
 
-// One alignment pass. reference(i) is the expected latency of cause i (ns). A candidate (i, j) is
-// allowed if |latency - reference(i)| < tolerance and then fits by tolerance - |latency - reference(i)|.
-// A chain's value is (pairs, total fit) compared lexicographically when `most_pairs_first`, else
-// (total fit) alone. Returns for each cause the matched effect or kNone.
+// One alignment pass: the order-preserving one-to-one set of candidate pairs with the most pairs worth
+// more than `typical_above` (the typical pairs), then the largest total value. value(i, latency) is the
+// worth of pairing cause i at that latency (ns of the window): > 0 to be allowed, kDisallowed to
+// forbid. Returns for each cause the matched effect or kNone.
 //
 // G(i, j) = value(i, j) + max(0, max{ G(i', j') : i' < i, j' < j }) is the best value of an ordered
 // chain of pairs ending in (i, j). Causes are processed in order; for effects we keep best[j] = max
@@ -164,17 +164,22 @@ struct Candidates {
 // by the window are folded into one `frozen` maximum, so each cause costs O(its window), and best[]
 // only needs the effects inside the current window: it is a ring of the widest window's size
 // (a power of two), not one entry per effect.
-template <typename Reference>
-std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, std::int64_t tolerance_ns,
-                                 bool most_pairs_first, Reference reference) {
+constexpr std::int64_t kDisallowed = -1;
+constexpr std::int64_t kCountNothing = std::numeric_limits<std::int64_t>::max();  // align(): fit only
+
+template <typename Value>
+std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, std::int64_t typical_above, Value value) {
   struct Best {                       // 16 bytes
-    std::int64_t fit = 0;             // sum of (tolerance - deviation), ns
-    std::uint32_t pairs = 0;          // counted only when most_pairs_first (fewer than 2^32 causes)
+    std::int64_t fit = 0;             // the chain's total value
+    std::uint32_t typical = 0;        // its pairs worth more than `typical_above` (fewer than 2^32 causes)
     std::uint32_t candidate = kNone;  // the chain's last candidate, or kNone for the empty chain
-    bool operator>(const Best& o) const { return pairs != o.pairs ? pairs > o.pairs : fit > o.fit; }
+    bool operator>(const Best& o) const { return typical != o.typical ? typical > o.typical : fit > o.fit; }
   };
   const auto& [causes, effects, min_ns, max_ns] = sides;
-  const std::uint32_t pair_count = most_pairs_first ? 1 : 0;
+  // A typical pair counts 2, another pair 1; without a typical worth, nothing is counted.
+  const auto count = [typical_above](std::int64_t v) -> std::uint32_t {
+    return typical_above == kCountNothing ? 0u : v > typical_above ? 2u : 1u;
+  };
   std::size_t window_total = 0, widest = 1;
   {
     Window w = sides.window();
@@ -207,17 +212,15 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, std::int6
       if (slot > frozen) frozen = slot;
       slot = Best{};  // the slot now serves effect folded + ring_size
     }
-    const std::int64_t ref = reference(i);
     Best running = frozen;  // max over effects < j, from causes < i
     row.clear();
     for (auto j = w.lo; j < w.hi; ++j) {
-      const std::int64_t latency = effects[j] - causes[i];
-      const std::int64_t deviation = latency > ref ? latency - ref : ref - latency;
-      if (deviation < tolerance_ns) {
+      const std::int64_t v = value(i, effects[j] - causes[i]);
+      if (v > 0) {
         const auto id = static_cast<std::uint32_t>(cand.effect.size());
         cand.effect.push_back(j);
         cand.pred.push_back(running.candidate);
-        row.emplace_back(j, Best{running.fit + (tolerance_ns - deviation), running.pairs + pair_count, id});
+        row.emplace_back(j, Best{running.fit + v, running.typical + count(v), id});
       }
       if (best[j & mask] > running) running = best[j & mask];
     }
@@ -241,18 +244,30 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, std::int6
   return match;
 }
 
-// Running median of the matched latencies over `k` pairs either side, assigned to every cause (causes
-// without a pass-1 pair take the value of the nearest pair before them, or the first pair). The pairs
-// are walked in `match` itself by three cursors (the pair whose median is taken, the pair entering
-// the window, the pair leaving it), so nothing but the result is allocated per cause or pair.
-std::vector<std::int64_t> local_reference(std::span<const std::int64_t> causes,
-                                          std::span<const std::int64_t> effects,
-                                          const std::vector<std::uint32_t>& match, int k,
-                                          std::int64_t fallback) {
-  std::vector<std::int64_t> reference(causes.size(), fallback);
+// The locally typical latency and how far a true pair may stray from it, per cause (ns).
+struct LocalReference {
+  std::vector<std::int64_t> median;      // running median of the matched latencies
+  std::vector<std::int64_t> acceptance;  // kSpreadFactor x their median absolute deviation, >= kMinAcceptance
+};
+// 7.5 MAD is 5 standard deviations of a normal spread (MAD = 0.6745 sd): a true pair strays that far
+// about once in two million. The floor keeps a very regular rig (sd of a few ms) from calling every
+// small change a jump: a clock step of up to a few tens of ms is then still a typical latency.
+constexpr std::int64_t kMinAcceptance = 50'000'000;  // ns
+constexpr std::int64_t kSpreadNumerator = 15, kSpreadDenominator = 2;
+
+// Running median (and median absolute deviation) of the matched latencies over `k` pairs either side,
+// assigned to every cause (causes without a pair take the values of the nearest pair before them, or
+// the first pair). The pairs are walked in `match` itself by three cursors (the pair whose median is
+// taken, the pair entering the window, the pair leaving it), so nothing but the result and the
+// window is allocated.
+LocalReference local_reference(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
+                               const std::vector<std::uint32_t>& match, int k, std::int64_t fallback) {
+  LocalReference out{std::vector<std::int64_t>(causes.size(), fallback),
+                     std::vector<std::int64_t>(causes.size(), kMinAcceptance)};
+  auto& reference = out.median;
   const auto n = static_cast<std::ptrdiff_t>(
       std::count_if(match.begin(), match.end(), [](std::uint32_t j) { return j != kNone; }));
-  if (n == 0) return reference;
+  if (n == 0) return out;
   const auto next_pair = [&](std::size_t from) {  // the first matched cause >= from, or the end
     while (from < match.size() && match[from] == kNone) ++from;
     return from;
@@ -260,8 +275,9 @@ std::vector<std::int64_t> local_reference(std::span<const std::int64_t> causes,
   const auto latency = [&](std::size_t i) { return effects[match[i]] - causes[i]; };
   // The window [p - k, p + k] slides one pair at a time: keep it sorted, remove the pair that
   // leaves and insert the one that enters (binary search + a short move), instead of re-selecting.
-  std::vector<std::int64_t> window;
+  std::vector<std::int64_t> window, deviations;
   window.reserve(2 * static_cast<std::size_t>(k) + 1);
+  deviations.reserve(window.capacity());
   std::ptrdiff_t first = 0, last = 0;  // the window holds pairs [first, last)
   std::size_t entering = next_pair(0), leaving = entering, current = entering;  // their causes
   std::size_t filled = 0;                                                       // reference[0, filled) set
@@ -275,11 +291,16 @@ std::vector<std::int64_t> local_reference(std::span<const std::int64_t> causes,
     for (; first < want_first; ++first, leaving = next_pair(leaving + 1))
       window.erase(std::lower_bound(window.begin(), window.end(), latency(leaving)));
     const std::int64_t median = window[window.size() / 2];
+    deviations.clear();
+    for (const auto v : window) deviations.push_back(v > median ? v - median : median - v);
+    const auto mid = deviations.begin() + static_cast<std::ptrdiff_t>(deviations.size() / 2);
+    std::nth_element(deviations.begin(), mid, deviations.end());
+    const std::int64_t acceptance = std::max(kMinAcceptance, *mid * kSpreadNumerator / kSpreadDenominator);
     const std::size_t next = next_pair(current + 1);  // the cause of pair p + 1, or the end
-    for (; filled < next; ++filled) reference[filled] = median;
+    for (; filled < next; ++filled) reference[filled] = median, out.acceptance[filled] = acceptance;
     current = next;
   }
-  return reference;
+  return out;
 }
 
 // Bursts: runs of kept edges on one side closer than `gap` to the previous one. Returns the burst
@@ -365,6 +386,153 @@ std::vector<bool> ambiguous_pairs(std::span<const std::int64_t> causes, std::spa
   return ambiguous;
 }
 
+// The worth of a pair in passes 2 and 3 (units: kDeviationCost = one acceptance of deviation): a pair
+// is worth kPairWorth less its deviation from the local reference in acceptances, the deviation
+// counted up to one acceptance. So a typical pair is worth about 1.5, a pair beyond the acceptance 0.5:
+// a latency that jumps (a stalled link) is still paired when nothing fits better, but a chain of pairs
+// shifted by one manoeuvre to gain one pair (worth at most 1.5) costs about 1 for each shifted pair
+// and is never chosen. With a tolerance given, pairs beyond it are not allowed at all.
+constexpr std::int64_t kPairWorth = 1500, kDeviationCost = 1000;
+constexpr std::size_t kConfirmingRun = 2;
+// Pass 1 knows no local spread yet: a pair within this of the global reference counts as typical.
+constexpr std::int64_t kFirstPassAcceptance = 1'000'000'000;  // ns
+
+std::int64_t pair_worth(const LocalReference& reference, std::size_t i, std::int64_t latency,
+                        std::int64_t tolerance_ns) {
+  const std::int64_t ref = reference.median[i];
+  const std::int64_t deviation = latency > ref ? latency - ref : ref - latency;
+  if (tolerance_ns > 0 && deviation >= tolerance_ns) return kDisallowed;
+  return kPairWorth - std::min(kDeviationCost, deviation * kDeviationCost / reference.acceptance[i]);
+}
+
+// The pairs the data cannot make certain besides the bursts' (ambiguous_pairs), as PairFlag bits per
+// cause:
+//  - kPairCompeting: an unmatched edge could take the pair's place, alone or by shifting its
+//    neighbours by one, and the pairing so changed is worth at most kDeviationCost less. (A lost edge
+//    and a spurious one look the same as a real outlier and a lucky fit; one step of such a change is
+//    always within that margin, so the pairs next to an unmatched edge are always flagged.)
+//  - kPairJump: the latency lies beyond the local acceptance and is not confirmed by its
+//    neighbours: a jump is taken as real (a stalled link) only when at least two consecutive pairs
+//    jump and every edge between the typical pairs around them, on both sides, is paired, so that
+//    the order alone fixes which edge belongs to which.
+std::vector<std::uint32_t> uncertain_pairs(const Sides& sides, const std::vector<std::uint32_t>& matched,
+                                           const LocalReference& reference, std::int64_t tolerance_ns) {
+  const auto& [causes, effects, min_ns, max_ns] = sides;
+  std::vector<std::uint32_t> flags(matched.size(), 0);
+  std::vector<std::uint32_t> pc, pe;  // the pairs in order: cause and effect indices
+  for (std::size_t i = 0; i < matched.size(); ++i)
+    if (matched[i] != kNone) pc.push_back(static_cast<std::uint32_t>(i)), pe.push_back(matched[i]);
+  const std::size_t n = pc.size();
+  if (n == 0) return flags;
+  const auto in_window = [&](std::uint32_t i, std::uint32_t j) {
+    const std::int64_t latency = effects[j] - causes[i];
+    return latency >= min_ns && latency <= max_ns;
+  };
+  const auto worth = [&](std::uint32_t i, std::uint32_t j) {
+    return pair_worth(reference, i, effects[j] - causes[i], tolerance_ns);
+  };
+  const auto paired_worth = [&](std::size_t k) { return worth(pc[k], pe[k]); };
+  constexpr std::size_t kMaxShift = 64;  // pairs a change may shift: far beyond what stays in the margin
+
+  // Unmatched kept edges of each side, ascending.
+  std::vector<std::uint32_t> lone_causes, lone_effects;
+  {
+    std::vector<bool> effect_used(effects.size(), false);
+    for (const auto j : pe) effect_used[j] = true;
+    for (std::size_t i = 0; i < causes.size(); ++i)
+      if (matched[i] == kNone) lone_causes.push_back(static_cast<std::uint32_t>(i));
+    for (std::size_t j = 0; j < effects.size(); ++j)
+      if (!effect_used[j]) lone_effects.push_back(static_cast<std::uint32_t>(j));
+  }
+  // An unmatched edge walks into the pairs after it (step +1) or before it (step -1): at each step the
+  // edge freed by the previous step takes the next pair's partner, and the change of the pairing's
+  // worth adds up. The change may stop at any step (the last freed edge stays unmatched), or end by
+  // pairing the freed edge with an unmatched edge of the other side that lies between this pair's
+  // partner and the next one's (a pair more). Every pair up to the farthest step whose change is
+  // within kDeviationCost is flagged.
+  const auto walk = [&](std::ptrdiff_t k, int step, std::uint32_t free, bool free_is_cause) {
+    const auto& others = free_is_cause ? lone_effects : lone_causes;
+    const auto partner = [&](std::size_t q) { return free_is_cause ? pe[q] : pc[q]; };
+    const auto own = [&](std::size_t q) { return free_is_cause ? pc[q] : pe[q]; };
+    const auto make = [&](std::uint32_t mine, std::uint32_t other) {  // (cause, effect)
+      return free_is_cause ? std::pair{mine, other} : std::pair{other, mine};
+    };
+    const auto value = [&](std::uint32_t mine, std::uint32_t other) {
+      const auto [i, j] = make(mine, other);
+      return in_window(i, j) ? worth(i, j) : kDisallowed;
+    };
+    const std::ptrdiff_t start = k;
+    std::int64_t change = 0;
+    std::ptrdiff_t flag_to = -1;  // the farthest step within the margin
+    std::ptrdiff_t steps = 0;
+    for (; steps < static_cast<std::ptrdiff_t>(kMaxShift) && k >= 0 && static_cast<std::size_t>(k) < n;
+         ++steps, k += step) {
+      const auto q = static_cast<std::size_t>(k);
+      const std::int64_t w = value(free, partner(q));
+      if (w == kDisallowed) break;
+      change += w - paired_worth(q);
+      free = own(q);
+      if (change >= -kDeviationCost) flag_to = steps;
+      // End with an unmatched edge of the other side between partner(q) and the next pair's partner.
+      const bool forward = step > 0;
+      const auto first = forward ? std::upper_bound(others.begin(), others.end(), partner(q))
+                         : q > 0 ? std::upper_bound(others.begin(), others.end(), partner(q - 1))
+                                 : others.begin();
+      const std::uint32_t below = forward ? (q + 1 < n ? partner(q + 1) : kNone) : partner(q);
+      for (auto it = first; it != others.end() && *it < below; ++it) {
+        const std::int64_t end = value(free, *it);
+        if (end != kDisallowed && change + end >= -kDeviationCost) flag_to = steps;
+      }
+      if (change < -kDeviationCost - kPairWorth) break;  // no ending can bring it back
+    }
+    for (std::ptrdiff_t r = 0; r <= flag_to; ++r) flags[pc[static_cast<std::size_t>(start + r * step)]] |= kPairCompeting;
+  };
+  for (const auto i : lone_causes) {
+    const auto next = static_cast<std::ptrdiff_t>(std::lower_bound(pc.begin(), pc.end(), i) - pc.begin());
+    walk(next, +1, i, true);
+    walk(next - 1, -1, i, true);
+  }
+  for (const auto j : lone_effects) {
+    const auto next = static_cast<std::ptrdiff_t>(std::lower_bound(pe.begin(), pe.end(), j) - pe.begin());
+    walk(next, +1, j, false);
+    walk(next - 1, -1, j, false);
+  }
+
+  // Jumps: runs of consecutive pairs beyond the acceptance.
+  const auto jumps = [&](std::size_t k) {
+    const std::int64_t latency = effects[pe[k]] - causes[pc[k]], ref = reference.median[pc[k]];
+    return (latency > ref ? latency - ref : ref - latency) >= reference.acceptance[pc[k]];
+  };
+  for (std::size_t k = 0; k < n;) {
+    if (!jumps(k)) {
+      ++k;
+      continue;
+    }
+    std::size_t end = k;
+    while (end < n && jumps(end)) ++end;
+    // Confirmed: two or more, typical pairs on both sides, every edge between those paired, and not a
+    // chain shifted by one edge: if each cause of the run fits typically with its neighbour's
+    // partner, the run is as likely a shifted chain that swallowed an unmatched edge at either end.
+    bool confirmed = end - k >= kConfirmingRun && k > 0 && end < n && pc[end] - pc[k - 1] == end - k + 1 &&
+                     pe[end] - pe[k - 1] == end - k + 1;
+    for (const int shift : {-1, +1}) {
+      std::size_t fits = 0;
+      for (std::size_t r = k; r < end; ++r) {
+        const auto q = static_cast<std::ptrdiff_t>(r) + shift;
+        if (q < 0 || static_cast<std::size_t>(q) >= n) continue;
+        const std::uint32_t i = pc[r], j = pe[static_cast<std::size_t>(q)];
+        const std::int64_t latency = effects[j] - causes[i], ref = reference.median[i];
+        fits += (latency > ref ? latency - ref : ref - latency) < reference.acceptance[i];
+      }
+      if (2 * fits >= end - k) confirmed = false;
+    }
+    if (!confirmed)
+      for (std::size_t r = k; r < end; ++r) flags[pc[r]] |= kPairJump;
+    k = end;
+  }
+  return flags;
+}
+
 void check_sorted(std::span<const std::int64_t> times, const char* side) {
   const auto it = std::is_sorted_until(times.begin(), times.end());
   if (it != times.end())
@@ -374,13 +542,22 @@ void check_sorted(std::span<const std::int64_t> times, const char* side) {
 
 }  // namespace
 
+core::Duration burst_gap_for(std::span<const double> magnets_deg) {
+  std::vector<double> angles(magnets_deg.begin(), magnets_deg.end());
+  std::sort(angles.begin(), angles.end());
+  double widest = 0;  // degrees between neighbouring magnets (a sweep turns across, not around)
+  for (std::size_t k = 1; k < angles.size(); ++k) widest = std::max(widest, angles[k] - angles[k - 1]);
+  const auto gap = core::Duration{static_cast<std::int64_t>(widest / kSlowestSteeringDegPerS * 1e9)};
+  return std::max(gap, kDefaultBurstGap);
+}
+
 MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
                   core::Clock clock, const MatchOptions& options) {
   if (options.max_latency <= options.min_latency)
     throw core::Error(core::ErrorKind::usage,
                       "the latency window is empty: max latency must exceed min latency");
-  if (options.tolerance.count() <= 0)
-    throw core::Error(core::ErrorKind::usage, "the tolerance must be positive");
+  if (options.tolerance.count() < 0)
+    throw core::Error(core::ErrorKind::usage, "the tolerance must not be negative (0: none)");
   if (options.reference_neighbours < 1)
     throw core::Error(core::ErrorKind::usage, "reference neighbours must be >= 1");
   if (options.min_latency < -kMaxLatency || options.max_latency > kMaxLatency)
@@ -409,25 +586,35 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
                     core::format_duration(options.min_latency), core::format_duration(options.max_latency),
                     candidate_total, kMaxCandidates));
 
-  // Pass 1: one global reference; every candidate in the window is allowed, and the best fit wins
-  // (not the most pairs, so a missing edge cannot shift a chain of pairs to gain one).
+  // Pass 1: one global reference; every candidate in the window is allowed, and the best fit wins.
   const std::int64_t global = global_reference(sides, candidate_total);
-  const std::int64_t wide = (max_ns - min_ns) + 1;
   Candidates candidates;
-  auto match1 = align(sides, candidates, wide, false, [&](std::size_t) { return global; });
-  // Pass 2: the local reference; within the tolerance, the most pairs, then the best fit.
-  auto reference = local_reference(causes.ns, effects.ns, match1, options.reference_neighbours, global);
-  free_now(match1);
-  const auto matched =
-      align(sides, candidates, options.tolerance.count(), true, [&](std::size_t i) { return reference[i]; });
-  free_now(reference);
+  const LocalReference global_only{{global}, {kFirstPassAcceptance}};
+  auto matched = align(sides, candidates, kCountNothing, [&](std::size_t, std::int64_t latency) {
+    return pair_worth(global_only, 0, latency, options.tolerance.count());
+  });
+  // Passes 2 and 3: against the local reference of the previous pass (pair worth, below).
+  auto reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
+  for (int pass = 2; pass <= 3; ++pass) {
+    matched = align(sides, candidates, kPairWorth - kDeviationCost, [&](std::size_t i, std::int64_t latency) {
+      return pair_worth(reference, i, latency, options.tolerance.count());
+    });
+    reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
+  }
   candidates = Candidates();
 
   MatchResult result;
   result.clock = clock;
   result.cause_count = static_cast<std::int64_t>(cause_ns.size());
   result.effect_count = static_cast<std::int64_t>(effect_ns.size());
-  const auto ambiguous = ambiguous_pairs(causes.ns, effects.ns, matched, options.burst_gap.count());
+  auto flags = uncertain_pairs(sides, matched, reference, options.tolerance.count());
+  reference = LocalReference();
+  {
+    const auto gap = options.burst_gap.count() > 0 ? options.burst_gap : burst_gap_for(options.magnets_deg);
+    const auto ambiguous = ambiguous_pairs(causes.ns, effects.ns, matched, gap.count());
+    for (std::size_t i = 0; i < flags.size(); ++i)
+      if (ambiguous[i]) flags[i] |= kPairAmbiguous;
+  }
 
   // Reasons for everything left over, first: they need the kept timestamps, which can then go
   // before the pairs are built (the pairs' times come from the input).
@@ -489,7 +676,7 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
     const auto c = cause_index(i), e = effect_index(matched[i]);
     result.pairs.push_back(Pair{c, e, core::TimePoint::from_ns(clock, cause_ns[static_cast<std::size_t>(c)]),
                                 core::TimePoint::from_ns(clock, effect_ns[static_cast<std::size_t>(e)]),
-                                ambiguous[i] ? kPairAmbiguous : 0u});
+                                flags[i]});
   }
   return result;
 }

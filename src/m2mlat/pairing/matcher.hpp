@@ -38,11 +38,12 @@ inline constexpr std::size_t kMaxCandidates = std::size_t{1} << 28;  // candidat
 
 struct MatchOptions {
   core::Duration min_latency{0};              // smallest plausible latency (ns); may be negative
-  core::Duration max_latency{3'000'000'000};  // largest plausible latency (ns): the window's end
+  core::Duration max_latency{10'000'000'000};  // largest plausible latency (ns): the window's end
   core::Duration refractory{10'000'000};      // bounce suppression per side (ns); 0 disables
-  core::Duration tolerance{1'000'000'000};    // largest |latency - local typical latency| (ns)
+  core::Duration tolerance{0};  // largest |latency - local typical latency| (ns); 0: none, the data decide
   int reference_neighbours = 10;              // running median over this many pairs each side
-  core::Duration burst_gap{250'000'000};      // edges closer than this (ns) form one burst
+  core::Duration burst_gap{0};  // edges closer than this (ns) form one burst; 0: burst_gap_for(magnets_deg)
+  std::vector<double> magnets_deg;  // the wheels' magnet layout, degrees (empty: one magnet)
 };
 
 struct MatchResult {
@@ -52,6 +53,13 @@ struct MatchResult {
   std::int64_t cause_count = 0;  // input sizes, for the reader of a report
   std::int64_t effect_count = 0;
 };
+
+// The burst gap of a magnet layout: the time the slowest steering (kSlowestSteering) takes across the
+// widest angle between two neighbouring magnets, at least kDefaultBurstGap (one magnet, or magnets
+// close together). A sweep's passes then stay in one burst, so a missed or extra pass flags them.
+inline constexpr double kSlowestSteeringDegPerS = 150;
+inline constexpr core::Duration kDefaultBurstGap{250'000'000};  // ns
+core::Duration burst_gap_for(std::span<const double> magnets_deg);
 
 // Matches two sorted timestamp sequences (ns, same clock). Indices in the result refer to these spans.
 // Throws core::Error(usage) on bad options (a window beyond kMaxLatency, or one holding more than

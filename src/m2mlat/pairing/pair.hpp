@@ -16,7 +16,15 @@ enum PairFlag : std::uint32_t {
   // on one side or an extra edge appeared, so which edge belongs to which may be ambiguous. Such
   // pairs are reported but left out of the statistics unless asked for (docs/matcher.md).
   kPairAmbiguous = 1u << 0,
+  // An unmatched edge could take the pair's place (alone, or by shifting neighbouring pairs by one)
+  // and the pairing so changed fits nearly as well: a lost edge next to a spurious one, or a real
+  // outlier next to an edge that fits better.
+  kPairCompeting = 1u << 1,
+  // The latency lies far from its neighbours' (beyond the local acceptance) and is not confirmed as a
+  // jump of the link's latency by its neighbours (docs/matcher.md).
+  kPairJump = 1u << 2,
 };
+inline constexpr std::uint32_t kPairUncertain = kPairAmbiguous | kPairCompeting | kPairJump;
 
 struct Pair {
   std::int64_t cause_index = 0;   // index of the cause event in the matcher's input (or its store id)
@@ -26,7 +34,8 @@ struct Pair {
   std::uint32_t flags = 0;  // PairFlag bits
 
   core::Duration latency() const { return effect_time - cause_time; }
-  bool ambiguous() const { return (flags & kPairAmbiguous) != 0; }
+  // Any reason to doubt the pair: such pairs stay out of the statistics unless asked for.
+  bool ambiguous() const { return (flags & kPairUncertain) != 0; }
   friend bool operator==(const Pair&, const Pair&) = default;
 };
 

@@ -101,8 +101,9 @@ TEST(Matcher, BouncesAreReportedAndIgnored) {
 }
 
 TEST(Matcher, NoCandidateReason) {
-  const std::vector<std::int64_t> c{0, 10'000 * kMs};
-  const std::vector<std::int64_t> e{800 * kMs, 20'000 * kMs};
+  // Farther apart than the default window (10 s) either way.
+  const std::vector<std::int64_t> c{0, 15'000 * kMs};
+  const std::vector<std::int64_t> e{800 * kMs, 30'000 * kMs};
   const auto r = match(c, e, core::Clock::realtime);
   EXPECT_EQ(index_pairs(r), (IndexPairs{{0, 0}}));
   ASSERT_EQ(r.unmatched.size(), 2u);
