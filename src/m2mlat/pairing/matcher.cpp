@@ -14,6 +14,7 @@ namespace m2mlat::pairing {
 namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+constexpr std::size_t kMaxEvents = std::size_t{1} << 31;  // per side: a chain's count (2 a pair) fits 32 bits
 static_assert(kMaxCandidates < kNone, "candidate ids are 32 bits, kNone excluded");
 constexpr std::int64_t kAllBounces = std::numeric_limits<std::int64_t>::max();  // see match()
 
@@ -153,8 +154,8 @@ struct Candidates {
   std::vector<std::uint32_t> effect, pred, row_start;
 };
 
-// One alignment pass: the order-preserving one-to-one set of candidate pairs with the most pairs worth
-// more than `typical_above` (the typical pairs), then the largest total value. value(i, latency) is the
+// One alignment pass: the order-preserving one-to-one set of candidate pairs with the largest count
+// (count(i, value) per pair), then the largest total value. value(i, latency) is the
 // worth of pairing cause i at that latency (ns of the window): > 0 to be allowed, kDisallowed to
 // forbid. Returns for each cause the matched effect or kNone.
 //
@@ -165,21 +166,16 @@ struct Candidates {
 // only needs the effects inside the current window: it is a ring of the widest window's size
 // (a power of two), not one entry per effect.
 constexpr std::int64_t kDisallowed = -1;
-constexpr std::int64_t kCountNothing = std::numeric_limits<std::int64_t>::max();  // align(): fit only
 
-template <typename Value>
-std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, std::int64_t typical_above, Value value) {
+template <typename Count, typename Value>
+std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count count, Value value) {
   struct Best {                       // 16 bytes
     std::int64_t fit = 0;             // the chain's total value
-    std::uint32_t typical = 0;        // its pairs worth more than `typical_above` (fewer than 2^32 causes)
+    std::uint32_t typical = 0;        // its pairs' counts (at most 2 each, fewer than 2^31 causes)
     std::uint32_t candidate = kNone;  // the chain's last candidate, or kNone for the empty chain
     bool operator>(const Best& o) const { return typical != o.typical ? typical > o.typical : fit > o.fit; }
   };
   const auto& [causes, effects, min_ns, max_ns] = sides;
-  // A typical pair counts 2, another pair 1; without a typical worth, nothing is counted.
-  const auto count = [typical_above](std::int64_t v) -> std::uint32_t {
-    return typical_above == kCountNothing ? 0u : v > typical_above ? 2u : 1u;
-  };
   std::size_t window_total = 0, widest = 1;
   {
     Window w = sides.window();
@@ -220,7 +216,7 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, std::int6
         const auto id = static_cast<std::uint32_t>(cand.effect.size());
         cand.effect.push_back(j);
         cand.pred.push_back(running.candidate);
-        row.emplace_back(j, Best{running.fit + v, running.typical + count(v), id});
+        row.emplace_back(j, Best{running.fit + v, running.typical + count(i, v), id});
       }
       if (best[j & mask] > running) running = best[j & mask];
     }
@@ -566,8 +562,8 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
         fmt::format("the latency window {} .. {} reaches beyond the matcher's limit of +-{}",
                     core::format_duration(options.min_latency), core::format_duration(options.max_latency),
                     core::format_duration(kMaxLatency)));
-  if (cause_ns.size() >= kNone || effect_ns.size() >= kNone)
-    throw core::Error(core::ErrorKind::usage, "more than 4 billion events on one side: split the input");
+  if (cause_ns.size() >= kMaxEvents || effect_ns.size() >= kMaxEvents)
+    throw core::Error(core::ErrorKind::usage, "more than 2 billion events on one side: split the input");
   check_sorted(cause_ns, "cause");
   check_sorted(effect_ns, "effect");
 
@@ -590,25 +586,44 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   const std::int64_t global = global_reference(sides, candidate_total);
   Candidates candidates;
   const LocalReference global_only{{global}, {kFirstPassAcceptance}};
-  auto matched = align(sides, candidates, kCountNothing, [&](std::size_t, std::int64_t latency) {
+  LocalReference reference_of_pass;
+  const auto fit_only = [](std::size_t, std::int64_t) { return 0u; };
+  auto matched = align(sides, candidates, fit_only, [&](std::size_t, std::int64_t latency) {
     return pair_worth(global_only, 0, latency, options.tolerance.count());
   });
-  // Passes 2 and 3: against the local reference of the previous pass (pair worth, below).
-  auto reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
+  // Passes 2 and 3: against the local reference of the previous pass; the most pairs (a typical one
+  // counting twice), then the largest worth.
+  const auto worth = [&](std::size_t i, std::int64_t latency) {
+    return pair_worth(reference_of_pass, i, latency, options.tolerance.count());
+  };
+  constexpr std::int64_t kLooseWorth = kPairWorth - kDeviationCost;
+  reference_of_pass = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
   for (int pass = 2; pass <= 3; ++pass) {
-    matched = align(sides, candidates, kPairWorth - kDeviationCost, [&](std::size_t i, std::int64_t latency) {
-      return pair_worth(reference, i, latency, options.tolerance.count());
-    });
-    reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
+    matched = align(sides, candidates, [](std::size_t, std::int64_t v) { return v > kLooseWorth ? 2u : 1u; }, worth);
+    reference_of_pass = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
+  }
+  // Pass 4: a pair far from the typical latency that an unmatched edge could replace counts nothing
+  // (only its worth), so that such pairs never displace a typical one: a lost edge and a spurious one
+  // must not push a true pair out.
+  {
+    const auto doubtful = uncertain_pairs(sides, matched, reference_of_pass, options.tolerance.count());
+    std::vector<bool> demoted(matched.size(), false);
+    for (std::size_t i = 0; i < matched.size(); ++i)
+      demoted[i] = matched[i] != kNone && (doubtful[i] & kPairCompeting) != 0 &&
+                   worth(i, effects.ns[matched[i]] - causes.ns[i]) <= kLooseWorth;
+    matched = align(
+        sides, candidates,
+        [&](std::size_t i, std::int64_t v) { return v > kLooseWorth ? 2u : demoted[i] ? 0u : 1u; }, worth);
   }
   candidates = Candidates();
+  const auto& reference = reference_of_pass;
 
   MatchResult result;
   result.clock = clock;
   result.cause_count = static_cast<std::int64_t>(cause_ns.size());
   result.effect_count = static_cast<std::int64_t>(effect_ns.size());
   auto flags = uncertain_pairs(sides, matched, reference, options.tolerance.count());
-  reference = LocalReference();
+  reference_of_pass = LocalReference();
   {
     const auto gap = options.burst_gap.count() > 0 ? options.burst_gap : burst_gap_for(options.magnets_deg);
     const auto ambiguous = ambiguous_pairs(causes.ns, effects.ns, matched, gap.count());
