@@ -29,8 +29,8 @@ struct DemoCommand {
   std::vector<std::string> scenarios{"static_wifi", "static_5g", "dynamic_co_referenced",
                                      "dynamic_autonomous"};
   std::uint64_t seed = 1;
-  std::int64_t manoeuvres = 0;  // 0: the presets' own count
-  std::vector<double> magnets;  // empty: the presets' own
+  std::int64_t manoeuvres = 0;         // 0: the presets' own count
+  std::vector<double> magnets;         // empty: the presets' own
   std::vector<std::string> overrides;  // simulator settings, key=value, applied to every scenario
   MatchFlags match;
   StatsFlags stats;

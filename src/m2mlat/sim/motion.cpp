@@ -116,8 +116,9 @@ std::int64_t MotionPlanner::stall_wait(std::int64_t send_ns) {
     return stall_start_ns_ + packets * period;
   };
   while (drained_ns() <= send_ns) {  // the next stall: an exponential gap after the link is clear
-    stall_start_ns_ = drained_ns() + std::max<std::int64_t>(
-                                         1, std::llround(60e9 / net.stall_per_minute * stall_rng_.exponential()));
+    stall_start_ns_ =
+        drained_ns() +
+        std::max<std::int64_t>(1, std::llround(60e9 / net.stall_per_minute * stall_rng_.exponential()));
     stall_end_ns_ = stall_start_ns_ + std::max<std::int64_t>(1, sample(net.stall, stall_rng_).count());
   }
   if (send_ns < stall_start_ns_) return 0;

@@ -51,9 +51,9 @@ class MotionPlanner {
  private:
   struct Delays {
     std::int64_t command = 0, network = 0, execution = 0, actuator = 0;
-    std::int64_t base = 0;         // the delivered packet's own one-way delay
-    std::int64_t unstalled = 0;    // the network delay had no stall held the packet
-    std::int64_t stall_wait = 0;   // send -> the stall's queue released the packet (0: no stall)
+    std::int64_t base = 0;        // the delivered packet's own one-way delay
+    std::int64_t unstalled = 0;   // the network delay had no stall held the packet
+    std::int64_t stall_wait = 0;  // send -> the stall's queue released the packet (0: no stall)
     std::int32_t lost = 0;
     bool moving = false;
   };
@@ -68,12 +68,12 @@ class MotionPlanner {
   std::int64_t uniform_ns(core::Duration lo, core::Duration hi);
 
   const RigConfig& config_;
-  Rng operator_rng_;                     // the operator: intervals, speeds, clearances, returns, holds
-  Rng station_rng_;                      // command processing and the station's tick phase
-  Rng network_rng_;                      // delays, bursts, losses
-  Rng vehicle_rng_;                      // control loop, actuator, speed ratio, moving or not
-  Rng stall_rng_;                        // stalls of the link: when and how long
-  std::int64_t stall_start_ns_ = 0;      // the current or next stall [start, end) (true ns)
+  Rng operator_rng_;                 // the operator: intervals, speeds, clearances, returns, holds
+  Rng station_rng_;                  // command processing and the station's tick phase
+  Rng network_rng_;                  // delays, bursts, losses
+  Rng vehicle_rng_;                  // control loop, actuator, speed ratio, moving or not
+  Rng stall_rng_;                    // stalls of the link: when and how long
+  std::int64_t stall_start_ns_ = 0;  // the current or next stall [start, end) (true ns)
   std::int64_t stall_end_ns_ = 0;
   std::vector<std::int32_t> ascending_;  // magnet indices by increasing angle
   double min_deg_ = 0, max_deg_ = 0;     // smallest and largest magnet angle

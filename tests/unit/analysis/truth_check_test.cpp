@@ -20,7 +20,7 @@ std::vector<sim::TruePair> twenty_true_pairs() {
   return pairs;
 }
 
-pairing::Pair pair(std::int64_t cause, std::int64_t effect, std::uint32_t flags = 0) {
+pairing::Pair found_pair(std::int64_t cause, std::int64_t effect, std::uint32_t flags = 0) {
   pairing::Pair p;
   p.cause_index = cause;
   p.effect_index = effect;
@@ -34,7 +34,7 @@ pairing::Pair pair(std::int64_t cause, std::int64_t effect, std::uint32_t flags 
 
 TEST(TruthCheck, CountsWrongPairsByFlagAndTheFoundShare) {
   ScenarioResult result;
-  for (std::int64_t i = 0; i < 19; ++i) result.match.pairs.push_back(pair(i, i));  // 19 of 20: 95 %
+  for (std::int64_t i = 0; i < 19; ++i) result.match.pairs.push_back(found_pair(i, i));  // 19 of 20: 95 %
   TruthCheck check = check_against_truth(result, twenty_true_pairs());
   EXPECT_EQ(check.correct, 19);
   EXPECT_EQ(check.missed, 1);
@@ -42,7 +42,7 @@ TEST(TruthCheck, CountsWrongPairsByFlagAndTheFoundShare) {
   EXPECT_TRUE(check.passes());  // exactly at the threshold
 
   // A wrong pair the matcher flagged is reported, and does not fail the check.
-  result.match.pairs.push_back(pair(19, 18, pairing::kPairAmbiguous));
+  result.match.pairs.push_back(found_pair(19, 18, pairing::kPairAmbiguous));
   check = check_against_truth(result, twenty_true_pairs());
   EXPECT_EQ(check.wrong, 1);
   EXPECT_EQ(check.wrong_flagged, 1);

@@ -2,6 +2,8 @@
 // after it, the vehicle repeats every sweep in the operator's order, and the truth stays exact.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 #include <string>
