@@ -140,7 +140,7 @@ TEST(Magnets, FourRoundTheWheelAreSimulated) {
   for (const bool stalls : {false, true}) {
     RigConfig config = stalls ? stall_config(300, 11) : test::ideal_config(300, 11);
     config.magnets_deg = {0, 90, 180, 270};
-    config.motion.return_probability = stalls ? 0 : 0.3;
+    config.motion.return_probability = 0.3;  // across and back too: a stall may hold one sweep of two
     ASSERT_NO_THROW(validate(config));
     const Simulation run = simulate(config);
     std::map<std::pair<std::int64_t, int>, std::set<int>> magnets_per_sweep;
@@ -150,6 +150,11 @@ TEST(Magnets, FourRoundTheWheelAreSimulated) {
     for (const auto& m : run.manoeuvres) {
       EXPECT_GT(std::abs(m.turn_deg), 270 + 2 * config.motion.clearance_min_deg - 1e-9);
       EXPECT_LT(std::abs(m.turn_deg), 360);
+    }
+    if (stalls) {
+      std::int64_t returns_held = 0;
+      for (const auto& m : run.manoeuvres) returns_held += m.return_stall_wait > 0ns ? 1 : 0;
+      EXPECT_GT(returns_held, 0);  // the case above occurred
     }
     expect_exact_truth(config, run);
   }
