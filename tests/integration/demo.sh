@@ -25,4 +25,30 @@ for path in sys.argv[1:]:
     assert by["dynamic_co_referenced"]["median_ms"] < by["static_wifi"]["median_ms"], "moving: smaller actuator lag"
 print("demo ok")
 PY
+# The self-check: exit 1 exactly when a scenario lets a wrong pair through unflagged or finds fewer
+# than 95 % of the true pairs (seed 11 did so with the matcher of its time; either way the exit
+# status must agree with the report).
+rc=0
+"$M2MLAT" demo --seed 11 --scenario static_wifi --scenario stalls --magnets 0,90,180,270 --json > check.json || rc=$?
+$PY - check.json "$rc" <<'PY'
+import json, sys
+doc, rc = json.load(open(sys.argv[1])), int(sys.argv[2])
+for s in doc["scenarios"]:
+    t = s["truth"]
+    assert t["wrong"] == t["wrong_flagged"] + t["wrong_unflagged"], t
+    assert abs(t["found_pct"] - 100.0 * t["correct"] / t["true_pairs"]) < 1e-9, t
+    assert t["passes"] == (t["wrong_unflagged"] == 0 and 100 * t["correct"] >= 95 * t["true_pairs"]), t
+want = 0 if all(s["truth"]["passes"] for s in doc["scenarios"]) else 1
+assert rc == want, (rc, want)
+PY
+# Simulator settings apply to every scenario; a bad one stops the demo before any store exists.
+expect_exit 2 "$M2MLAT" demo --store bad.db --set network.stall_per_minute=-1
+grep -q "network.stall_per_minute" err.txt || fail "the error does not name the setting: $(cat err.txt)"
+[ ! -e bad.db ] || fail "a refused demo left a store"
+"$M2MLAT" demo --scenario static_5g --set network.stall_per_minute=4 --json > stalled.json || true
+$PY - stalled.json <<'PY'
+import json, sys
+t = json.load(open(sys.argv[1]))["scenarios"][0]["truth"]
+assert t["true_median_ms"] > 0 and t["true_pairs"] > 50, t
+PY
 echo "1 passed, 0 failed"

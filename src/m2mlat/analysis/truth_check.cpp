@@ -8,6 +8,15 @@
 
 namespace m2mlat::analysis {
 
+double TruthCheck::found_percent() const {
+  return true_pairs > 0 ? 100.0 * static_cast<double>(correct) / static_cast<double>(true_pairs) : 100.0;
+}
+
+bool TruthCheck::passes() const {
+  // In integers: no rounding at the boundary.
+  return wrong_unflagged == 0 && correct * 100 >= true_pairs * kMinFoundPercent;
+}
+
 TruthCheck check_against_truth(const ScenarioResult& result,
                                const std::vector<sim::TruePair>& pairs) {
   TruthCheck check;
@@ -18,7 +27,9 @@ TruthCheck check_against_truth(const ScenarioResult& result,
   for (const auto& t : pairs) truth.emplace(t.cause_index, t.effect_index);
   for (const auto& p : result.match.pairs) {
     check.ambiguous += p.ambiguous();
-    check.wrong_clear += !p.ambiguous() && !truth.contains({p.cause_index, p.effect_index});
+    if (truth.contains({p.cause_index, p.effect_index})) continue;
+    check.wrong_clear += !p.ambiguous();
+    (p.flags != 0 ? check.wrong_flagged : check.wrong_unflagged) += 1;
   }
 
   std::vector<std::int64_t> true_latencies;

@@ -1,6 +1,10 @@
 // How a measurement compares with the simulator's ground truth: which pairs the matcher found are
 // the true ones, which it missed, which are wrong, and how far the measured latencies are from the
 // true latencies (the clocks' disagreement plus the interrupt latency).
+//
+// The acceptance criterion (docs/simulator.md, "The truth check"): no wrong pair reaches the
+// statistics unflagged, and at least 95 % of the true pairs are found (flagged or not). A flagged
+// pair is one with any pairing::PairFlag bit: the user is told why it may be wrong.
 #pragma once
 
 #include <cstdint>
@@ -11,12 +15,17 @@
 
 namespace m2mlat::analysis {
 
+// The least share of the true pairs the matcher must find (reported, flagged or not), percent.
+inline constexpr std::int64_t kMinFoundPercent = 95;
+
 struct TruthCheck {
   std::int64_t true_pairs = 0;        // passes detected on both sides
   std::int64_t found = 0;             // pairs the matcher produced
   std::int64_t correct = 0;           // found and true
   std::int64_t wrong = 0;             // found but not true
-  std::int64_t wrong_clear = 0;       // ... among the pairs not flagged ambiguous (those the statistics use)
+  std::int64_t wrong_clear = 0;       // ... among the pairs not flagged ambiguous
+  std::int64_t wrong_flagged = 0;     // ... among the pairs with a flag (any PairFlag bit)
+  std::int64_t wrong_unflagged = 0;   // ... among the pairs with no flag: silent errors
   std::int64_t ambiguous = 0;         // pairs flagged ambiguous
   std::int64_t missed = 0;            // true but not found
   double true_median_ms = 0;          // median of the true latencies of the true pairs
@@ -24,6 +33,10 @@ struct TruthCheck {
   double mean_error_ns = 0;           // mean (measured - true latency) over the correct pairs
 
   bool exact() const { return wrong == 0 && missed == 0; }
+  // correct / true pairs, in percent (100 when there is no true pair).
+  double found_percent() const;
+  // The acceptance criterion: no unflagged wrong pair, and >= kMinFoundPercent % of the true pairs found.
+  bool passes() const;
 };
 
 // `result` must come from the run whose truth is `pairs`, with the events in the simulator's order

@@ -14,6 +14,7 @@ constexpr std::uint64_t kOperatorStream = 1;
 constexpr std::uint64_t kStationStream = 2;
 constexpr std::uint64_t kNetworkStream = 3;
 constexpr std::uint64_t kVehicleStream = 4;
+constexpr std::uint64_t kStallStream = 5;
 constexpr std::int32_t kMaxLostPackets = 1000;
 
 // Seconds (double) -> ns.
@@ -37,7 +38,10 @@ MotionPlanner::MotionPlanner(const RigConfig& config)
       operator_rng_(config.seed, kOperatorStream),
       station_rng_(config.seed, kStationStream),
       network_rng_(config.seed, kNetworkStream),
-      vehicle_rng_(config.seed, kVehicleStream) {
+      vehicle_rng_(config.seed, kVehicleStream),
+      stall_rng_(config.seed, kStallStream),
+      stall_start_ns_(config.start.ns()),
+      stall_end_ns_(config.start.ns()) {
   const auto& magnets = config.magnets_deg;
   for (std::size_t i = 0; i < magnets.size(); ++i) ascending_.push_back(static_cast<std::int32_t>(i));
   std::sort(ascending_.begin(), ascending_.end(), [&](std::int32_t a, std::int32_t b) {
@@ -47,7 +51,8 @@ MotionPlanner::MotionPlanner(const RigConfig& config)
   max_deg_ = magnets[static_cast<std::size_t>(ascending_.back())];
   station_phase_ns_ = station_rng_.uniform_int(0, config.station.command_period.count() - 1);
   control_phase_ns_ = vehicle_rng_.uniform_int(0, config.vehicle.control_period.count() - 1);
-  clearance_deg_ = operator_rng_.uniform(config.motion.clearance_min_deg, config.motion.clearance_max_deg);
+  clearance_max_deg_ = clearance_max_deg(config.motion, max_deg_ - min_deg_);
+  clearance_deg_ = operator_rng_.uniform(config.motion.clearance_min_deg, clearance_max_deg_);
   next_start_ns_ = config.start.ns() + uniform_ns(config.motion.interval_min, config.motion.interval_max);
 }
 
@@ -78,6 +83,14 @@ MotionPlanner::Delays MotionPlanner::draw_delays(std::int64_t motion_start_ns) {
   const bool burst = network_rng_.bernoulli(net.burst_probability);
   const std::int64_t burst_ns = sample(net.burst, network_rng_).count();
   d.network = d.lost * period + base + (burst ? burst_ns : 0);
+  d.base = base;
+  d.unstalled = d.network;
+  // A stall holds the packet (nothing is lost from the queue) until the link drains it.
+  d.stall_wait = stall_wait(motion_start_ns + d.command);
+  if (d.stall_wait > 0) {
+    d.lost = 0;
+    d.network = d.stall_wait + base;
+  }
   // Execution: the vehicle's loop picks the command up at its next cycle.
   const std::int64_t arrival = motion_start_ns + d.command + d.network;
   const std::int64_t cycle =
@@ -89,6 +102,29 @@ MotionPlanner::Delays MotionPlanner::draw_delays(std::int64_t motion_start_ns) {
   const std::int64_t static_lag = sample(config_.vehicle.actuator_lag_static, vehicle_rng_).count();
   d.actuator = d.moving ? moving_lag : static_lag;
   return d;
+}
+
+std::int64_t MotionPlanner::stall_wait(std::int64_t send_ns) {
+  const auto& net = config_.network;
+  if (net.stall_per_minute <= 0) return 0;
+  const std::int64_t period = config_.station.command_period.count();
+  const std::int64_t drain = net.stall_drain.count();
+  // The queue is empty again once the drain has caught up with the station: the k-th packet sent
+  // since the stall began leaves at end + k * drain, and is held while that is after start + k * period.
+  auto drained_ns = [&] {
+    const std::int64_t packets = (stall_end_ns_ - stall_start_ns_ + (period - drain) - 1) / (period - drain);
+    return stall_start_ns_ + packets * period;
+  };
+  while (drained_ns() <= send_ns) {  // the next stall: an exponential gap after the link is clear
+    stall_start_ns_ =
+        drained_ns() +
+        std::max<std::int64_t>(1, std::llround(60e9 / net.stall_per_minute * stall_rng_.exponential()));
+    stall_end_ns_ = stall_start_ns_ + std::max<std::int64_t>(1, sample(net.stall, stall_rng_).count());
+  }
+  if (send_ns < stall_start_ns_) return 0;
+  // The packets the station sent since the stall began leave the queue first, one per drain step.
+  const std::int64_t ahead = (send_ns - stall_start_ns_) / period;
+  return std::max<std::int64_t>(0, stall_end_ns_ + ahead * drain - send_ns);
 }
 
 std::int64_t MotionPlanner::add_sweep(ManoeuvrePlan& plan, std::int32_t sweep, int direction,
@@ -121,8 +157,8 @@ void MotionPlanner::next(ManoeuvrePlan& plan) {
 
   // The operator's choices, all drawn every time so that the stream never depends on outcomes.
   const double speed = operator_rng_.uniform(m.speed_min_deg_s, m.speed_max_deg_s);
-  const double clearance_across = operator_rng_.uniform(m.clearance_min_deg, m.clearance_max_deg);
-  const double clearance_back = operator_rng_.uniform(m.clearance_min_deg, m.clearance_max_deg);
+  const double clearance_across = operator_rng_.uniform(m.clearance_min_deg, clearance_max_deg_);
+  const double clearance_back = operator_rng_.uniform(m.clearance_min_deg, clearance_max_deg_);
   const bool returns = operator_rng_.bernoulli(m.return_probability);
   const std::int64_t hold = uniform_ns(m.hold_min, m.hold_max);
   const std::int64_t interval = uniform_ns(m.interval_min, m.interval_max);
@@ -130,9 +166,18 @@ void MotionPlanner::next(ManoeuvrePlan& plan) {
   // The vehicle's response.
   const Delays d = draw_delays(start);
   const double ratio = vehicle_rng_.uniform(v.speed_ratio_min, v.speed_ratio_max);
-  const double vehicle_speed = std::min(speed * ratio, v.max_speed_deg_s);
-  const std::int64_t delay = d.command + d.network + d.execution + d.actuator;
   const double span = max_deg_ - min_deg_;
+  const double angle0 = clearance_deg_ + span + clearance_across;
+  const std::int64_t back_start = start + seconds_to_ns(angle0 / speed) + hold;  // if it returns
+  // The return's first command meets the link as it is then: a stall may hold one sweep and not the other.
+  const std::int64_t back_wait = returns ? stall_wait(back_start + d.command) : 0;
+  const std::int64_t back_network = back_wait > 0 ? back_wait + d.base : d.unstalled;
+  // A sweep whose commands waited in a stall's queue reaches the vehicle as a burst: its set point
+  // runs ahead of the wheel, and the actuator turns at its maximum speed.
+  const bool held = d.stall_wait > 0 || back_wait > 0;
+  const double vehicle_speed = held ? v.max_speed_deg_s : std::min(speed * ratio, v.max_speed_deg_s);
+  const std::int64_t delay = d.command + d.network + d.execution + d.actuator;
+  const std::int64_t back_delay = d.command + back_network + d.execution + d.actuator;
 
   const int direction = -side_;
   t.start_angle_deg = side_ < 0 ? -span / 2 - clearance_deg_ : span / 2 + clearance_deg_;
@@ -143,6 +188,8 @@ void MotionPlanner::next(ManoeuvrePlan& plan) {
   t.command_delay = core::Duration{d.command};
   t.network_delay = core::Duration{d.network};
   t.lost_packets = d.lost;
+  t.stall_wait = core::Duration{d.stall_wait};
+  t.return_stall_wait = core::Duration{back_wait};
   t.execution_delay = core::Duration{d.execution};
   t.actuator_lag = core::Duration{d.actuator};
 
@@ -154,7 +201,6 @@ void MotionPlanner::next(ManoeuvrePlan& plan) {
   t.vehicle_start = true_time(vehicle_start);
   const std::int64_t duration0 = add_sweep(plan, 0, direction, clearance_deg_, clearance_across, start,
                                            vehicle_start, speed, vehicle_speed);
-  const double angle0 = clearance_deg_ + span + clearance_across;
   vehicle_free_ns_ = vehicle_start + seconds_to_ns(angle0 / vehicle_speed);
   vehicle_busy_before_ = true;
   std::int64_t operator_end = start + duration0;
@@ -163,8 +209,7 @@ void MotionPlanner::next(ManoeuvrePlan& plan) {
     t.returns = true;
     t.hold = core::Duration{hold};
     t.return_deg = -direction * (clearance_across + span + clearance_back);
-    const std::int64_t back_start = operator_end + hold;
-    const std::int64_t vehicle_back_start = vehicle_sweep_start(back_start + delay);
+    const std::int64_t vehicle_back_start = vehicle_sweep_start(back_start + back_delay);
     t.return_start = true_time(back_start);
     t.vehicle_return_start = true_time(vehicle_back_start);
     const std::int64_t duration1 = add_sweep(plan, 1, -direction, clearance_across, clearance_back,

@@ -51,10 +51,16 @@ class MotionPlanner {
  private:
   struct Delays {
     std::int64_t command = 0, network = 0, execution = 0, actuator = 0;
+    std::int64_t base = 0;        // the delivered packet's own one-way delay
+    std::int64_t unstalled = 0;   // the network delay had no stall held the packet
+    std::int64_t stall_wait = 0;  // send -> the stall's queue released the packet (0: no stall)
     std::int32_t lost = 0;
     bool moving = false;
   };
   Delays draw_delays(std::int64_t motion_start_ns);
+  // If a command packet sent at `send_ns` falls in a stall: how long it waits in the queue (from
+  // sending to leaving the drained queue, ns); else 0. Calls come with non-decreasing send times.
+  std::int64_t stall_wait(std::int64_t send_ns);
   // Appends a sweep's passes; returns the sweep's duration on the operator's wheel (ns).
   std::int64_t add_sweep(ManoeuvrePlan& plan, std::int32_t sweep, int direction, double clearance_before_deg,
                          double clearance_after_deg, std::int64_t cause_start_ns,
@@ -62,10 +68,13 @@ class MotionPlanner {
   std::int64_t uniform_ns(core::Duration lo, core::Duration hi);
 
   const RigConfig& config_;
-  Rng operator_rng_;                     // the operator: intervals, speeds, clearances, returns, holds
-  Rng station_rng_;                      // command processing and the station's tick phase
-  Rng network_rng_;                      // delays, bursts, losses
-  Rng vehicle_rng_;                      // control loop, actuator, speed ratio, moving or not
+  Rng operator_rng_;                 // the operator: intervals, speeds, clearances, returns, holds
+  Rng station_rng_;                  // command processing and the station's tick phase
+  Rng network_rng_;                  // delays, bursts, losses
+  Rng vehicle_rng_;                  // control loop, actuator, speed ratio, moving or not
+  Rng stall_rng_;                    // stalls of the link: when and how long
+  std::int64_t stall_start_ns_ = 0;  // the current or next stall [start, end) (true ns)
+  std::int64_t stall_end_ns_ = 0;
   std::vector<std::int32_t> ascending_;  // magnet indices by increasing angle
   double min_deg_ = 0, max_deg_ = 0;     // smallest and largest magnet angle
   std::int64_t station_phase_ns_ = 0;    // the station samples at start + phase + n * period
@@ -74,6 +83,7 @@ class MotionPlanner {
   std::int64_t next_start_ns_ = 0;
   int side_ = -1;                     // -1: the wheel rests below every magnet's crossing angle; +1: above
   double clearance_deg_ = 0;          // how far past the outermost magnet it rests
+  double clearance_max_deg_ = 0;      // the farthest it may rest (rig_config.hpp: clearance_max_deg)
   std::int64_t vehicle_free_ns_ = 0;  // the vehicle's previous sweep ends (true ns)
   bool vehicle_busy_before_ = false;  // a previous sweep exists
 };

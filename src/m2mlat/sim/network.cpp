@@ -44,6 +44,13 @@ void validate(const NetworkProfile& network, std::string_view field) {
   if (!(network.loss_probability >= 0 && network.loss_probability <= 0.9))
     throw core::Error(core::ErrorKind::usage,
                       fmt::format("simulator setting '{}.loss_probability': must be in [0, 0.9]", field));
+  if (!(network.stall_per_minute >= 0 && network.stall_per_minute <= 60))
+    throw core::Error(core::ErrorKind::usage,
+                      fmt::format("simulator setting '{}.stall_per_minute': must be in [0, 60]", field));
+  validate(network.stall, fmt::format("{}.stall", field));
+  if (network.stall_drain < 1us)
+    throw core::Error(core::ErrorKind::usage,
+                      fmt::format("simulator setting '{}.stall_drain': must be at least 1us", field));
 }
 
 }  // namespace m2mlat::sim

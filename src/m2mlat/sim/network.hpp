@@ -1,6 +1,9 @@
 // Network profiles: the one-way delay a steering command sees between the operator station and the
 // vehicle, and how often it is lost. A lost command packet is not retransmitted: the motion reaches
 // the vehicle with the next command period's packet (the station sends the wheel angle every period).
+// A stall (a link that stops for seconds: a handover, a congested cell) delivers nothing while it
+// lasts; the packets sent meanwhile wait in the queue and arrive in order when it ends, one every
+// stall_drain as the link drains. docs/simulator.md ("Network stalls") describes what the vehicle does.
 #pragma once
 
 #include <span>
@@ -17,6 +20,9 @@ struct NetworkProfile {
   double burst_probability = 0;  // chance that a packet also waits out a burst (power save, retries)
   DurationDist burst;            // the extra delay of a burst
   double loss_probability = 0;   // chance that a command packet is lost (independent per packet)
+  double stall_per_minute = 0;   // stalls per minute of run (a Poisson process; 0: none)
+  DurationDist stall = uniform(std::chrono::seconds{1}, std::chrono::seconds{5});  // length: [1, 6) s
+  core::Duration stall_drain = std::chrono::milliseconds{2};  // queued packets arrive this far apart
 
   friend bool operator==(const NetworkProfile&, const NetworkProfile&) = default;
 };

@@ -167,6 +167,13 @@ class Table {
     add_dist("network.burst", "extra delay of a burst", M2MLAT_FIELD(network.burst));
     add_double("network.loss_probability", "chance a command packet is lost (costs a command period)",
                M2MLAT_FIELD(network.loss_probability));
+    add_double("network.stall_per_minute",
+               "link stalls per minute (Poisson; 0: none); nothing is delivered "
+               "during a stall, the queued packets then arrive in order",
+               M2MLAT_FIELD(network.stall_per_minute));
+    add_dist("network.stall", "length of a stall", M2MLAT_FIELD(network.stall));
+    add_duration("network.stall_drain", "after a stall, the queued packets arrive this far apart",
+                 M2MLAT_FIELD(network.stall_drain));
 
     add_double("vehicle.moving_probability", "chance the vehicle is driving during a manoeuvre",
                M2MLAT_FIELD(vehicle.moving_probability));

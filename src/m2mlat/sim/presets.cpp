@@ -12,7 +12,7 @@ namespace m2mlat::sim {
 using namespace std::chrono_literals;
 
 namespace {
-constexpr std::array<PresetInfo, 4> kPresets{{
+constexpr std::array<PresetInfo, 5> kPresets{{
     {"static_wifi",
      "vehicle standing, commands over WiFi, clocks co-referenced (study: median 874 ms, IQR 198)"},
     {"static_5g", "vehicle standing, commands over 5G, clocks co-referenced (study: median 931 ms, IQR 105)"},
@@ -20,6 +20,8 @@ constexpr std::array<PresetInfo, 4> kPresets{{
      "vehicle driving, commands over 5G, clocks co-referenced (study: median 768 ms, IQR 142)"},
     {"dynamic_autonomous",
      "vehicle driving, commands over 5G, clocks autonomous (study: median 815 ms, IQR 146)"},
+    {"stalls",
+     "static_5g with link stalls of 1-6 s, 2 a minute (handovers): queued commands arrive in a burst"},
 }};
 }  // namespace
 
@@ -47,10 +49,17 @@ RigConfig preset(std::string_view name) {
     }
     return config;
   }
+  if (name == "stalls") {
+    // Not a scenario of the study: the link failure its matcher must survive (docs/simulator.md).
+    config.seed = 5;
+    config.network = network_profile("5g");
+    config.network.stall_per_minute = 2;
+    return config;
+  }
   throw core::Error(
       core::ErrorKind::usage,
-      fmt::format("unknown scenario '{}' (expected static_wifi, static_5g, dynamic_co_referenced or "
-                  "dynamic_autonomous)",
+      fmt::format("unknown scenario '{}' (expected static_wifi, static_5g, dynamic_co_referenced, "
+                  "dynamic_autonomous or stalls)",
                   name));
 }
 

@@ -17,7 +17,8 @@ struct PresetInfo {
   std::string_view description;  // one line
 };
 
-// static_wifi (the default), static_5g, dynamic_co_referenced, dynamic_autonomous.
+// static_wifi (the default), static_5g, dynamic_co_referenced, dynamic_autonomous; and stalls (a 5G
+// link that stops for seconds now and then: not a scenario of the study).
 std::span<const PresetInfo> presets();
 // The preset called `name`; throws core::Error(usage) listing the names.
 RigConfig preset(std::string_view name);

@@ -40,7 +40,28 @@ void validate_sensor(const SensorConfig& sensor, std::string_view field) {
   if (sensor.irq_latency.min.count() < 0 || sensor.irq_latency.max > 10ms)
     fail(fmt::format("{}.irq_latency", field), "must lie within [0, 10ms]");
 }
+// After a stall the queue drains faster than the station sends, and the vehicle's loop sees every
+// rest of the operator's wheel (at least one control period of drained packets holds it): so no
+// sweep is skipped by a jump to a newer angle, and each vehicle pass stays the effect of exactly one
+// operator pass (docs/simulator.md, "Network stalls").
+void validate_stalls(const RigConfig& config) {
+  const auto period = config.station.command_period;
+  const auto drain = config.network.stall_drain;
+  if (drain >= period) fail("network.stall_drain", "must be shorter than station.command_period");
+  auto seen = [&](core::Duration rest, std::string_view field) {
+    if ((rest / period) * drain < config.vehicle.control_period)
+      fail(field, fmt::format("with stalls, a rest of {} ns drains in less than one control period, so the "
+                              "vehicle would skip a sweep; lengthen it or network.stall_drain",
+                              rest.count()));
+  };
+  seen(config.motion.min_pause, "motion.min_pause");
+  if (config.motion.return_probability > 0) seen(config.motion.hold_min, "motion.hold_min");
+}
 }  // namespace
+
+double clearance_max_deg(const MotionConfig& motion, double span_deg) {
+  return std::min(motion.clearance_max_deg, kClearanceShareOfGap * (360 - span_deg) / 2);
+}
 
 SensorConfig field_sensor() {
   SensorConfig sensor;
@@ -81,12 +102,13 @@ void validate(const RigConfig& config) {
     fail("motion.speed_min_deg_s", "speeds must satisfy 1 <= min <= max <= 3600 deg/s");
   if (!(m.clearance_min_deg > 0 && m.clearance_min_deg <= m.clearance_max_deg))
     fail("motion.clearance_min_deg", "clearances must satisfy 0 < min <= max");
-  // A sweep must not bring a magnet round to the sensor a second time.
-  if (!(span + 2 * m.clearance_max_deg < 360))
-    fail("motion.clearance_max_deg",
-         fmt::format("the magnets span {} degrees, so 2 x clearance_max_deg must stay "
-                     "below {} degrees",
-                     span, 360 - span));
+  // A sweep must not bring a magnet round to the sensor a second time: the draws are capped (see
+  // clearance_max_deg()), so only a minimum that leaves no room is refused.
+  if (!(m.clearance_min_deg < clearance_max_deg(m, span)))
+    fail("motion.clearance_min_deg",
+         fmt::format("the magnets span {} degrees, so the wheel can rest at most {} degrees past the "
+                     "outermost magnet; clearance_min_deg must stay below that",
+                     span, clearance_max_deg(m, span)));
   check_probability(m.return_probability, "motion.return_probability");
   check_range(m.hold_min, m.hold_max, "motion.hold_min");
 
@@ -107,6 +129,7 @@ void validate(const RigConfig& config) {
   if (!(v.max_speed_deg_s >= 1 && v.max_speed_deg_s <= 3600))
     fail("vehicle.max_speed_deg_s", "must be in [1, 3600]");
   if (v.min_pause.count() < 0) fail("vehicle.min_pause", "must not be negative");
+  if (config.network.stall_per_minute > 0) validate_stalls(config);
 
   validate_sensor(config.cause_sensor, "cause_sensor");
   validate_sensor(config.effect_sensor, "effect_sensor");

@@ -119,6 +119,13 @@ struct RigConfig {
   friend bool operator==(const RigConfig&, const RigConfig&) = default;
 };
 
+// Where a wheel rests, at most, past the outermost magnet of a layout spanning `span_deg` degrees:
+// motion.clearance_max_deg, but never more than kClearanceShareOfGap of half the free arc, so that
+// a sweep (clearance + span + clearance) never brings a magnet round to the sensor again. A layout
+// all round the wheel (0,90,180,270) thus just works: each sweep is a turn of almost a whole circle.
+inline constexpr double kClearanceShareOfGap = 0.9;
+double clearance_max_deg(const MotionConfig& motion, double span_deg);
+
 // Throws core::Error(usage) naming the first field that is out of range or inconsistent.
 void validate(const RigConfig& config);
 

@@ -81,6 +81,8 @@ struct ManoeuvreTruth {
   core::Duration command_delay{0};       // motion start -> command on the wire (sampling wait + processing)
   core::Duration network_delay{0};       // on the wire -> received, including lost_packets command periods
   std::int32_t lost_packets = 0;         // command packets lost before one got through
+  core::Duration stall_wait{0};          // of network_delay: sent -> released by a stalled link's queue
+  core::Duration return_stall_wait{0};   // the same for the return sweep's first command (if returns)
   core::Duration execution_delay{0};     // received -> actuator set point (control-loop wait + processing)
   core::Duration actuator_lag{0};        // set point -> the vehicle's wheel starts to move
   core::Duration queue_delay{0};         // extra wait because the vehicle's previous sweep had not ended

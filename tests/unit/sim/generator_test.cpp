@@ -385,7 +385,7 @@ TEST(Generator, RejectsBadConfiguration) {
   EXPECT_THROW(Generator{config}, core::Error);
   config.magnets_deg = {0, 0};
   EXPECT_THROW(Generator{config}, core::Error);
-  config.magnets_deg = {0, 300};  // span 300: a 45-degree clearance would bring a magnet round again
+  config.magnets_deg = {0, 355};  // span 355: even the 5-degree minimum clearance would bring a magnet round
   EXPECT_THROW(Generator{config}, core::Error);
   config = RigConfig{};
   config.manoeuvres = 0;

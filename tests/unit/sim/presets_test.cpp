@@ -26,7 +26,7 @@ struct Band {
 }  // namespace
 
 TEST(Presets, ListedWithDescriptionsAndValid) {
-  ASSERT_EQ(presets().size(), 4u);
+  ASSERT_EQ(presets().size(), 5u);  // the study's four and stalls
   for (const PresetInfo& info : presets()) {
     EXPECT_FALSE(info.description.empty());
     const RigConfig config = preset(info.name);
@@ -38,6 +38,7 @@ TEST(Presets, ListedWithDescriptionsAndValid) {
   EXPECT_EQ(preset("static_5g").network.name, "5g");
   EXPECT_EQ(preset("dynamic_autonomous").sync.mode, SyncMode::autonomous);
   EXPECT_EQ(preset("dynamic_co_referenced").sync.mode, SyncMode::co_referenced);
+  EXPECT_GT(preset("stalls").network.stall_per_minute, 0);
 }
 
 // The study: static WiFi 874 (IQR 198), static 5G 931 (105), dynamic co-referenced 768 (142),
