@@ -63,6 +63,21 @@ void StatsFlags::add_to(CLI::App& sub) {
       ->add_option("--kernel-error", kernel_error,
                    "Bound on the two boards' timestamping asymmetry, added to each sample's max error")
       ->capture_default_str();
+  group
+      ->add_option("--kernel-u", kernel_u,
+                   "Standard uncertainty of one board's interrupt timestamp (e.g. its cyclictest sd), in u")
+      ->capture_default_str();
+  group
+      ->add_option("--path-u", path_u,
+                   "Standard uncertainty of the asymmetry of one synchronisation path (a board to its "
+                   "reference), in u")
+      ->capture_default_str();
+  group
+      ->add_option("--calibration-error", calibration_error,
+                   "Bound on the two sensors' misalignment as time (angle / rate), added to max error")
+      ->capture_default_str();
+  group->add_option("--calibration-u", calibration_u, "Standard uncertainty of that misalignment, in u")
+      ->capture_default_str();
 }
 
 analysis::UncertaintyOptions StatsFlags::uncertainty_options() const {
@@ -72,6 +87,10 @@ analysis::UncertaintyOptions StatsFlags::uncertainty_options() const {
     throw core::Error(core::ErrorKind::usage, "--sync-gate-refuse needs --sync-gate");
   o.gate_refuse = sync_gate_refuse;
   o.kernel_max = duration_flag("--kernel-error", kernel_error);
+  o.kernel_u = duration_flag("--kernel-u", kernel_u);
+  o.path_u = duration_flag("--path-u", path_u);
+  o.calibration_max = duration_flag("--calibration-error", calibration_error);
+  o.calibration_u = duration_flag("--calibration-u", calibration_u);
   return o;
 }
 
