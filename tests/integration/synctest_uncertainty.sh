@@ -16,6 +16,11 @@ grep -q "per-sample uncertainty" stats.txt || fail "no uncertainty table in the 
 "$M2MLAT" stats s.db --bootstrap 0 --json --sync-gate 1ms --sync-gate-refuse > refused.json
 "$M2MLAT" stats s.db --bootstrap 0 --json --sync-gate 1s --sync-gate-refuse > open.json
 expect_exit 2 "$M2MLAT" stats s.db --sync-gate-refuse
+expect_exit 2 "$M2MLAT" stats s.db --path-u=-5us
+grep -q -- "--path-u: '-5us' is negative" err.txt || fail "a negative --path-u is not named: $(cat err.txt)"
+expect_exit 2 "$M2MLAT" stats s.db --kernel-u 5
+grep -q -- "--kernel-u" err.txt || fail "a bad --kernel-u is not named: $(cat err.txt)"
+"$M2MLAT" stats s.db --bootstrap 0 --json --path-u 0us --kernel-u 0us > narrow.json
 $PY - <<'PY'
 import json
 import pandas as pd
@@ -43,6 +48,10 @@ for lat, bound, expanded in zip(pairs.latency_ns, pairs.max_error_ns, pairs.U95_
 assert within_U95 >= 0.8 * checked, (within_U95, checked)
 assert checked >= 0.9 * len(pairs), (checked, len(pairs))
 s = json.load(open("stats.json"))["scenarios"][0]
+# The model's terms are the flags': without the path and kernel terms u is smaller, the bound the same.
+n = json.load(open("narrow.json"))["scenarios"][0]["sample_uncertainty"]
+assert n["median_u_ms"] < s["sample_uncertainty"]["median_u_ms"], n
+assert n["median_max_err_ms"] == s["sample_uncertainty"]["median_max_err_ms"], n
 u = s["sample_uncertainty"]
 assert u["samples"] == len(pairs) and u["bounded"] == len(pairs) and u["flagged"] == 0, u
 assert 0 < u["median_u_ms"] < u["median_U95_ms"] < u["median_max_err_ms"], u

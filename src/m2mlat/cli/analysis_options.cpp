@@ -80,17 +80,28 @@ void StatsFlags::add_to(CLI::App& sub) {
       ->capture_default_str();
 }
 
+namespace {
+// A term of the uncertainty model: a size, so never negative (a negative bound or standard
+// uncertainty has no meaning, and squared it would pass unnoticed).
+core::Duration uncertainty_term(const std::string& flag, const std::string& text) {
+  const auto d = duration_flag(flag, text);
+  if (d.count() < 0)
+    throw core::Error(core::ErrorKind::usage, fmt::format("{}: '{}' is negative; give a size", flag, text));
+  return d;
+}
+}  // namespace
+
 analysis::UncertaintyOptions StatsFlags::uncertainty_options() const {
   analysis::UncertaintyOptions o;
   if (!sync_gate.empty()) o.sync_gate = duration_flag("--sync-gate", sync_gate);
   if (sync_gate_refuse && sync_gate.empty())
     throw core::Error(core::ErrorKind::usage, "--sync-gate-refuse needs --sync-gate");
   o.gate_refuse = sync_gate_refuse;
-  o.kernel_max = duration_flag("--kernel-error", kernel_error);
-  o.kernel_u = duration_flag("--kernel-u", kernel_u);
-  o.path_u = duration_flag("--path-u", path_u);
-  o.calibration_max = duration_flag("--calibration-error", calibration_error);
-  o.calibration_u = duration_flag("--calibration-u", calibration_u);
+  o.kernel_max = uncertainty_term("--kernel-error", kernel_error);
+  o.kernel_u = uncertainty_term("--kernel-u", kernel_u);
+  o.path_u = uncertainty_term("--path-u", path_u);
+  o.calibration_max = uncertainty_term("--calibration-error", calibration_error);
+  o.calibration_u = uncertainty_term("--calibration-u", calibration_u);
   return o;
 }
 
