@@ -203,6 +203,46 @@ TEST(Uncertainty, GateRefuseLeavesSamplesOutOfTheStatistics) {
   EXPECT_DOUBLE_EQ(r.summary.max->ms(), 200.0);
 }
 
+TEST(Uncertainty, TruthCheckCountsCoverageOverTheCorrectBoundedPairs) {
+  ScenarioResult r;
+  std::vector<sim::TruePair> truth;
+  // Errors (measured - true) of 100, -300, 50 and 900 us; a fifth pair is wrong, a sixth unbounded.
+  const std::int64_t errors_us[] = {100, -300, 50, 900, 0, 10};
+  for (std::int64_t i = 0; i < 6; ++i) {
+    pairing::Pair p;
+    p.cause_index = i;
+    p.effect_index = i == 4 ? 5 : i;  // pair 4 takes the wrong effect
+    p.cause_time = core::TimePoint::from_ns(core::Clock::realtime, kT0 + i * kS);
+    p.effect_time = p.cause_time + core::Duration{800'000'000};
+    r.match.pairs.push_back(p);
+    truth.push_back(
+        {i, i, i, core::Duration{800'000'000 - errors_us[i] * 1000}, core::Duration{800'000'000}});
+    SampleUncertainty u;
+    u.u_ns = 200'000;  // U95 = 400 us
+    u.max_error_ns = i == 5 ? kUnbounded : 1'000'000;
+    if (i == 5) u.flags = kUncertaintyUnsynchronised, u.u_ns = kUnbounded;
+    r.uncertainty.push_back(u);
+  }
+  const auto check = check_against_truth(r, truth);
+  EXPECT_EQ(check.correct, 5);
+  EXPECT_EQ(check.wrong, 1);
+  EXPECT_EQ(check.with_uncertainty, 4);  // correct and bounded
+  EXPECT_EQ(check.within_u, 2);          // 100, 50 <= 200
+  EXPECT_EQ(check.within_U95, 3);        // and 300 <= 400
+  EXPECT_EQ(check.within_max, 4);
+  EXPECT_DOUBLE_EQ(check.coverage_U95(), 0.75);
+  EXPECT_DOUBLE_EQ(check.median_abs_error_ns, 200'000);  // of 50, 100, 300, 900 us
+  EXPECT_DOUBLE_EQ(check.median_U95_ns, 400'000);
+  EXPECT_DOUBLE_EQ(check.width_ratio(), 2.0);
+  EXPECT_EQ(coverage_points(r, truth).size(), 4u);
+  // Without an uncertainty (no clock samples) there is nothing to cover.
+  r.uncertainty.clear();
+  const auto none = check_against_truth(r, truth);
+  EXPECT_EQ(none.with_uncertainty, 0);
+  EXPECT_TRUE(std::isnan(none.coverage_U95()));
+  EXPECT_TRUE(std::isnan(none.width_ratio()));
+}
+
 // The simulator knows every event's true time, so it can check the intervals: each run is recorded
 // into a store as two boards would record it, read back, paired and given its uncertainty with the
 // default options, and its correct pairs compared with the truth (analysis/truth_check.hpp; a wrong
