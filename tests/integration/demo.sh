@@ -5,6 +5,8 @@ start=$(date +%s)
 elapsed=$(( $(date +%s) - start ))
 [ "$elapsed" -lt 30 ] || fail "demo took $elapsed s"
 "$M2MLAT" demo --magnets 0,20,40 --json > demo3.json
+"$M2MLAT" demo > demo.txt
+grep -q "per-sample uncertainty against the truth" demo.txt || fail "no coverage table in the demo's text"
 $PY - demo.json demo3.json <<'PY'
 import json, sys
 for path in sys.argv[1:]:
@@ -15,11 +17,17 @@ for path in sys.argv[1:]:
     for s in doc["scenarios"]:
         t = s["truth"]
         assert t["wrong_not_ambiguous"] == 0, (path, s["scenario"], t)
-        assert t["correct"] >= 0.97 * t["true_pairs"], (path, s["scenario"], t)
+        assert t["passes"] and t["found_pct"] >= 95, (path, s["scenario"], t)  # the acceptance criterion
         median = s["latency"]["median_ms"]
         assert 700 <= median <= 1000, (s["scenario"], median)  # the reference study's range, roughly
         assert abs(median - t["true_median_ms"]) < 15, (s["scenario"], median, t)  # ambiguous pairs are left out
         assert t["max_abs_error_ns"] < 5_000_000, t  # clocks + interrupt latency: a few ms at most
+        # The per-sample uncertainty against the truth (docs/precision.md; ~70 pairs a scenario, so
+        # loose here: the unit test's seed sweep holds the calibration to 93-97 %).
+        c = t["uncertainty"]
+        assert c["pairs"] == t["correct"] and c["coverage_max_error"] == 1.0, (s["scenario"], c)
+        assert c["coverage_U95"] >= 0.85 and c["coverage_u"] < c["coverage_U95"], (s["scenario"], c)
+        assert 1.5 <= c["width_ratio"] <= 5, (s["scenario"], c)
     by = {s["scenario"]: s["latency"] for s in doc["scenarios"]}
     assert by["static_5g"]["iqr_ms"] < by["static_wifi"]["iqr_ms"], "5G spread should be narrower"
     assert by["dynamic_co_referenced"]["median_ms"] < by["static_wifi"]["median_ms"], "moving: smaller actuator lag"

@@ -90,7 +90,9 @@ void attach_board_record(ScenarioResult& result, const store::Store& store, cons
 
   const auto track = [&](const std::string& node) {
     const auto it = samples.find(node);
-    return make_clock_track(it == samples.end() ? std::vector<store::ClockSample>{} : it->second, in.clock);
+    auto t = make_clock_track(it == samples.end() ? std::vector<store::ClockSample>{} : it->second, in.clock);
+    t.node = node;  // the model recognises a board that follows the other by its name
+    return t;
   };
   const auto cause = track(in.cause_ref.node);
   const auto effect = track(in.effect_ref.node);

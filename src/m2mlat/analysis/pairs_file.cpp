@@ -36,7 +36,11 @@ void write_pairs_file(const std::string& path, formats::Format format,
     any_clock |= !r.uncertainty.empty();
   }
   formats::PairExportOptions options;
-  if (any_clock) options.uncertainty_ns = columns.max_error_ns, options.est_error_ns = columns.est_error_ns;
+  if (any_clock) {
+    options.max_error_ns = columns.max_error_ns;
+    options.u_ns = columns.u_ns;
+    options.U95_ns = columns.U95_ns;
+  }
   if (!results.empty())
     options.cause = results.front().input.cause_ref, options.effect = results.front().input.effect_ref;
   formats::export_pairs(path, format, rows, options);

@@ -1,4 +1,4 @@
-// The pairing of analysed scenarios in files: the pairs (m2mlat-pairs/1 CSV or JSON Lines, or the
+// The pairing of analysed scenarios in files: the pairs (m2mlat-pairs/2 CSV or JSON Lines, or the
 // reference rig's paired CSV) with each pair's uncertainty columns, and the unmatched events with
 // their reasons. The matcher's pairs and formats' own rows are converted here (both ways), so
 // formats/ never depends on pairing; `m2mlat pair` and `m2mlat export --what pairs` write through
@@ -23,8 +23,8 @@ std::vector<pairing::Pair> pairs_from_rows(std::span<const formats::PairRow> row
 
 // Writes the pairs of every result, one scenario after another, to `path` ("-" = standard output,
 // atomically otherwise) as `format` (pairs_csv, pairs_jsonl or rig_paired_csv; another format is
-// core::Error(usage)). The node and channel names are the first result's; the uncertainty_ns and
-// est_error_ns columns are written when any result has clock samples.
+// core::Error(usage)). The node and channel names are the first result's; the max_error_ns, u_ns and
+// U95_ns columns are written when any result has clock samples.
 void write_pairs_file(const std::string& path, formats::Format format,
                       std::span<const ScenarioResult> results);
 

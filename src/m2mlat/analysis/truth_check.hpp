@@ -32,12 +32,43 @@ struct TruthCheck {
   std::int64_t max_abs_error_ns = 0;  // max |measured - true latency| over the correct pairs
   double mean_error_ns = 0;           // mean (measured - true latency) over the correct pairs
 
+  // The per-sample uncertainty (analysis/uncertainty.hpp) against the truth, over the correct pairs
+  // whose uncertainty is bounded (wrong pairs are a pairing question, not a clock one): how often the
+  // true latency lies within +-u (k = 1: about 68 % when honest), +-U95 (k = 2: about 95 %) and
+  // +-max_error (always), and how wide U95 is against the real errors. All zero (ratios NaN) when the
+  // result has no uncertainty (no clock samples).
+  std::int64_t with_uncertainty = 0;  // correct pairs with a bounded uncertainty
+  std::int64_t within_u = 0;          // |measured - true latency| <= u
+  std::int64_t within_U95 = 0;        // ... <= U95
+  std::int64_t within_max = 0;        // ... <= max_error
+  double median_U95_ns = 0;           // median U95 over those pairs
+  double median_abs_error_ns = 0;     // median |measured - true latency| over the same pairs
+
   bool exact() const { return wrong == 0 && missed == 0; }
   // correct / true pairs, in percent (100 when there is no true pair).
   double found_percent() const;
   // The acceptance criterion: no unflagged wrong pair, and >= kMinFoundPercent % of the true pairs found.
   bool passes() const;
+
+  double coverage_u() const { return share(within_u); }
+  double coverage_U95() const { return share(within_U95); }
+  double coverage_max() const { return share(within_max); }
+  // median U95 / median |error|: 2.97 for a normal error whose sd u is exact; wider is pessimistic.
+  double width_ratio() const;
+
+ private:
+  double share(std::int64_t k) const;
 };
+
+// One correct pair with a bounded uncertainty: its |measured - true latency| and its uncertainty.
+struct CoveragePoint {
+  std::int64_t abs_error_ns = 0;
+  SampleUncertainty uncertainty;
+};
+// The points the coverage figures of TruthCheck are computed from, in pair order (same conditions as
+// check_against_truth); empty when the result has no uncertainty.
+std::vector<CoveragePoint> coverage_points(const ScenarioResult& result,
+                                           const std::vector<sim::TruePair>& pairs);
 
 // `result` must come from the run whose truth is `pairs`, with the events in the simulator's order
 // (pair indices = the simulator's event indices, as when read back from a store in time order).

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <nlohmann/json.hpp>
 
 #include "m2mlat/analysis/scenario_result.hpp"
 #include "m2mlat/stats/quantile.hpp"
@@ -32,6 +33,31 @@ bool synchronised(const store::ClockSample& s) {
   return s.synchronised && s.max_error_ns != kUnbounded && s.max_error_ns >= 0;
 }
 
+double sq(double v) { return v * v; }
+
+// A non-negative double in ns as int64, kUnbounded when too large.
+std::int64_t to_ns(double v) {
+  return v >= static_cast<double>(kUnbounded) ? kUnbounded : static_cast<std::int64_t>(std::llround(v));
+}
+
+// The two members of a sample's detail the model reads (both optional: the detail is what the source
+// gave, and a source that gives neither leaves the defaults: no rate term, no reference).
+struct Detail {
+  double skew_ppm = 0;
+  std::string ref_name;
+};
+Detail detail_of(const store::ClockSample& s) {
+  Detail d;
+  if (s.detail_json.empty()) return d;
+  const auto j = nlohmann::json::parse(s.detail_json, nullptr, false);
+  if (!j.is_object()) return d;
+  if (const auto it = j.find("skew_ppm"); it != j.end() && it->is_number() && it->get<double>() > 0)
+    d.skew_ppm = it->get<double>();
+  if (const auto it = j.find("ref_name"); it != j.end() && it->is_string())
+    d.ref_name = it->get<std::string>();
+  return d;
+}
+
 }  // namespace
 
 ClockTrack make_clock_track(std::vector<store::ClockSample> samples, core::Clock clock) {
@@ -54,6 +80,12 @@ ClockTrack make_clock_track(std::vector<store::ClockSample> samples, core::Clock
   std::stable_sort(track.samples.begin(), track.samples.end(),
                    [](const auto& a, const auto& b) { return a.time.ns() < b.time.ns(); });
   std::sort(track.steps_ns.begin(), track.steps_ns.end());
+  track.skew_ppm.reserve(track.samples.size());
+  for (const auto& s : track.samples) {
+    auto d = detail_of(s);
+    track.skew_ppm.push_back(d.skew_ppm);
+    track.reference = std::move(d.ref_name);  // the last sample's: what the daemon follows now
+  }
   return track;
 }
 
@@ -65,20 +97,25 @@ ClockBound bound_at(const ClockTrack& track, std::int64_t t_ns, double growth_pp
   // The first sample after t, and the one before it (the last at or before t).
   const auto next = std::upper_bound(track.samples.begin(), track.samples.end(), t_ns,
                                      [](std::int64_t t, const auto& s) { return t < s.time.ns(); });
-  auto consider = [&](const store::ClockSample& s) {
+  auto consider = [&](std::vector<store::ClockSample>::const_iterator it) {
+    const store::ClockSample& s = *it;
     if (!synchronised(s)) {
       out.synchronised = false;
-      out.max_error_ns = out.est_error_ns = kUnbounded;
+      out.max_error_ns = out.u_ns = kUnbounded;
       return;
     }
     if (!out.synchronised) return;
-    const std::int64_t grow = growth(growth_ppm, distance(s.time.ns(), t_ns));
-    out.max_error_ns = std::max(out.max_error_ns, add_saturating(s.max_error_ns, grow));
-    out.est_error_ns =
-        std::max(out.est_error_ns, add_saturating(std::max<std::int64_t>(s.est_error_ns, 0), grow));
+    const std::int64_t d = distance(s.time.ns(), t_ns);
+    out.max_error_ns = std::max(out.max_error_ns, add_saturating(s.max_error_ns, growth(growth_ppm, d)));
+    // The drift as a standard uncertainty: a frequency error uniform in +-growth_ppm.
+    const double drift = growth_ppm * 1e-6 / std::sqrt(3.0) * static_cast<double>(d);
+    const double est = static_cast<double>(std::max<std::int64_t>(s.est_error_ns, 0));
+    out.u_ns = std::max(out.u_ns, to_ns(std::sqrt(sq(est) + sq(drift))));
+    out.skew_ppm =
+        std::max(out.skew_ppm, track.skew_ppm[static_cast<std::size_t>(it - track.samples.begin())]);
   };
-  if (next != track.samples.begin()) consider(*std::prev(next));
-  if (next != track.samples.end()) consider(*next);
+  if (next != track.samples.begin()) consider(std::prev(next));
+  if (next != track.samples.end()) consider(next);
   return out;
 }
 
@@ -99,6 +136,10 @@ bool step_between(const ClockTrack& track, std::int64_t from_ns, std::int64_t to
   return it != track.steps_ns.end() && *it <= to_ns;
 }
 
+std::int64_t SampleUncertainty::expanded_ns() const {
+  return u_ns == kUnbounded ? kUnbounded : to_ns(kCoverageFactor * static_cast<double>(u_ns));
+}
+
 SampleUncertainty pair_uncertainty(const ClockTrack& cause, const ClockTrack& effect, std::int64_t cause_ns,
                                    std::int64_t effect_ns, const UncertaintyOptions& options) {
   SampleUncertainty u;
@@ -110,15 +151,24 @@ SampleUncertainty pair_uncertainty(const ClockTrack& cause, const ClockTrack& ef
     u.flags |= kUncertaintyNoClock;
   } else if (!c.synchronised || !e.synchronised) {
     u.flags |= kUncertaintyUnsynchronised;
-    u.max_error_ns = u.est_error_ns = u.sync_max_ns = kUnbounded;
+    u.max_error_ns = u.u_ns = u.sync_max_ns = kUnbounded;
   } else {
     u.sync_max_ns = add_saturating(c.max_error_ns, e.max_error_ns);
     u.max_error_ns = add_saturating(add_saturating(u.sync_max_ns, options.kernel_max.count()),
                                     options.calibration_max.count());
-    const auto sq = [](std::int64_t v) { return static_cast<double>(v) * static_cast<double>(v); };
-    const double est = std::sqrt(sq(c.est_error_ns) + sq(e.est_error_ns) + sq(options.kernel_est.count()) +
-                                 sq(options.calibration_est.count()));
-    u.est_error_ns = est >= static_cast<double>(kUnbounded) ? kUnbounded : std::llround(est);
+    const auto nsd = [](core::Duration d) { return static_cast<double>(d.count()); };
+    const double path = nsd(options.path_u);
+    double clock_sq = 0;
+    if (!cause.node.empty() && effect.reference == cause.node) {
+      // Co-referenced: the cause clock's error is in both stamps; what is left of it is its motion
+      // over the latency, at the rate its daemon reports, at most that of two independent readings.
+      const double dt = static_cast<double>(distance(cause_ns, effect_ns));
+      const double moved = std::min(c.skew_ppm * 1e-6 * dt, std::sqrt(2.0) * static_cast<double>(c.u_ns));
+      clock_sq = sq(static_cast<double>(e.u_ns)) + sq(path) + sq(moved);
+    } else {
+      clock_sq = sq(static_cast<double>(c.u_ns)) + sq(static_cast<double>(e.u_ns)) + 2 * sq(path);
+    }
+    u.u_ns = to_ns(std::sqrt(clock_sq + 2 * sq(nsd(options.kernel_u)) + sq(nsd(options.calibration_u))));
   }
   if (options.sync_gate && u.known() &&
       ((u.flags & (kUncertaintyUnsynchronised | kUncertaintyClockStep)) != 0 ||
@@ -140,7 +190,7 @@ std::vector<SampleUncertainty> pair_uncertainties(const ClockTrack& cause, const
 UncertaintySummary summarize_uncertainty(std::span<const SampleUncertainty> samples, bool gate_refuse) {
   UncertaintySummary s;
   s.samples = samples.size();
-  std::vector<std::int64_t> max, est;
+  std::vector<std::int64_t> max, u_values, expanded;
   for (const auto& u : samples) {
     if (u.known()) ++s.known;
     if (u.flags & kUncertaintyUnsynchronised) ++s.unsynchronised;
@@ -151,11 +201,13 @@ UncertaintySummary summarize_uncertainty(std::span<const SampleUncertainty> samp
     if (u.bounded()) {
       ++s.bounded;
       max.push_back(u.max_error_ns);
-      est.push_back(u.est_error_ns);
+      u_values.push_back(u.u_ns);
+      expanded.push_back(u.expanded_ns());
     }
   }
   if (!max.empty()) {
-    s.median_est_ms = stats::median(std::move(est)) / 1e6;
+    s.median_u_ms = stats::median(std::move(u_values)) / 1e6;
+    s.median_U95_ms = stats::median(std::move(expanded)) / 1e6;
     std::sort(max.begin(), max.end());
     s.median_max_ms = stats::quantile(std::span<const std::int64_t>(max), 0.5) / 1e6;
     s.p95_max_ms = stats::quantile(std::span<const std::int64_t>(max), 0.95) / 1e6;
@@ -169,7 +221,8 @@ void append_columns(UncertaintyColumns& columns, std::span<const SampleUncertain
   for (std::size_t i = 0; i < pairs; ++i) {
     const bool bounded = i < samples.size() && samples[i].bounded();
     columns.max_error_ns.push_back(bounded ? std::optional(samples[i].max_error_ns) : std::nullopt);
-    columns.est_error_ns.push_back(bounded ? std::optional(samples[i].est_error_ns) : std::nullopt);
+    columns.u_ns.push_back(bounded ? std::optional(samples[i].u_ns) : std::nullopt);
+    columns.U95_ns.push_back(bounded ? std::optional(samples[i].expanded_ns()) : std::nullopt);
   }
 }
 

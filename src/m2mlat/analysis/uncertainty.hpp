@@ -1,27 +1,35 @@
-// The uncertainty of each latency sample from both boards' clock state at its two event times.
+// The uncertainty of each latency sample: one model, the only one (docs/precision.md states it and
+// its calibration on the simulator). Every output (stats, pair and export columns, the report, the
+// demo's truth check) takes its numbers from here.
 //
 // A latency is effect_time - cause_time, each stamped by its own board's CLOCK_REALTIME. Its error
-// is (error of the effect board's clock at the effect) - (error of the cause board's clock at the
-// cause) + (difference of the two interrupt latencies) + (calibration: where on the wheel each
-// sensor fires). The boards' sync daemons report their clock state as clock samples
-// (store::ClockSample: max_error_ns, a bound on |clock - reference|, and est_error_ns, an estimate of
-// it); this file turns them into a bound and an estimate per sample:
+// is (effect board's clock error at the effect) - (cause board's clock error at the cause) + (the
+// difference of the two interrupt latencies) + (calibration: where on the wheel each sensor fires).
+// Per sample two numbers are given, from the measured terms, and a worst-case bound beside them:
 //
+//   u   = sqrt(u_clock^2 + 2 kernel_u^2 + calibration_u^2)     standard uncertainty (k = 1), GUM
+//   U95 = 2 u                                                  expanded uncertainty (k = 2, ~95 %)
 //   max_error = max_err_cause(t_cause) + max_err_effect(t_effect) + kernel_max + calibration_max
-//   est_error = sqrt(est_cause^2 + est_effect^2 + kernel_est^2 + calibration_est^2)
+//
+// The clock term. A board's clock sample (store::ClockSample) carries the source's standard
+// uncertainty of its offset from its reference (est_error_ns: chrony's RMS offset, chronyd's offset
+// sd as the kernel's esterror, the simulated daemon's own figure) and a bound (max_error_ns). Neither
+// sees the asymmetry of the path to the reference; it is bounded by root delay / 2 in max_error and
+// enters u as path_u per synchronisation path (a stated default). Then:
+//   boards synchronised independently:   u_clock^2 = u_C^2 + u_E^2 + 2 path_u^2
+//   the effect board follows the cause board (co-referenced: its samples' detail names the cause
+//   node as ref_name): the cause's error is common to both stamps and cancels but for how far it
+//   moves during the latency dt:         u_clock^2 = u_E^2 + path_u^2 + min(skew_C dt, sqrt(2) u_C)^2
+// where skew_C is the cause daemon's reported rate uncertainty (detail "skew_ppm"; 0 if not given).
 //
 // A board's state at time t comes from its two neighbouring clock samples (the last at or before t
-// and the first after it): each neighbour's value is grown by growth_ppm times its distance from t
-// (the clock may drift that fast between samples: chrony's maximum error grows the same way), and
-// the WORSE of the two is taken. Not interpolated: a daemon's bound can jump at a measurement, and
-// taking the worse neighbour keeps the bound honest across the jump. With one neighbour only (before
-// the first or after the last sample) that one is used, grown.
-//
-// What est_error means: a 1-sigma estimate, so [latency - est, latency + est] is expected to hold the
-// true latency about 68% of the time and +-2 est about 95%, if the daemons' estimates are themselves
-// honest 1-sigma values (chrony reports the root dispersion, the sim its model's sd). max_error is a
-// bound: [latency - max, latency + max] holds the true latency always, when the daemons' bounds hold
-// and kernel_max bounds the interrupt-latency difference.
+// and the first after it). For max_error each neighbour's value is grown by growth_ppm times its
+// distance from t (the clock may drift that fast between samples: chrony's maximum error grows the
+// same way) and the WORSE of the two is taken: a daemon's bound can jump at a measurement, and the
+// worse neighbour stays a bound across the jump. For u each neighbour's value is combined with a
+// drift of growth_ppm / sqrt(3) (a frequency error uniform in +-growth_ppm) times the distance, and
+// the worse is taken. With one neighbour only (before the first or after the last sample) that one
+// is used, grown.
 //
 // Flags: no_clock (a board has no clock samples: the values are unknown), unsynchronised (a
 // neighbouring sample says the clock was not synchronised: no bound), clock_step (a "step" sample of
@@ -50,12 +58,18 @@ struct ScenarioResult;
 
 inline constexpr std::int64_t kUnbounded = std::numeric_limits<std::int64_t>::max();
 
+// The coverage factor of the expanded uncertainty: U95 = k u, about 95 % for a normal error.
+inline constexpr double kCoverageFactor = 2;
+
 struct UncertaintyOptions {
-  core::Duration kernel_max{0};             // bound on |irq latency effect - irq latency cause|, ns
-  core::Duration kernel_est{0};             // its 1-sigma estimate, ns
+  core::Duration kernel_max{0};  // bound on |irq latency effect - irq latency cause|, ns
+  // Standard uncertainty of one board's interrupt timestamp, ns (each board's; a measured cyclictest sd).
+  core::Duration kernel_u = std::chrono::microseconds{5};
+  // Standard uncertainty of the asymmetry of one synchronisation path (a board to its reference), ns.
+  core::Duration path_u = std::chrono::microseconds{100};
   core::Duration calibration_max{0};        // bound on the sensors' misalignment, as time, ns
-  core::Duration calibration_est{0};        // its 1-sigma estimate, ns
-  double growth_ppm = 15;                   // growth of a clock sample's values with distance, ppm (ns/ms)
+  core::Duration calibration_u{0};          // its standard uncertainty, ns
+  double growth_ppm = 15;                   // drift of a clock sample's values with distance, ppm (ns/ms)
   std::optional<core::Duration> sync_gate;  // flag samples whose clock part exceeds this
   bool gate_refuse = false;                 // leave gated samples out of the statistics
 };
@@ -69,21 +83,28 @@ enum UncertaintyFlag : std::uint32_t {
 };
 
 struct SampleUncertainty {
-  std::int64_t max_error_ns = 0;  // kUnbounded when a clock was unsynchronised; 0 when unknown
-  std::int64_t est_error_ns = 0;  // likewise
+  std::int64_t max_error_ns = 0;  // the worst-case bound; kUnbounded when a clock was unsynchronised;
+                                  // 0 when unknown
+  std::int64_t u_ns = 0;          // the standard uncertainty (k = 1); likewise
   std::int64_t sync_max_ns = 0;   // the clock part of max_error (both boards), what the gate tests
   std::uint32_t flags = 0;        // UncertaintyFlag bits
   bool known() const { return (flags & kUncertaintyNoClock) == 0; }
   bool bounded() const { return known() && max_error_ns != kUnbounded; }
   bool gated() const { return (flags & kUncertaintyGated) != 0; }
   bool flagged() const { return (flags & ~kUncertaintyNoClock) != 0; }
+  // The expanded uncertainty U95 = k u (kCoverageFactor), ns; kUnbounded when u is.
+  std::int64_t expanded_ns() const;
   friend bool operator==(const SampleUncertainty&, const SampleUncertainty&) = default;
 };
 
 // One board's clock samples (source other than "step"), by time, and its clock steps.
 struct ClockTrack {
   std::vector<store::ClockSample> samples;  // by time
+  std::vector<double> skew_ppm;             // per sample: its daemon's rate uncertainty, ppm (detail)
   std::vector<std::int64_t> steps_ns;       // times of "step" samples, sorted
+  std::string node;                         // the board (set by the caller; empty: unnamed)
+  std::string reference;                    // the node its daemon follows (detail "ref_name" of its last
+                                            // sample); empty: its own time servers
   bool empty() const { return samples.empty(); }
 };
 // From samples in any order; only those on `clock` are kept.
@@ -95,7 +116,8 @@ struct ClockBound {
   bool found = false;
   bool synchronised = false;
   std::int64_t max_error_ns = 0;  // kUnbounded when not synchronised
-  std::int64_t est_error_ns = 0;
+  std::int64_t u_ns = 0;          // standard uncertainty of the offset from its reference; likewise
+  double skew_ppm = 0;            // the larger of the neighbours' rate uncertainties, ppm
 };
 ClockBound bound_at(const ClockTrack& track, std::int64_t t_ns, double growth_ppm);
 // The neighbouring samples' own offset estimate (offset_ns of the nearer neighbour), if any.
@@ -121,17 +143,18 @@ struct UncertaintySummary {
   double median_max_ms = stats::Summary::kNaN;  // over the bounded samples
   double p95_max_ms = stats::Summary::kNaN;
   double worst_max_ms = stats::Summary::kNaN;
-  double median_est_ms = stats::Summary::kNaN;
+  double median_u_ms = stats::Summary::kNaN;    // standard uncertainty (k = 1)
+  double median_U95_ms = stats::Summary::kNaN;  // expanded uncertainty (k = 2)
   double share_flagged() const {
     return samples == 0 ? stats::Summary::kNaN : static_cast<double>(flagged) / static_cast<double>(samples);
   }
 };
 UncertaintySummary summarize_uncertainty(std::span<const SampleUncertainty> samples, bool gate_refuse);
 
-// Per-pair columns for the pairs export (formats::PairExportOptions): max_error and est_error, ns;
+// Per-pair columns for the pairs export (formats::PairExportOptions): max_error, u and U95, ns;
 // nullopt where unknown or unbounded. Pairs past the end of `samples` get nullopt.
 struct UncertaintyColumns {
-  std::vector<std::optional<std::int64_t>> max_error_ns, est_error_ns;
+  std::vector<std::optional<std::int64_t>> max_error_ns, u_ns, U95_ns;
 };
 void append_columns(UncertaintyColumns& columns, std::span<const SampleUncertainty> samples,
                     std::size_t pairs);

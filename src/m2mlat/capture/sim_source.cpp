@@ -10,7 +10,8 @@
 
 namespace m2mlat::capture {
 
-store::ClockSample sim_clock_sample(const sim::ClockSample& s, std::int64_t session_id) {
+store::ClockSample sim_clock_sample(const sim::ClockSample& s, std::int64_t session_id,
+                                    std::string_view reference) {
   store::ClockSample out;
   out.session_id = session_id;
   // The sample is taken on the node's own clock: true time plus that clock's error.
@@ -19,10 +20,19 @@ store::ClockSample sim_clock_sample(const sim::ClockSample& s, std::int64_t sess
   out.offset_ns = s.estimated_offset.count();
   const bool synced = s.error_bound != core::Duration::max();
   out.max_error_ns = synced ? s.error_bound.count() : std::numeric_limits<std::int64_t>::max();
-  out.est_error_ns = synced ? s.error_bound.count() / 3 : std::numeric_limits<std::int64_t>::max();
+  out.est_error_ns = synced ? s.error_estimate.count() : std::numeric_limits<std::int64_t>::max();
   out.synchronised = synced;
-  out.detail_json = nlohmann::json{{"true_error_ns", s.error.count()}}.dump();
+  // Not the model's true error: a real daemon cannot see it, and nothing downstream may use it.
+  out.detail_json = nlohmann::json{{"rms_offset_ns", s.rms_offset.count()},
+                                   {"skew_ppm", s.skew_ppm},
+                                   {"ref_name", std::string(reference)}}
+                        .dump();
   return out;
+}
+
+std::string sim_reference(const sim::RigConfig& config, core::Role role) {
+  return role == core::Role::effect && config.sync.mode == sim::SyncMode::co_referenced ? config.cause_node
+                                                                                        : std::string();
 }
 
 SimSource::SimSource(SimSourceOptions options)
@@ -43,7 +53,8 @@ void SimSource::read(ReadResult& out, std::size_t max_events) {
       ready_.push_back(std::move(event));
     }
     for (const auto& sample : chunk_.clock_samples)
-      if (sample.node == options_.side) clock_ready_.push_back(sim_clock_sample(sample, 0));
+      if (sample.node == options_.side)
+        clock_ready_.push_back(sim_clock_sample(sample, 0, sim_reference(options_.config, options_.side)));
   }
   const auto now = monotonic_now();
   std::size_t taken = 0;

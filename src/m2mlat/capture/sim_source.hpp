@@ -26,9 +26,17 @@ struct SimSourceOptions {
   bool paced = false;                    // real-time pacing
 };
 
-// A simulated daemon's reading as the store keeps it (source "sim"): taken on the node's own clock,
-// max_error = the daemon's bound, est_error = a third of it; unbounded when not synchronised.
-store::ClockSample sim_clock_sample(const sim::ClockSample& sample, std::int64_t session_id);
+// A simulated daemon's reading as the store keeps it (source "sim"), with only what a real daemon
+// reports: taken on the node's own clock, offset_ns = its last measured offset, max_error = its bound
+// (root delay / 2 + root dispersion), est_error = its standard uncertainty (k = 1) of the offset
+// from its reference (sim::ClockState::error_estimate); both unbounded when not synchronised.
+// detail_json, in chrony's tracking names: rms_offset_ns, skew_ppm, and ref_name = `reference`, the
+// node whose clock this one follows (empty: its own time servers).
+store::ClockSample sim_clock_sample(const sim::ClockSample& sample, std::int64_t session_id,
+                                    std::string_view reference = {});
+// The node whose clock `role`'s daemon follows in `config`: the cause node for the effect board of
+// a co-referenced rig, else none (empty).
+std::string sim_reference(const sim::RigConfig& config, core::Role role);
 
 class SimSource final : public Source {
  public:

@@ -52,7 +52,8 @@ RecordedRun record_simulation(store::Store& store, const sim::RigConfig& config,
       batch.session_id = session;
       batch.events = chunk.events(role);
       for (const auto& s : chunk.clock_samples)
-        if (s.node == role) batch.clock_samples.push_back(sim_clock_sample(s, session));
+        if (s.node == role)
+          batch.clock_samples.push_back(sim_clock_sample(s, session, sim_reference(config, role)));
       if (!batch.events.empty()) last = std::max(last, batch.events.back().time);
       store.append(batch);
       (role == core::Role::cause ? run.cause_events : run.effect_events) +=

@@ -72,7 +72,33 @@ void StatsFlags::add_to(CLI::App& sub) {
       ->add_option("--kernel-error", kernel_error,
                    "Bound on the two boards' timestamping asymmetry, added to each sample's max error")
       ->capture_default_str();
+  group
+      ->add_option("--kernel-u", kernel_u,
+                   "Standard uncertainty of one board's interrupt timestamp (e.g. its cyclictest sd), in u")
+      ->capture_default_str();
+  group
+      ->add_option("--path-u", path_u,
+                   "Standard uncertainty of the asymmetry of one synchronisation path (a board to its "
+                   "reference), in u")
+      ->capture_default_str();
+  group
+      ->add_option("--calibration-error", calibration_error,
+                   "Bound on the two sensors' misalignment as time (angle / rate), added to max error")
+      ->capture_default_str();
+  group->add_option("--calibration-u", calibration_u, "Standard uncertainty of that misalignment, in u")
+      ->capture_default_str();
 }
+
+namespace {
+// A term of the uncertainty model: a size, so never negative (a negative bound or standard
+// uncertainty has no meaning, and squared it would pass unnoticed).
+core::Duration uncertainty_term(const std::string& flag, const std::string& text) {
+  const auto d = duration_flag(flag, text);
+  if (d.count() < 0)
+    throw core::Error(core::ErrorKind::usage, fmt::format("{}: '{}' is negative; give a size", flag, text));
+  return d;
+}
+}  // namespace
 
 analysis::UncertaintyOptions StatsFlags::uncertainty_options() const {
   analysis::UncertaintyOptions o;
@@ -80,7 +106,11 @@ analysis::UncertaintyOptions StatsFlags::uncertainty_options() const {
   if (sync_gate_refuse && sync_gate.empty())
     throw core::Error(core::ErrorKind::usage, "--sync-gate-refuse needs --sync-gate");
   o.gate_refuse = sync_gate_refuse;
-  o.kernel_max = duration_flag("--kernel-error", kernel_error);
+  o.kernel_max = uncertainty_term("--kernel-error", kernel_error);
+  o.kernel_u = uncertainty_term("--kernel-u", kernel_u);
+  o.path_u = uncertainty_term("--path-u", path_u);
+  o.calibration_max = uncertainty_term("--calibration-error", calibration_error);
+  o.calibration_u = uncertainty_term("--calibration-u", calibration_u);
   return o;
 }
 

@@ -42,6 +42,10 @@ struct StatsFlags {
   std::string sync_gate;             // flag samples whose clock bound exceeds this; empty = no gate
   bool sync_gate_refuse = false;     // and leave them out of the statistics
   std::string kernel_error = "0us";  // bound on the two boards' timestamping asymmetry
+  std::string kernel_u = "5us";      // standard uncertainty of one board's interrupt timestamp
+  std::string path_u = "100us";      // standard uncertainty of one synchronisation path's asymmetry
+  std::string calibration_error = "0us";  // bound on the sensors' misalignment, as time
+  std::string calibration_u = "0us";      // its standard uncertainty
   void add_to(CLI::App& sub);
   stats::SummaryOptions options() const;
   analysis::UncertaintyOptions uncertainty_options() const;  // throws core::Error(usage) naming the flag

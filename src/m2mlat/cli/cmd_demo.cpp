@@ -39,6 +39,7 @@ struct DemoCommand {
 int run_demo(const DemoCommand& c) {
   const auto match_options = c.match.options();
   const auto summary_options = c.stats.options();
+  const auto uncertainty_options = c.stats.uncertainty_options();
   std::string path = c.store_path;
   const bool temporary = path.empty();
   if (temporary)
@@ -71,6 +72,8 @@ int run_demo(const DemoCommand& c) {
       // Read back from the store: the same path a real campaign takes.
       results.push_back(analysis::analyse(analysis::load_scenario(store, config.scenario, {}), match_options,
                                           summary_options, c.match.include_ambiguous));
+      // The per-sample uncertainty from the recorded clock samples, to be checked against the truth.
+      analysis::attach_board_record(results.back(), store, uncertainty_options, summary_options);
       checks.push_back(analysis::check_against_truth(results.back(), truth));
     }
     progress_done();
@@ -103,6 +106,25 @@ int run_demo(const DemoCommand& c) {
         "against the simulator's truth (latency in ms; error = measured - true latency of a correct "
         "pair; check: no unflagged wrong pair and at least {} % of the true pairs found)\n{}",
         analysis::kMinFoundPercent, table.render());
+
+    report::Table coverage({"scenario", "pairs", "within u", "within U95", "within max_err", "median |error|",
+                            "median U95", "U95 / |error|"});
+    bool any = false;
+    for (std::size_t k = 0; k < checks.size(); ++k) {
+      const auto& t = checks[k];
+      if (t.with_uncertainty == 0) continue;
+      any = true;
+      coverage.add_row(
+          {results[k].input.scenario, std::to_string(t.with_uncertainty),
+           report::percent_text(t.coverage_u()), report::percent_text(t.coverage_U95()),
+           report::percent_text(t.coverage_max()), fmt::format("{:.3f} ms", t.median_abs_error_ns / 1e6),
+           fmt::format("{:.3f} ms", t.median_U95_ns / 1e6), fmt::format("{:.2f}", t.width_ratio())});
+    }
+    if (any)
+      fmt::print(
+          "\nper-sample uncertainty against the truth (correct pairs; honest: about 68 % within u, k = 1, "
+          "95 % within U95, k = 2, all within max_err)\n{}",
+          coverage.render());
   }
   // The demo is also a self-check: it fails when a wrong pair reaches the statistics with no flag
   // telling why, or when the matcher finds too few of the true pairs.

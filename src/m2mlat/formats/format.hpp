@@ -20,8 +20,8 @@ enum class Format : std::uint8_t {
   rig_sync_csv,    // reference rig: trigger_time_s,sync_offset_ns,Jitter_ns,... (import)
   events_csv,      // m2mlat-events/1 as CSV                                     (import, export)
   events_jsonl,    // m2mlat-events/1 as JSON Lines                              (import, export)
-  pairs_csv,       // m2mlat-pairs/1 as CSV                                      (export)
-  pairs_jsonl,     // m2mlat-pairs/1 as JSON Lines                               (export)
+  pairs_csv,       // m2mlat-pairs/2 as CSV                                      (export)
+  pairs_jsonl,     // m2mlat-pairs/2 as JSON Lines                               (export)
 };
 
 inline constexpr std::array<Format, 8> kAllFormats{

@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <array>
+
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/formats/event_fields.hpp"
 #include "m2mlat/formats/fields.hpp"
@@ -12,14 +14,22 @@ namespace m2mlat::formats {
 
 namespace {
 
+// The optional uncertainty columns, in file order, with their names; empty spans are not written.
+struct OptionalColumn {
+  std::string_view name;
+  std::span<const std::optional<std::int64_t>> values;
+};
+std::array<OptionalColumn, 3> optional_columns(const PairExportOptions& options) {
+  return {{{"max_error_ns", options.max_error_ns}, {"u_ns", options.u_ns}, {"U95_ns", options.U95_ns}}};
+}
+
 void check_options(std::span<const PairRow> pairs, const PairExportOptions& options) {
   auto check_size = [&](std::size_t size, std::string_view what) {
     if (size != 0 && size != pairs.size())
       throw core::Error(core::ErrorKind::internal,
                         fmt::format("pair export: {} {} for {} pairs", size, what, pairs.size()));
   };
-  check_size(options.uncertainty_ns.size(), "uncertainty values");
-  check_size(options.est_error_ns.size(), "estimated errors");
+  for (const auto& column : optional_columns(options)) check_size(column.values.size(), column.name);
   // The names must read back: the same rule as for events.
   core::Event probe;
   probe.node = options.cause.node;
@@ -34,7 +44,7 @@ void check_options(std::span<const PairRow> pairs, const PairExportOptions& opti
 
 void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options) {
   check_options(pairs, options);
-  const bool with_uncertainty = !options.uncertainty_ns.empty();
+  const auto columns = optional_columns(options);
   const bool with_flags = options.flags;
   OutputBuffer buffer(out);
   std::string& text = buffer.text();
@@ -42,8 +52,8 @@ void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const Pa
   buffer
       << "cause_node,cause_channel,effect_node,effect_channel,clock,cause_time_ns,effect_time_ns,latency_ns,"
          "latency_ms";
-  if (with_uncertainty) buffer << ",uncertainty_ns";
-  if (!options.est_error_ns.empty()) buffer << ",est_error_ns";
+  for (const auto& column : columns)
+    if (!column.values.empty()) buffer << ',' << column.name;
   if (with_flags) buffer << ",flags";
   buffer << '\n';
   // The four names are the same on every row: quote them once.
@@ -65,13 +75,10 @@ void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const Pa
     buffer.integer(pair.effect_time.ns()) << ',';
     buffer.integer(latency.count()) << ',';
     buffer << core::format_ms(latency);
-    if (with_uncertainty) {
+    for (const auto& column : columns) {
+      if (column.values.empty()) continue;
       buffer << ',';
-      if (options.uncertainty_ns[i]) buffer.integer(*options.uncertainty_ns[i]);
-    }
-    if (!options.est_error_ns.empty()) {
-      buffer << ',';
-      if (options.est_error_ns[i]) buffer.integer(*options.est_error_ns[i]);
+      if (column.values[i]) buffer.integer(*column.values[i]);
     }
     if (with_flags) {
       buffer << ',';
@@ -85,6 +92,7 @@ void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const Pa
 
 void write_pairs_jsonl(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options) {
   check_options(pairs, options);
+  const auto columns = optional_columns(options);
   OutputBuffer buffer(out);
   std::string& text = buffer.text();
   std::string names;  // the same on every line
@@ -112,17 +120,13 @@ void write_pairs_jsonl(std::ostream& out, std::span<const PairRow> pairs, const 
     buffer.integer(latency.count());
     text.append(",\"latency_ms\":");
     text.append(core::format_ms(latency));
-    if (!options.uncertainty_ns.empty()) {
-      text.append(",\"uncertainty_ns\":");
-      if (options.uncertainty_ns[i])
-        buffer.integer(*options.uncertainty_ns[i]);
-      else
-        text.append("null");
-    }
-    if (!options.est_error_ns.empty()) {
-      text.append(",\"est_error_ns\":");
-      if (options.est_error_ns[i])
-        buffer.integer(*options.est_error_ns[i]);
+    for (const auto& column : columns) {
+      if (column.values.empty()) continue;
+      text.append(",\"");
+      text.append(column.name);
+      text.append("\":");
+      if (column.values[i])
+        buffer.integer(*column.values[i]);
       else
         text.append("null");
     }

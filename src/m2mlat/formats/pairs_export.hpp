@@ -1,18 +1,19 @@
-// Exporting matched cause -> effect pairs as CSV or JSON Lines (format m2mlat-pairs/1).
+// Exporting matched cause -> effect pairs as CSV or JSON Lines (format m2mlat-pairs/2).
 //
-//   # format: m2mlat-pairs/1
+//   # format: m2mlat-pairs/2
 //   cause_node,cause_channel,effect_node,effect_channel,clock,cause_time_ns,effect_time_ns,latency_ns,
-//     latency_ms,uncertainty_ns,flags
+//     latency_ms,max_error_ns,u_ns,U95_ns,flags
 //   operator,wheel,vehicle,wheel,realtime,1762872545550296135,1762872546417585462,867289327,
-//     867.289327,250000,0
+//     867.289327,12250000,160000,320000,0
 //
 // (one line each in the file). Times are integer ns on `clock`; latency_ns = effect_time_ns -
 // cause_time_ns exactly, and latency_ms is the same value as exact decimal text (core::format_ms:
-// always 6 decimals). Optional columns follow: uncertainty_ns when the caller gives it (a bound
-// on the latency's error from both boards' clock state, integer ns; empty / null when unknown),
-// est_error_ns likewise (a 1-sigma estimate of that error), and flags (PairRow::flags, decimal; written
-// unless switched off). In JSON Lines each pair is one object with the same members and
-// "format":"m2mlat-pairs/1"; latency_ms is written as a JSON number with the exact decimal text.
+// always 6 decimals). Optional columns follow, each when the caller gives it (integer ns; empty / null
+// when unknown; analysis/uncertainty.hpp defines them): max_error_ns (the worst-case bound on the
+// latency's error), u_ns (its standard uncertainty, k = 1), U95_ns (the expanded uncertainty, k = 2);
+// then flags (PairRow::flags, decimal; written unless switched off). In JSON Lines each pair is one
+// object with the same members and "format":"m2mlat-pairs/2"; latency_ms is written as a JSON number
+// with the exact decimal text. (m2mlat-pairs/1 had uncertainty_ns = max_error_ns and est_error_ns.)
 //
 // For comparison with the reference rig's scripts, see write_rig_paired_csv in rig_paired.hpp.
 #pragma once
@@ -28,21 +29,20 @@
 
 namespace m2mlat::formats {
 
-inline constexpr std::string_view kPairsFormat = "m2mlat-pairs/1";
+inline constexpr std::string_view kPairsFormat = "m2mlat-pairs/2";
 
 struct PairExportOptions {
   core::ChannelRef cause{"operator", "wheel"};  // where the cause edges were measured
   core::ChannelRef effect{"vehicle", "wheel"};  // where the effect edges were measured
-  // Empty: no uncertainty_ns column. Otherwise one entry per pair (nullopt = unknown), ns.
-  std::span<const std::optional<std::int64_t>> uncertainty_ns;
-  // Empty: no est_error_ns column (written after uncertainty_ns). Otherwise one per pair: a 1-sigma
-  // estimate of the latency's error (analysis/uncertainty.hpp), ns; nullopt = unknown.
-  std::span<const std::optional<std::int64_t>> est_error_ns;
+  // Each empty: no such column. Otherwise one entry per pair (nullopt = unknown), ns.
+  std::span<const std::optional<std::int64_t>> max_error_ns;  // the worst-case bound
+  std::span<const std::optional<std::int64_t>> u_ns;          // the standard uncertainty (k = 1)
+  std::span<const std::optional<std::int64_t>> U95_ns;        // the expanded uncertainty (k = 2)
   // Write the flags column (PairRow::flags, pairing::PairFlag bits, e.g. 1 = ambiguous burst).
   bool flags = true;
 };
 
-// Both throw core::Error(internal) if a non-empty uncertainty_ns does not have one entry per pair, and
+// Both throw core::Error(internal) if a non-empty column does not have one entry per pair, and
 // core::Error(data) for an empty node or channel name or one with a line break.
 void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options);
 void write_pairs_jsonl(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options);

@@ -327,8 +327,8 @@ std::string report_html(const Report& report) {
     if (auto c = series_chart(report.scenarios[i], i); !c.empty())
       h += figure(
           c,
-          "Each pair at its cause edge's time; bars show the per-sample uncertainty (both boards' clock "
-          "error bounds) or, for long series, each bin's range.");
+          "Each pair at its cause edge's time; bars show the per-sample expanded uncertainty U95 (k = 2, "
+          "docs/precision.md) or, for long series, each bin's range.");
 
   bool any_clock = false;
   for (const auto& s : report.scenarios) any_clock |= !s.result.clocks.empty();
@@ -348,10 +348,10 @@ std::string report_html(const Report& report) {
     std::vector<std::vector<std::string>> brows;
     for (const auto& s : report.scenarios)
       brows.push_back({s.result.input.scenario, ms_or_dash(s.result.cause_clock_ms),
-                       ms_or_dash(s.result.effect_clock_ms), ms_or_dash(s.median_uncertainty_ms()),
-                       ms_or_dash(s.max_uncertainty_ms())});
+                       ms_or_dash(s.result.effect_clock_ms), ms_or_dash(s.median_bound_ms()),
+                       ms_or_dash(s.median_uncertainty_ms())});
     h += html_table(
-        {"scenario", "cause clock (ms)", "effect clock (ms)", "median total (ms)", "max total (ms)"}, brows,
+        {"scenario", "cause clock (ms)", "effect clock (ms)", "median bound (ms)", "median U95 (ms)"}, brows,
         "budget");
   } else {
     h += fmt::format("<p class=\"note-text\">Unknown: no clock samples{}.</p>\n",

@@ -81,8 +81,9 @@ nlohmann::json report_document(const Report& report) {
     std::size_t known = 0;
     for (const auto& u : s.uncertainty_ns) known += u ? 1 : 0;
     j["uncertainty"] = {{"pairs_with_bound", known},
-                        {"median_ms", number(s.median_uncertainty_ms())},
+                        {"median_ms", number(s.median_uncertainty_ms())},  // U95 (k = 2)
                         {"max_ms", number(s.max_uncertainty_ms())},
+                        {"median_max_error_ms", number(s.median_bound_ms())},
                         {"cause_clock_median_ms", number(s.result.cause_clock_ms)},
                         {"effect_clock_median_ms", number(s.result.effect_clock_ms)}};
     auto& clocks = j["clocks"] = nlohmann::json::array();

@@ -23,21 +23,27 @@ std::string prefix_of(const std::string& name) {
 }
 }  // namespace
 
-std::optional<double> ScenarioReport::median_uncertainty_ms() const {
+std::vector<std::int64_t> ScenarioReport::known_in_statistics(
+    const std::vector<std::optional<std::int64_t>>& values) const {
   std::vector<std::int64_t> v;
-  for (std::size_t i = 0; i < uncertainty_ns.size(); ++i)
-    if (uncertainty_ns[i] && (result.include_ambiguous || !result.match.pairs[i].ambiguous()))
-      v.push_back(*uncertainty_ns[i]);
-  return median_ms(std::move(v));
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (values[i] && (result.include_ambiguous || !result.match.pairs[i].ambiguous()))
+      v.push_back(*values[i]);
+  return v;
+}
+
+std::optional<double> ScenarioReport::median_uncertainty_ms() const {
+  return median_ms(known_in_statistics(uncertainty_ns));
 }
 
 std::optional<double> ScenarioReport::max_uncertainty_ms() const {
-  std::optional<std::int64_t> m;
-  for (std::size_t i = 0; i < uncertainty_ns.size(); ++i)
-    if (uncertainty_ns[i] && (result.include_ambiguous || !result.match.pairs[i].ambiguous()))
-      m = std::max(m.value_or(0), *uncertainty_ns[i]);
-  if (!m) return std::nullopt;
-  return static_cast<double>(*m) / 1e6;
+  const auto v = known_in_statistics(uncertainty_ns);
+  if (v.empty()) return std::nullopt;
+  return static_cast<double>(*std::max_element(v.begin(), v.end())) / 1e6;
+}
+
+std::optional<double> ScenarioReport::median_bound_ms() const {
+  return median_ms(known_in_statistics(max_error_ns));
 }
 
 const ScenarioReport* Report::find(const std::string& scenario) const {
@@ -47,12 +53,15 @@ const ScenarioReport* Report::find(const std::string& scenario) const {
 }
 
 ScenarioReport scenario_report(analysis::ScenarioResult result) {
-  ScenarioReport s{std::move(result), {}, {}};
+  ScenarioReport s{std::move(result), {}, {}, {}};
   const auto& u = s.result.uncertainty;
   s.uncertainty_ns.reserve(s.result.match.pairs.size());
-  for (std::size_t i = 0; i < s.result.match.pairs.size(); ++i)
-    s.uncertainty_ns.push_back(i < u.size() && u[i].bounded() ? std::optional(u[i].max_error_ns)
-                                                              : std::nullopt);
+  s.max_error_ns.reserve(s.result.match.pairs.size());
+  for (std::size_t i = 0; i < s.result.match.pairs.size(); ++i) {
+    const bool bounded = i < u.size() && u[i].bounded();
+    s.uncertainty_ns.push_back(bounded ? std::optional(u[i].expanded_ns()) : std::nullopt);
+    s.max_error_ns.push_back(bounded ? std::optional(u[i].max_error_ns) : std::nullopt);
+  }
   return s;
 }
 

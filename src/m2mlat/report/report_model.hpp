@@ -19,17 +19,26 @@ namespace m2mlat::report {
 struct ScenarioReport {
   analysis::ScenarioResult result;  // with the boards' clock series, losses and error budget
   std::string group;                // empty: no group
-  // The bound drawn and summarised for each result.match.pairs entry: the analysis' max_error
-  // (analysis/uncertainty.hpp) where bounded (ns); nullopt when unknown or unbounded.
+  // Per result.match.pairs entry, from the analysis (analysis/uncertainty.hpp) where bounded (ns;
+  // nullopt when unknown or unbounded): the expanded uncertainty U95 (k = 2), drawn as error bars and
+  // used by the comparisons, and the worst-case bound max_error beside it.
   std::vector<std::optional<std::int64_t>> uncertainty_ns;
+  std::vector<std::optional<std::int64_t>> max_error_ns;
 
-  // Median of the known per-pair bounds over the pairs in the statistics (ms); unset if none known.
+  // Median of the known per-pair U95 over the pairs in the statistics (ms); unset if none known.
   std::optional<double> median_uncertainty_ms() const;
   // The largest of them (ms).
   std::optional<double> max_uncertainty_ms() const;
+  // Median of the known per-pair bounds over the same pairs (ms).
+  std::optional<double> median_bound_ms() const;
+
+ private:
+  // The known values of `values` (one per pair) over the pairs in the statistics.
+  std::vector<std::int64_t> known_in_statistics(const std::vector<std::optional<std::int64_t>>& values) const;
 };
 
-// A scenario of the report from the pipeline's result: uncertainty_ns from result.uncertainty.
+// A scenario of the report from the pipeline's result: uncertainty_ns and max_error_ns from
+// result.uncertainty.
 ScenarioReport scenario_report(analysis::ScenarioResult result);
 
 struct ComparisonReport {

@@ -57,18 +57,20 @@ std::string report_text(const Report& report) {
   bool any_uncertainty = false;
   for (const auto& s : report.scenarios) any_uncertainty |= s.median_uncertainty_ms().has_value();
   if (any_uncertainty) {
-    Table t({"scenario", "group", "pairs with bound", "median bound (ms)", "max bound (ms)", "cause clock",
-             "effect clock"});
+    Table t({"scenario", "group", "pairs with bound", "median U95 (ms)", "max U95 (ms)", "median bound (ms)",
+             "cause clock", "effect clock"});
     for (const auto& s : report.scenarios) {
       std::size_t known = 0;
       for (const auto& u : s.uncertainty_ns) known += u ? 1 : 0;
       const auto ms = [](const std::optional<double>& x) { return x ? fmt::format("{:.3f}", *x) : "-"; };
       t.add_row({s.result.input.scenario, s.group.empty() ? "-" : s.group, std::to_string(known),
-                 ms(s.median_uncertainty_ms()), ms(s.max_uncertainty_ms()), ms(s.result.cause_clock_ms),
-                 ms(s.result.effect_clock_ms)});
+                 ms(s.median_uncertainty_ms()), ms(s.max_uncertainty_ms()), ms(s.median_bound_ms()),
+                 ms(s.result.cause_clock_ms), ms(s.result.effect_clock_ms)});
     }
     out +=
-        "\nmeasurement uncertainty per latency (both boards' clock bounds + --kernel-error)\n" + t.render();
+        "\nmeasurement uncertainty per latency (U95: expanded uncertainty, k = 2; bound: worst case, both "
+        "boards' clock bounds + --kernel-error; cause/effect clock: each board's median bound)\n" +
+        t.render();
   }
   if (!report.comparisons.empty()) {
     out += "\ncomparisons (subject - baseline; ratios subject / baseline)\n" +

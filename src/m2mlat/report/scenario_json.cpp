@@ -71,10 +71,11 @@ nlohmann::json uncertainty_json(const analysis::UncertaintySummary& s) {
   return {{"samples", s.samples},
           {"with_clock", s.known},
           {"bounded", s.bounded},
+          {"median_u_ms", number(s.median_u_ms)},
+          {"median_U95_ms", number(s.median_U95_ms)},
           {"median_max_err_ms", number(s.median_max_ms)},
           {"p95_max_err_ms", number(s.p95_max_ms)},
           {"worst_max_err_ms", number(s.worst_max_ms)},
-          {"median_est_err_ms", number(s.median_est_ms)},
           {"unsynchronised", s.unsynchronised},
           {"clock_step", s.clock_step},
           {"gated", s.gated},
@@ -129,6 +130,14 @@ nlohmann::json stats_document(std::span<const analysis::ScenarioResult> results,
                                     {"true_median_ms", t.true_median_ms},
                                     {"max_abs_error_ns", t.max_abs_error_ns},
                                     {"mean_error_ns", t.mean_error_ns}};
+    if (t.with_uncertainty > 0)
+      doc["scenarios"][k]["truth"]["uncertainty"] = {{"pairs", t.with_uncertainty},
+                                                     {"coverage_u", number(t.coverage_u())},
+                                                     {"coverage_U95", number(t.coverage_U95())},
+                                                     {"coverage_max_error", number(t.coverage_max())},
+                                                     {"median_U95_ns", number(t.median_U95_ns)},
+                                                     {"median_abs_error_ns", number(t.median_abs_error_ns)},
+                                                     {"width_ratio", number(t.width_ratio())}};
   }
   return doc;
 }

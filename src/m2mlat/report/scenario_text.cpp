@@ -76,20 +76,21 @@ std::string pairing_table(std::span<const analysis::ScenarioResult> results) {
 }
 
 std::string uncertainty_table(std::span<const analysis::ScenarioResult> results) {
-  Table table({"scenario", "with clock", "median max_err", "P95 max_err", "worst max_err", "median est_err",
-               "flagged", "step", "unsync", "gated", "refused"});
+  Table table({"scenario", "with clock", "median u", "median U95", "median max_err", "P95 max_err",
+               "worst max_err", "flagged", "step", "unsync", "gated", "refused"});
   bool any = false;
   for (const auto& r : results) {
     if (r.uncertainty.empty()) continue;
     any = true;
     const auto u = analysis::summarize_uncertainty(r.uncertainty, r.refuse_gated);
-    table.add_row({r.input.scenario, fmt::format("{}/{}", u.known, u.samples), ms_text(u.median_max_ms, 3),
-                   ms_text(u.p95_max_ms, 3), ms_text(u.worst_max_ms, 3), ms_text(u.median_est_ms, 3),
-                   percent_text(u.share_flagged()), std::to_string(u.clock_step),
+    table.add_row({r.input.scenario, fmt::format("{}/{}", u.known, u.samples), ms_text(u.median_u_ms, 3),
+                   ms_text(u.median_U95_ms, 3), ms_text(u.median_max_ms, 3), ms_text(u.p95_max_ms, 3),
+                   ms_text(u.worst_max_ms, 3), percent_text(u.share_flagged()), std::to_string(u.clock_step),
                    std::to_string(u.unsynchronised), std::to_string(u.gated), std::to_string(u.refused)});
   }
   if (!any) return {};
-  return "per-sample uncertainty (ms; max_err = both clocks' bounds + kernel term, est_err = 1 sigma)\n" +
+  return "per-sample uncertainty (ms; u = standard uncertainty, k = 1; U95 = 2 u, about 95 %; max_err = "
+         "worst case: both clocks' bounds + kernel term)\n" +
          table.render();
 }
 

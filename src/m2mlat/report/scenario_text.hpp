@@ -19,7 +19,7 @@ std::string scenario_detail(const analysis::ScenarioResult& result);
 // Counts of pairs and of unmatched events by side and reason, one row per scenario.
 std::string pairing_table(std::span<const analysis::ScenarioResult> results);
 // The per-sample uncertainty of the scenarios whose boards had clock samples (median and P95 of
-// max_err, median est_err, shares flagged); empty text when none had.
+// u and U95, median/P95/worst max_err, shares flagged); empty text when none had.
 std::string uncertainty_table(std::span<const analysis::ScenarioResult> results);
 
 }  // namespace m2mlat::report

@@ -169,6 +169,11 @@ ClockState ClockPair::state_of(const Node& node, std::int64_t true_ns) const {
   double total = bound(node);
   if (&node == &effect_ && sync_.mode == SyncMode::co_referenced) total += bound(cause_);
   state.error_bound = core::Duration{std::llround(total)};
+  const double gain = sync_.loop_gain;
+  const double rms = std::sqrt(node.dispersion_var);
+  state.rms_offset = core::Duration{std::llround(rms)};
+  state.error_estimate = core::Duration{std::llround(rms * std::sqrt(gain / (2 - gain)))};
+  state.skew_ppm = gain * rms / static_cast<double>(sync_.poll_interval.count()) * 1e6;
   return state;
 }
 

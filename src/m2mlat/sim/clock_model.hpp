@@ -80,6 +80,15 @@ struct ClockState {
   core::Duration estimated_offset{0};  // the daemon's last measured offset to its reference
   core::Duration error_bound{0};       // the daemon's bound on |error|: root delay / 2 + root
                                        // dispersion; Duration::max() when not synchronised (free)
+  // What the daemon reports of its own scatter, from the measured offsets it has seen (not from the
+  // error it cannot see): the standard uncertainty (k = 1) of the clock's offset from its reference,
+  // sqrt(g / (2 - g)) x the RMS of the measured offsets (a proportional loop of gain g leaves that
+  // much of a measurement noise on the clock: the kind of estimate a daemon gives the kernel as
+  // adjtimex's esterror),
+  // and the sd of the rate at which it slews the clock, g x RMS / poll interval (ppm; chrony's skew).
+  core::Duration error_estimate{0};  // 0 when not disciplined
+  core::Duration rms_offset{0};      // RMS of the measured offsets (chrony's "RMS offset")
+  double skew_ppm = 0;
 };
 
 // Both nodes' clocks, stepped together on the poll grid (the vehicle's reference in co_referenced

@@ -117,7 +117,8 @@ void Generator::sample_clocks_until(std::int64_t true_ns, Chunk& chunk) {
       const ClockState state = clocks_.at(role, next_sample_ns_);
       chunk.clock_samples.push_back({role, true_time(next_sample_ns_),
                                      core::Duration{std::llround(state.error_ns)}, state.estimated_offset,
-                                     state.error_bound});
+                                     state.error_bound, state.error_estimate, state.rms_offset,
+                                     state.skew_ppm});
     }
     next_sample_ns_ += interval;
   }

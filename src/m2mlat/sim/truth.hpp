@@ -101,6 +101,9 @@ struct ClockSample {
   core::Duration error{0};             // clock reading - true time
   core::Duration estimated_offset{0};  // the daemon's last measured offset to its reference
   core::Duration error_bound{0};       // the daemon's maximum error; Duration::max() if unsynchronised
+  core::Duration error_estimate{0};    // the daemon's standard uncertainty of its offset (ClockState)
+  core::Duration rms_offset{0};        // RMS of its measured offsets
+  double skew_ppm = 0;                 // sd of its slew rate, ppm
 
   friend bool operator==(const ClockSample&, const ClockSample&) = default;
 };

@@ -31,11 +31,16 @@ TEST(SimSource, HandsOverOneSidesEventsUnchangedButForTheNames) {
     expected.channel = "steer";
     EXPECT_EQ(out.events[i], expected);
   }
-  // The effect board's daemon readings come along, each as the store keeps it, in time order.
+  // The effect board's daemon readings come along, each as the store keeps it, in time order; its
+  // daemon follows the operator board's clock (co-referenced).
   std::vector<store::ClockSample> expected_samples;
+  ASSERT_EQ(sim_reference(small_run(), core::Role::effect), small_run().cause_node);
   for (const auto& s : truth.clock_samples)
-    if (s.node == core::Role::effect) expected_samples.push_back(sim_clock_sample(s, 0));
+    if (s.node == core::Role::effect)
+      expected_samples.push_back(sim_clock_sample(s, 0, small_run().cause_node));
   ASSERT_FALSE(expected_samples.empty());
+  EXPECT_NE(expected_samples.front().detail_json.find("\"ref_name\":\"operator\""), std::string::npos);
+  EXPECT_EQ(expected_samples.front().detail_json.find("true_error"), std::string::npos);
   EXPECT_EQ(out.clock_samples, expected_samples);
 }
 

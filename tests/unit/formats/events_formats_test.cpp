@@ -223,24 +223,33 @@ TEST(PairsExport, CsvAndJsonlWithOptionalColumns) {
   write_pairs_csv(plain, pairs, plain_options);
   EXPECT_EQ(
       plain.str(),
-      "# format: m2mlat-pairs/1\n"
+      "# format: m2mlat-pairs/2\n"
       "cause_node,cause_channel,effect_node,effect_channel,clock,cause_time_ns,effect_time_ns,latency_ns,"
       "latency_ms\n"
       "operator,wheel,vehicle,wheel,realtime,1762872545550296135,1762872546417585462,867289327,867.289327\n"
       "operator,wheel,vehicle,wheel,realtime,1762872549652099111,1762872549652099110,-1,-0.000001\n");
 
-  const std::vector<std::optional<std::int64_t>> uncertainty{250'000, std::nullopt};
+  const std::vector<std::optional<std::int64_t>> bound{250'000, std::nullopt}, u{40'000, std::nullopt},
+      expanded{80'000, std::nullopt};
   PairExportOptions options;
   options.cause = {"remote", "pedal, left"};
-  options.uncertainty_ns = uncertainty;
+  options.max_error_ns = bound;
+  options.u_ns = u;
+  options.U95_ns = expanded;
   std::ostringstream full;
   write_pairs_csv(full, pairs, options);
-  EXPECT_NE(full.str().find("latency_ms,uncertainty_ns,flags\n"), std::string::npos);
+  EXPECT_NE(full.str().find("latency_ms,max_error_ns,u_ns,U95_ns,flags\n"), std::string::npos);
   EXPECT_NE(
       full.str().find("remote,\"pedal, left\",vehicle,wheel,realtime,1762872545550296135,1762872546417585462,"
-                      "867289327,867.289327,250000,0\n"),
+                      "867289327,867.289327,250000,40000,80000,0\n"),
       std::string::npos);
-  EXPECT_NE(full.str().find(",-1,-0.000001,,1\n"), std::string::npos);
+  EXPECT_NE(full.str().find(",-1,-0.000001,,,,1\n"), std::string::npos);
+  // Only the columns given are written.
+  PairExportOptions bound_only;
+  bound_only.max_error_ns = bound;
+  std::ostringstream partial;
+  write_pairs_csv(partial, pairs, bound_only);
+  EXPECT_NE(partial.str().find("latency_ms,max_error_ns,flags\n"), std::string::npos);
 
   std::ostringstream jsonl;
   write_pairs_jsonl(jsonl, pairs, options);
@@ -249,18 +258,21 @@ TEST(PairsExport, CsvAndJsonlWithOptionalColumns) {
   std::vector<nlohmann::json> objects;
   while (std::getline(lines, line)) objects.push_back(nlohmann::json::parse(line));
   ASSERT_EQ(objects.size(), 2u);
-  EXPECT_EQ(objects[0]["format"], "m2mlat-pairs/1");
+  EXPECT_EQ(objects[0]["format"], "m2mlat-pairs/2");
   EXPECT_EQ(objects[0]["cause_channel"], "pedal, left");
   EXPECT_EQ(objects[0]["cause_time_ns"].get<std::int64_t>(), 1'762'872'545'550'296'135);
   EXPECT_EQ(objects[0]["latency_ns"].get<std::int64_t>(), 867'289'327);
-  EXPECT_EQ(objects[0]["uncertainty_ns"].get<std::int64_t>(), 250'000);
+  EXPECT_EQ(objects[0]["max_error_ns"].get<std::int64_t>(), 250'000);
+  EXPECT_EQ(objects[0]["u_ns"].get<std::int64_t>(), 40'000);
+  EXPECT_EQ(objects[0]["U95_ns"].get<std::int64_t>(), 80'000);
   EXPECT_EQ(objects[0]["flags"].get<std::uint32_t>(), 0u);
-  EXPECT_TRUE(objects[1]["uncertainty_ns"].is_null());
+  EXPECT_TRUE(objects[1]["max_error_ns"].is_null());
+  EXPECT_TRUE(objects[1]["u_ns"].is_null());
   EXPECT_EQ(objects[1]["flags"].get<std::uint32_t>(), 1u);
   EXPECT_NE(jsonl.str().find("\"latency_ms\":867.289327,"), std::string::npos);  // exact decimal text
 
   const std::vector<std::optional<std::int64_t>> too_short{1};
-  options.uncertainty_ns = too_short;
+  options.u_ns = too_short;
   EXPECT_THROW(write_pairs_csv(plain, pairs, options), core::Error);
 }
 

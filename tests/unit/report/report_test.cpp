@@ -65,7 +65,10 @@ Report sample_report() {
     }
     first.result.clocks.push_back(c);
   }
-  for (std::size_t i = 0; i < first.result.match.pairs.size(); ++i) first.uncertainty_ns[i] = 500'000;
+  for (std::size_t i = 0; i < first.result.match.pairs.size(); ++i) {
+    first.uncertainty_ns[i] = 500'000;
+    first.max_error_ns[i] = 2'000'000;
+  }
   first.result.cause_clock_ms = 0.2;
   first.result.effect_clock_ms = 0.3;
   first.result.losses.push_back({"vehicle", "seqno_gap", 1, 3});
@@ -127,11 +130,12 @@ TEST(ReportModel, ExplicitGroupsAndErrors) {
 // The report draws the analysis' per-sample bound (analysis/uncertainty.hpp) and computes none: a
 // bounded sample keeps its max_error, an unbounded or unknown one has none, and a result without
 // clock samples has none at all.
-TEST(ReportModel, PerPairBoundIsTheAnalysisBound) {
+TEST(ReportModel, PerPairUncertaintyAndBoundAreTheAnalysis) {
   auto res = scenario("bounded", 800, 50, 3);
   ASSERT_EQ(res.match.pairs.size(), 3u);
   analysis::SampleUncertainty bounded;
-  bounded.max_error_ns = 420'000;
+  bounded.max_error_ns = 4'200'000;
+  bounded.u_ns = 210'000;
   analysis::SampleUncertainty unsynchronised;
   unsynchronised.flags = analysis::kUncertaintyUnsynchronised;
   unsynchronised.max_error_ns = analysis::kUnbounded;
@@ -139,15 +143,21 @@ TEST(ReportModel, PerPairBoundIsTheAnalysisBound) {
   unknown.flags = analysis::kUncertaintyNoClock;
   res.uncertainty = {bounded, unsynchronised, unknown};
   const auto s = scenario_report(res);
+  // Drawn and compared: the expanded uncertainty U95 = 2 u; the worst-case bound beside it.
   ASSERT_EQ(s.uncertainty_ns.size(), 3u);
   EXPECT_EQ(s.uncertainty_ns[0], 420'000);
   EXPECT_FALSE(s.uncertainty_ns[1].has_value());
   EXPECT_FALSE(s.uncertainty_ns[2].has_value());
   EXPECT_EQ(s.median_uncertainty_ms(), 0.42);
+  ASSERT_EQ(s.max_error_ns.size(), 3u);
+  EXPECT_EQ(s.max_error_ns[0], 4'200'000);
+  EXPECT_FALSE(s.max_error_ns[1].has_value());
+  EXPECT_EQ(s.median_bound_ms(), 4.2);
   res.uncertainty.clear();
   const auto none = scenario_report(res);
   EXPECT_EQ(none.uncertainty_ns, (std::vector<std::optional<std::int64_t>>(3)));
   EXPECT_FALSE(none.median_uncertainty_ms().has_value());
+  EXPECT_FALSE(none.median_bound_ms().has_value());
 }
 
 TEST(ComparisonText, SentenceSaysNarrowerAndNotesUncertainty) {
@@ -166,7 +176,7 @@ TEST(ComparisonText, SentenceSaysNarrowerAndNotesUncertainty) {
 
 TEST(PlotData, StatisticsOverAllSamplesSeriesThinned) {
   auto big = scenario("big_one", 800, 80, 5000);
-  ScenarioReport s{std::move(big), {}, {}};
+  ScenarioReport s{std::move(big), {}, {}, {}};
   const auto box = box_data(s);
   EXPECT_DOUBLE_EQ(box.median, s.result.summary.median_ms);
   EXPECT_DOUBLE_EQ(box.q1, s.result.summary.q1_ms);

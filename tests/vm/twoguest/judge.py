@@ -4,7 +4,7 @@ against what the host did in physical time. Standard library only.
 Inputs, in the work folder, per phase P (coref: chrony co-referenced; auto: no sync, the vehicle's
 clock stepped OFFSET ahead):
   P-trigger.csv     the host's send times (CLOCK_MONOTONIC, ns): the true delay of each latency cycle
-  P-pairs.csv       `m2mlat pair -o` (latency_ns, uncertainty_ns, est_error_ns, flags)
+  P-pairs.csv       `m2mlat pair -o` (latency_ns, max_error_ns, u_ns, U95_ns, flags)
   P-pairs.jsonl     `m2mlat export --what pairs --format pairs-jsonl` (the same pairs)
   P-stats.json      `m2mlat stats --json` (latency summary, sample_uncertainty)
   P-synctest.json   `m2mlat synctest --json` on the pulse channel
@@ -171,23 +171,23 @@ def coref_uncertainty(pairs, stats):
     maxe, este, bad = [], [], []
     for i, p in enumerate(pairs):
         try:
-            m, e = int(p["uncertainty_ns"]), int(p["est_error_ns"])
+            m, e = int(p["max_error_ns"]), int(p["u_ns"])
         except ValueError:
-            bad.append(f"pair {i}: uncertainty '{p['uncertainty_ns']}' est '{p['est_error_ns']}' flags {p['flags']}")
+            bad.append(f"pair {i}: max_error '{p['max_error_ns']}' u '{p['u_ns']}' flags {p['flags']}")
             continue
         # Plausible: positive, at most 10 ms (chrony's bound on a LAN is root delay / 2 + dispersion,
-        # a few hundred us here), and the 1-sigma estimate inside the bound.
+        # a few hundred us here), and the standard uncertainty (k = 1) inside the bound.
         if not 0 < e <= m <= 10_000_000:
-            bad.append(f"pair {i}: max {m} est {e}")
+            bad.append(f"pair {i}: max {m} u {e}")
         maxe.append(m)
         este.append(e)
     jsonl = [j for j in (json.loads(line) for line in open(path("coref-pairs.jsonl"))) if j["flags"] & 1 == 0]
     same = ([j["latency_ns"] for j in jsonl] == [int(p["latency_ns"]) for p in pairs]
-            and [j["uncertainty_ns"] for j in jsonl] == [int(p["uncertainty_ns"] or -1) for p in pairs])
+            and [j["max_error_ns"] for j in jsonl] == [int(p["max_error_ns"] or -1) for p in pairs])
     # stats summarises every pair, ambiguous ones included: all bounded, none flagged.
     ok = (not bad and same and u["bounded"] == u["samples"] and u["flagged"] == 0
           and u["median_max_err_ms"] is not None and math.isfinite(u["median_max_err_ms"]))
-    figures = (f"max_error {spread(maxe)}; est_error {spread(este)}; stats: bounded {u['bounded']}, "
+    figures = (f"max_error {spread(maxe)}; u {spread(este)}; stats: bounded {u['bounded']}, "
                f"flagged {u['flagged']}, median max_err {u['median_max_err_ms']} ms; export = pair: {same}"
                if maxe else "no pair has an uncertainty")
     check("coref.uncertainty", ok, figures + ("; " + "; ".join(bad[:5]) if bad else ""))
