@@ -271,9 +271,8 @@ LocalReference local_reference(std::span<const std::int64_t> causes, std::span<c
   const auto latency = [&](std::size_t i) { return effects[match[i]] - causes[i]; };
   // The window [p - k, p + k] slides one pair at a time: keep it sorted, remove the pair that
   // leaves and insert the one that enters (binary search + a short move), instead of re-selecting.
-  std::vector<std::int64_t> window, deviations;
+  std::vector<std::int64_t> window;
   window.reserve(2 * static_cast<std::size_t>(k) + 1);
-  deviations.reserve(window.capacity());
   std::ptrdiff_t first = 0, last = 0;  // the window holds pairs [first, last)
   std::size_t entering = next_pair(0), leaving = entering, current = entering;  // their causes
   std::size_t filled = 0;                                                       // reference[0, filled) set
@@ -286,12 +285,20 @@ LocalReference local_reference(std::span<const std::int64_t> causes, std::span<c
     }
     for (; first < want_first; ++first, leaving = next_pair(leaving + 1))
       window.erase(std::lower_bound(window.begin(), window.end(), latency(leaving)));
-    const std::int64_t median = window[window.size() / 2];
-    deviations.clear();
-    for (const auto v : window) deviations.push_back(v > median ? v - median : median - v);
-    const auto mid = deviations.begin() + static_cast<std::ptrdiff_t>(deviations.size() / 2);
-    std::nth_element(deviations.begin(), mid, deviations.end());
-    const std::int64_t acceptance = std::max(kMinAcceptance, *mid * kSpreadNumerator / kSpreadDenominator);
+    const std::size_t mid = window.size() / 2;
+    const std::int64_t median = window[mid];
+    // The median absolute deviation without a copy: the deviations below and above the median are two
+    // ascending runs of the sorted window; merge them up to the middle one.
+    std::int64_t mad = 0;
+    for (std::size_t below = mid, above = mid + 1, taken = 0; taken < mid; ++taken) {
+      const std::int64_t low = below > 0 ? median - window[below - 1] : std::numeric_limits<std::int64_t>::max();
+      const std::int64_t high = above < window.size() ? window[above] - median : std::numeric_limits<std::int64_t>::max();
+      if (low <= high)
+        mad = low, --below;
+      else
+        mad = high, ++above;
+    }
+    const std::int64_t acceptance = std::max(kMinAcceptance, mad * kSpreadNumerator / kSpreadDenominator);
     const std::size_t next = next_pair(current + 1);  // the cause of pair p + 1, or the end
     for (; filled < next; ++filled) reference[filled] = median, out.acceptance[filled] = acceptance;
     current = next;
@@ -382,14 +389,13 @@ std::vector<bool> ambiguous_pairs(std::span<const std::int64_t> causes, std::spa
   return ambiguous;
 }
 
-// The worth of a pair in passes 2 and 3 (units: kDeviationCost = one acceptance of deviation): a pair
-// is worth kPairWorth less its deviation from the local reference in acceptances, the deviation
-// counted up to one acceptance. So a typical pair is worth about 1.5, a pair beyond the acceptance 0.5:
-// a latency that jumps (a stalled link) is still paired when nothing fits better, but a chain of pairs
-// shifted by one manoeuvre to gain one pair (worth at most 1.5) costs about 1 for each shifted pair
-// and is never chosen. With a tolerance given, pairs beyond it are not allowed at all.
+// The worth of a pair (units: kDeviationCost = one acceptance of deviation): kPairWorth less its
+// deviation from the reference in acceptances, the deviation counted up to one acceptance. A typical
+// pair is worth about 1.5, a pair beyond the acceptance 0.5. The passes compare chains by their count
+// of pairs first (a typical pair counting twice), then by worth. With a tolerance given, pairs beyond
+// it are not allowed at all.
 constexpr std::int64_t kPairWorth = 1500, kDeviationCost = 1000;
-constexpr std::size_t kConfirmingRun = 2;
+constexpr std::size_t kConfirmingRun = 2;  // consecutive far pairs that confirm a jump (uncertain_pairs)
 // Pass 1 knows no local spread yet: a pair within this of the global reference counts as typical.
 constexpr std::int64_t kFirstPassAcceptance = 1'000'000'000;  // ns
 
@@ -398,7 +404,10 @@ std::int64_t pair_worth(const LocalReference& reference, std::size_t i, std::int
   const std::int64_t ref = reference.median[i];
   const std::int64_t deviation = latency > ref ? latency - ref : ref - latency;
   if (tolerance_ns > 0 && deviation >= tolerance_ns) return kDisallowed;
-  return kPairWorth - std::min(kDeviationCost, deviation * kDeviationCost / reference.acceptance[i]);
+  const std::int64_t acceptance = reference.acceptance[i];
+  // Most candidates of a wide window lie beyond the acceptance: no division for them.
+  return deviation >= acceptance ? kPairWorth - kDeviationCost
+                                 : kPairWorth - deviation * kDeviationCost / acceptance;
 }
 
 // The pairs the data cannot make certain besides the bursts' (ambiguous_pairs), as PairFlag bits per
@@ -591,18 +600,16 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   auto matched = align(sides, candidates, fit_only, [&](std::size_t, std::int64_t latency) {
     return pair_worth(global_only, 0, latency, options.tolerance.count());
   });
-  // Passes 2 and 3: against the local reference of the previous pass; the most pairs (a typical one
-  // counting twice), then the largest worth.
+  // Pass 2: against the local reference of pass 1; the most pairs (a typical one counting twice), then
+  // the largest worth. (A third such pass, against pass 2's reference, changed nothing measurable.)
   const auto worth = [&](std::size_t i, std::int64_t latency) {
     return pair_worth(reference_of_pass, i, latency, options.tolerance.count());
   };
   constexpr std::int64_t kLooseWorth = kPairWorth - kDeviationCost;
   reference_of_pass = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
-  for (int pass = 2; pass <= 3; ++pass) {
-    matched = align(sides, candidates, [](std::size_t, std::int64_t v) { return v > kLooseWorth ? 2u : 1u; }, worth);
-    reference_of_pass = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
-  }
-  // Pass 4: a pair far from the typical latency that an unmatched edge could replace counts nothing
+  matched = align(sides, candidates, [](std::size_t, std::int64_t v) { return v > kLooseWorth ? 2u : 1u; }, worth);
+  reference_of_pass = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
+  // Pass 3: a pair far from the typical latency that an unmatched edge could replace counts nothing
   // (only its worth), so that such pairs never displace a typical one: a lost edge and a spurious one
   // must not push a true pair out.
   {

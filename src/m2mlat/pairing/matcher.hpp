@@ -9,14 +9,15 @@
 //
 //  1. a refractory filter removes bounces on each side (refractory.hpp);
 //  2. pass 1 aligns against a global reference latency (the mode of all candidate latencies);
-//  3. the reference is then made local: a running median over the neighbouring pass-1 pairs;
-//  4. pass 2 aligns again against the local reference, allowing only pairs whose latency is within
-//     `tolerance` of it.
-// Each alignment maximises the sum over pairs of (tolerance - |latency - reference|) in integer ns,
-// so it is exact and deterministic. Its cost is linear in the number of candidate pairs (events times
-// the average number of effect edges inside one latency window), with 8 bytes kept per candidate.
-// Every event left without a partner is reported with a reason, and a pair whose burst of edges
-// holds such an event is flagged ambiguous (kPairAmbiguous). docs/matcher.md has the details.
+//  3. the reference is then made local: a running median (and spread) of the neighbouring pairs;
+//  4. pass 2 aligns again against it, the most pairs first (a typical pair, within the local
+//     acceptance, counting twice), then the best fit; a latency far from the typical one (a stalled
+//     link) is still paired where it displaces no typical pair;
+//  5. pass 3 repeats pass 2 with the far pairs that an unmatched edge could replace counting nothing.
+// Each alignment is exact in integers and deterministic. Its cost is linear in the number of candidate
+// pairs (events times the average number of effect edges inside one latency window), with 8 bytes
+// kept per candidate. Every event left without a partner is reported with a reason, and every pair the
+// data cannot make certain is flagged with the reason (PairFlag). docs/matcher.md has the details.
 #pragma once
 
 #include <cstddef>
