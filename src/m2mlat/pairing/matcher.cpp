@@ -538,6 +538,18 @@ std::vector<std::uint32_t> uncertain_pairs(const Sides& sides, const std::vector
   return flags;
 }
 
+// How long after the kept edge at input index `kept` the edges dropped as its bounces go on (ns; 0
+// without bounces). The refractory filter keeps the first edge of a cluster: right for contact bounce,
+// which follows the true edge, but a spurious edge just before the true one makes the true one a
+// "bounce". The pass's edge is then somewhere in the cluster.
+std::int64_t bounce_span(std::span<const std::int64_t> times, const std::vector<std::int64_t>& bounces,
+                         std::int64_t kept) {
+  auto it = std::lower_bound(bounces.begin(), bounces.end(), kept + 1);
+  std::int64_t last = kept;
+  for (; it != bounces.end() && *it == last + 1; ++it) last = *it;
+  return times[static_cast<std::size_t>(last)] - times[static_cast<std::size_t>(kept)];
+}
+
 void check_sorted(std::span<const std::int64_t> times, const char* side) {
   const auto it = std::is_sorted_until(times.begin(), times.end());
   if (it != times.end())
@@ -696,9 +708,11 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   for (std::size_t i = 0; i < matched.size(); ++i) {
     if (matched[i] == kNone) continue;
     const auto c = cause_index(i), e = effect_index(matched[i]);
+    const bool bounced = bounce_span(cause_ns, causes.bounces, c) > kBounceSpanLimit.count() ||
+                         bounce_span(effect_ns, effects.bounces, e) > kBounceSpanLimit.count();
     result.pairs.push_back(Pair{c, e, core::TimePoint::from_ns(clock, cause_ns[static_cast<std::size_t>(c)]),
                                 core::TimePoint::from_ns(clock, effect_ns[static_cast<std::size_t>(e)]),
-                                flags[i]});
+                                flags[i] | (bounced ? kPairBounced : 0u)});
   }
   return result;
 }

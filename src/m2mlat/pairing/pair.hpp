@@ -23,8 +23,15 @@ enum PairFlag : std::uint32_t {
   // The latency lies far from its neighbours' (beyond the local acceptance) and is not confirmed as a
   // jump of the link's latency by its neighbours (docs/matcher.md).
   kPairJump = 1u << 2,
+  // The cause or effect edge was followed, within the refractory period, by edges dropped as bounces
+  // for longer than kBounceSpanLimit: the pass's edge may be one of the later ones, so the latency may
+  // be off by up to that span (a spurious edge just before the true one looks like this).
+  kPairBounced = 1u << 3,
 };
-inline constexpr std::uint32_t kPairUncertain = kPairAmbiguous | kPairCompeting | kPairJump;
+inline constexpr std::uint32_t kPairUncertain = kPairAmbiguous | kPairCompeting | kPairJump | kPairBounced;
+// A cluster of edges no longer than this is one pass and its contact bounce: its first edge is taken,
+// and the latency is right to within this (less than the clock terms of docs/precision.md).
+inline constexpr core::Duration kBounceSpanLimit{3'000'000};  // ns
 
 struct Pair {
   std::int64_t cause_index = 0;   // index of the cause event in the matcher's input (or its store id)
