@@ -111,8 +111,25 @@ void Generator::plan_manoeuvre(Chunk& chunk) {
 
 void Generator::sample_clocks_until(std::int64_t true_ns, Chunk& chunk) {
   const std::int64_t interval = config_.clock_sample_interval.count();
-  if (interval <= 0) return;
-  while (next_sample_ns_ <= true_ns) {
+  // A configured clock step is recorded once, at its true time, in time order with the samples.
+  const auto step_ns = [&](core::Role role) {
+    const ClockConfig& c = role == core::Role::effect ? config_.effect_clock : config_.cause_clock;
+    const bool pending = c.step.count() != 0 && !step_recorded_[role == core::Role::effect ? 1 : 0];
+    return pending ? config_.start.ns() + c.step_at.count() : kNever;
+  };
+  while (true) {
+    const std::int64_t next = std::min<std::int64_t>(
+        {interval > 0 ? next_sample_ns_ : kNever, step_ns(core::Role::cause), step_ns(core::Role::effect)});
+    if (next > true_ns) return;
+    for (core::Role role : {core::Role::cause, core::Role::effect}) {
+      if (step_ns(role) != next) continue;
+      const ClockConfig& c = role == core::Role::effect ? config_.effect_clock : config_.cause_clock;
+      const ClockState state = clocks_.at(role, next);
+      chunk.clock_samples.push_back({role, true_time(next), core::Duration{std::llround(state.error_ns)},
+                                     state.estimated_offset, state.error_bound, c.step});
+      step_recorded_[role == core::Role::effect ? 1 : 0] = true;
+    }
+    if (interval <= 0 || next_sample_ns_ != next) continue;
     for (core::Role role : {core::Role::cause, core::Role::effect}) {
       const ClockState state = clocks_.at(role, next_sample_ns_);
       chunk.clock_samples.push_back({role, true_time(next_sample_ns_),

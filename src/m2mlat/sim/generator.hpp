@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <queue>
@@ -121,6 +122,7 @@ class Generator {
   std::int64_t last_edge_ns_ = 0;  // latest true time of any planned edge
   std::int64_t end_ns_;
   std::int64_t next_sample_ns_;
+  std::array<bool, 2> step_recorded_{};  // cause, effect: the configured clock step is in a chunk
   bool done_ = false;
 };
 

@@ -99,6 +99,9 @@ struct ClockSample {
   core::Duration error{0};             // clock reading - true time
   core::Duration estimated_offset{0};  // the daemon's last measured offset to its reference
   core::Duration error_bound{0};       // the daemon's maximum error; Duration::max() if unsynchronised
+  // Nonzero: not a state but the record of a clock step of this size (new - old reading) at
+  // true_time; `error` is then the error just after it.
+  core::Duration step{0};
 
   friend bool operator==(const ClockSample&, const ClockSample&) = default;
 };
