@@ -1,0 +1,141 @@
+// Correcting and marking one board's events after its clock steps (rule in clock_steps.hpp).
+#include "m2mlat/analysis/clock_steps.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace m2mlat::analysis {
+
+namespace {
+
+constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
+
+// The first synchronised non-step sample at or after t_ns (kNever if none).
+std::int64_t good_again(std::span<const store::ClockSample> samples, std::int64_t t_ns) {
+  std::int64_t best = kNever;
+  for (const auto& s : samples)
+    if (s.source != store::kStepSource && s.synchronised && s.time.ns() >= t_ns) best = std::min(best, s.time.ns());
+  return best;
+}
+
+std::int64_t add_bound(std::int64_t a, std::int64_t b) {
+  return a > std::numeric_limits<std::int64_t>::max() - b ? std::numeric_limits<std::int64_t>::max() : a + b;
+}
+
+}  // namespace
+
+std::uint32_t pair_flags(StepMark mark) {
+  switch (mark) {
+    case StepMark::corrected: return kPairStepCorrected;
+    case StepMark::unknown: return kPairAfterClockStep;
+    case StepMark::none: break;
+  }
+  return 0;
+}
+
+std::vector<store::ClockStep> steps_of(std::span<const store::ClockSample> samples, core::Clock clock) {
+  std::vector<store::ClockStep> out;
+  for (const auto& s : samples)
+    if (s.time.clock() == clock)
+      if (auto step = store::clock_step_of(s)) out.push_back(std::move(*step));
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.at_ns < b.at_ns; });
+  return out;
+}
+
+SideSteps correct_side(store::Timestamps& side, std::span<const store::ClockStep> steps,
+                       std::span<const store::ClockSample> samples) {
+  SideSteps out;
+  out.steps = steps.size();
+  const std::size_t n = side.t_ns.size();
+  if (steps.empty() || n == 0) return out;
+  if (side.seq.empty()) {
+    side.seq.resize(n);
+    std::iota(side.seq.begin(), side.seq.end(), std::int64_t{0});
+  }
+  // Recording order: by store sequence number or file position.
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return side.seq[a] < side.seq[b]; });
+  const auto t = [&](std::size_t k) { return side.t_ns[order[k]]; };  // k-th recorded stamp (raw)
+
+  std::vector<std::int64_t> shift(n, 0);  // by recording position
+  std::vector<StepMark> mark(n, StepMark::none);
+  std::vector<std::int64_t> max_ns(n, 0);
+  std::vector<double> var(n, 0.0);
+  std::size_t from = 0;  // events before this recording position are before every later step
+  for (const auto& step : steps) {
+    // The first recorded event at or after the step's window, from which every event is a candidate.
+    std::size_t start = from;
+    for (std::size_t k = from; k < n; ++k)
+      if (t(k) < step.earliest_ns) start = k + 1;
+    std::size_t boundary = start;  // first recorded event after the step
+    std::int64_t ambiguous_below = step.earliest_ns;  // stamps in [earliest, this) may lie on either side
+    if (step.size_ns) {
+      ambiguous_below = step.at_ns - *step.size_ns;
+      if (*step.size_ns < 0) {
+        // A step back shows in the recording order as a stamp lower than the one before it.
+        for (std::size_t k = start + 1; k < n; ++k)
+          if (t(k) < t(k - 1) && t(k) >= step.earliest_ns) {
+            boundary = k;
+            ambiguous_below = step.earliest_ns;
+            break;
+          }
+      }
+    }
+    const std::int64_t good = step.size_ns ? kNever : good_again(samples, step.at_ns);
+    for (std::size_t k = boundary; k < n; ++k) {
+      // Not placed by the recording order and stamped where old and new readings overlap: either side.
+      if (boundary == start && t(k) < ambiguous_below) {
+        mark[k] = StepMark::unknown;
+      } else if (step.size_ns) {
+        shift[k] += *step.size_ns;
+        if (mark[k] == StepMark::none) mark[k] = StepMark::corrected;
+        max_ns[k] = add_bound(max_ns[k], step.size_max_ns);
+        const auto est = static_cast<double>(step.size_est_ns);
+        var[k] += step.size_est_ns == store::kUnknownSize ? 0.0 : est * est;
+      } else if (t(k) < good) {
+        mark[k] = StepMark::unknown;
+      }
+    }
+    from = boundary;
+  }
+
+  // Apply and re-sort by corrected time.
+  std::vector<std::int64_t> corrected(n);
+  for (std::size_t k = 0; k < n; ++k) corrected[order[k]] = side.t_ns[order[k]] - shift[k];
+  std::vector<std::size_t> by_time(n);
+  std::iota(by_time.begin(), by_time.end(), std::size_t{0});
+  std::vector<std::size_t> position(n);  // recording position of each original index
+  for (std::size_t k = 0; k < n; ++k) position[order[k]] = k;
+  std::stable_sort(by_time.begin(), by_time.end(), [&](auto a, auto b) { return corrected[a] < corrected[b]; });
+  store::Timestamps sorted{side.clock, {}, {}};
+  sorted.seq.reserve(n);
+  sorted.t_ns.reserve(n);
+  out.mark.reserve(n);
+  for (auto i : by_time) {
+    const std::size_t k = position[i];
+    sorted.seq.push_back(side.seq[i]);
+    sorted.t_ns.push_back(corrected[i]);
+    out.mark.push_back(mark[k]);
+    out.size_max_ns.push_back(mark[k] == StepMark::corrected ? max_ns[k] : 0);
+    out.size_est_ns.push_back(mark[k] == StepMark::corrected ? std::llround(std::sqrt(var[k])) : 0);
+    if (mark[k] == StepMark::corrected) ++out.corrected;
+    if (mark[k] == StepMark::unknown) ++out.unknown;
+  }
+  side = std::move(sorted);
+  return out;
+}
+
+ScenarioSteps correct_scenario(ScenarioInput& input, std::span<const store::ClockSample> cause_samples,
+                               std::span<const store::ClockSample> effect_samples) {
+  ScenarioSteps out;
+  const auto cause_steps = steps_of(cause_samples, input.clock);
+  const auto effect_steps = steps_of(effect_samples, input.clock);
+  out.cause = correct_side(input.cause, cause_steps, cause_samples);
+  out.effect = correct_side(input.effect, effect_steps, effect_samples);
+  return out;
+}
+
+}  // namespace m2mlat::analysis
