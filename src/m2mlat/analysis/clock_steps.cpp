@@ -99,6 +99,7 @@ SideSteps correct_side(store::Timestamps& side, std::span<const store::ClockStep
         mark[k] = StepMark::unknown;
       }
     }
+    out.first_after.push_back(boundary < n ? side.seq[order[boundary]] : -1);
     from = boundary;
   }
 
@@ -126,6 +127,21 @@ SideSteps correct_side(store::Timestamps& side, std::span<const store::ClockStep
   }
   side = std::move(sorted);
   return out;
+}
+
+void flag_events_after_steps(std::span<core::Event> events, const std::string& node,
+                             std::span<const store::ClockSample> samples) {
+  store::Timestamps side;
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    if (events[i].node != node) continue;
+    if (side.t_ns.empty()) side.clock = events[i].time.clock();
+    side.seq.push_back(static_cast<std::int64_t>(i));
+    side.t_ns.push_back(events[i].time.ns());
+  }
+  if (side.t_ns.empty()) return;
+  const auto steps = steps_of(samples, side.clock);
+  for (const auto seq : correct_side(side, steps, samples).first_after)
+    if (seq >= 0) events[static_cast<std::size_t>(seq)].flags |= core::kFlagAfterClockStep;
 }
 
 ScenarioSteps correct_scenario(ScenarioInput& input, std::span<const store::ClockSample> cause_samples,

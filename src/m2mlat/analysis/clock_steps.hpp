@@ -21,7 +21,10 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
+
+#include "m2mlat/core/event.hpp"
 
 #include "m2mlat/analysis/selection.hpp"
 #include "m2mlat/store/clock_step.hpp"
@@ -45,6 +48,7 @@ struct SideSteps {
   std::vector<std::int64_t> size_est_ns;  // ... and their standard uncertainties added in quadrature, ns
   std::size_t steps = 0;                  // steps of this board
   std::size_t corrected = 0, unknown = 0;  // events so marked
+  std::vector<std::int64_t> first_after;   // per step: the seq of the first event recorded after it (-1: none)
   StepMark at(std::size_t i) const { return i < mark.size() ? mark[i] : StepMark::none; }
 };
 
@@ -56,6 +60,11 @@ std::vector<store::ClockStep> steps_of(std::span<const store::ClockSample> sampl
 // other clock samples (what says the clock is good again after a step of unknown size).
 SideSteps correct_side(store::Timestamps& side, std::span<const store::ClockStep> steps,
                        std::span<const store::ClockSample> samples);
+
+// Sets core::kFlagAfterClockStep on the first event of each node recorded after each of its steps
+// (by correct_side's rule; events in file order), given each node's clock samples.
+void flag_events_after_steps(std::span<core::Event> events, const std::string& node,
+                             std::span<const store::ClockSample> samples);
 
 // Both sides of a scenario, each from its board's clock samples (steps and others).
 struct ScenarioSteps {
