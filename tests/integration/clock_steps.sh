@@ -73,6 +73,31 @@ for step in 40ms -40ms; do
   done
 done
 
+# Imported into a store: a kernel log's steps and an events file's clock records go with the
+# sessions, and the first event after the step is flagged.
+"$M2MLAT" import klog-40ms/operator.log --node operator --scenario k --store imported.db >/dev/null
+"$M2MLAT" import klog-40ms/vehicle.log --node vehicle --scenario k --store imported.db >/dev/null
+"$M2MLAT" pair imported.db --out pairs.csv >/dev/null
+check_pairs pairs.csv klog-40ms/operator.log csv-40ms/truth.csv 40 >/dev/null || fail "imported kernel logs"
+"$PY" -c 'import sqlite3,sys; c=sqlite3.connect(sys.argv[1]); sys.exit(0 if c.execute("select count(*) from events where flags & 8").fetchone()[0] == 1 else 1)' imported.db ||
+  fail "imported kernel log: the first event after the step is not flagged"
+
+# chronyd's log brings the step into a store whose events file has no step record.
+grep -v '"source":"step"' csv40ms/vehicle.csv >vehicle.csv
+"$PY" - csv40ms/vehicle.csv >chrony.log <<'PYEOF'
+import datetime, json, sys
+for line in open(sys.argv[1]):
+    if line.startswith('# clock:') and '"source":"step"' in line:
+        t = json.loads(line[len('# clock:'):])['time_ns'] + 1_000_000  # logged 1 ms after the step
+        s = datetime.datetime.fromtimestamp(t // 10**9, datetime.timezone.utc).strftime('%Y-%m-%dT%H:%M:%S')
+        print(f'{s}.{t % 10**9 // 1000:06d}+00:00 vehicle chronyd[754]: System clock was stepped by 0.040000 seconds')
+PYEOF
+"$M2MLAT" import csv40ms/operator.csv vehicle.csv --scenario c --store chrony.db >/dev/null
+"$M2MLAT" import --clock-log chrony.log --node vehicle --scenario c --store chrony.db >out.txt
+grep -q "1 clock steps of vehicle" out.txt || { cat out.txt >&2; fail "import --clock-log"; }
+"$M2MLAT" pair chrony.db --out pairs.csv >/dev/null
+check_pairs pairs.csv csv40ms/operator.csv csv40ms/truth.csv 40 >/dev/null || fail "chrony log"
+
 # A step of unknown size (its record says only that the clock was set) and no clock sample after
 # it that says the clock is good: every later pair is flagged and left out of the statistics.
 "$M2MLAT" simulate "${SIM[@]}" --set effect_clock.step=40ms --set clock_sample_interval=0s --out-dir unknown >/dev/null

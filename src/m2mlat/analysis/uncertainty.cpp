@@ -46,14 +46,18 @@ ClockTrack make_clock_track(std::vector<store::ClockSample> samples, core::Clock
   });
   for (auto& s : samples) {
     if (s.time.clock() != clock) continue;
-    if (s.source == kStepSource)
+    if (s.source == kStepSource) {
       track.steps_ns.push_back(s.time.ns());
+      if (auto step = store::clock_step_of(s)) track.step_records.push_back(std::move(*step));
+    }
     else if (!has_daemon || s.source != kKernelSource)
       track.samples.push_back(std::move(s));
   }
   std::stable_sort(track.samples.begin(), track.samples.end(),
                    [](const auto& a, const auto& b) { return a.time.ns() < b.time.ns(); });
   std::sort(track.steps_ns.begin(), track.steps_ns.end());
+  std::stable_sort(track.step_records.begin(), track.step_records.end(),
+                   [](const auto& a, const auto& b) { return a.at_ns < b.at_ns; });
   return track;
 }
 

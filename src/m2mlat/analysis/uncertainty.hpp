@@ -42,6 +42,7 @@
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/pairing/pair.hpp"
 #include "m2mlat/stats/summary.hpp"
+#include "m2mlat/store/clock_step.hpp"
 #include "m2mlat/store/records.hpp"
 
 namespace m2mlat::analysis {
@@ -84,6 +85,9 @@ struct SampleUncertainty {
 struct ClockTrack {
   std::vector<store::ClockSample> samples;  // by time
   std::vector<std::int64_t> steps_ns;       // times of "step" samples, sorted
+  // The same steps as records (store/clock_step.hpp): the size and its uncertainty (size_max_ns,
+  // size_est_ns) that a corrected event carries (clock_steps.hpp; per event in ScenarioResult::steps).
+  std::vector<store::ClockStep> step_records;
   bool empty() const { return samples.empty(); }
 };
 // From samples in any order; only those on `clock` are kept.

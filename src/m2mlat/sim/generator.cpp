@@ -147,9 +147,15 @@ void Generator::emit(Side& side, const Pending& edge, Chunk& chunk) {
   const std::int64_t index = side.emitted++;
   const auto seqno = static_cast<std::uint64_t>(side.emitted);
   const std::string& node = side.role == core::Role::effect ? config_.effect_node : config_.cause_node;
+  // The first edge after the board's clock step says so, as a recorder's would.
+  const ClockConfig& clock = side.role == core::Role::effect ? config_.effect_clock : config_.cause_clock;
+  const std::int64_t step_ns = config_.start.ns() + clock.step_at.count();
+  const bool after_step = clock.step.count() != 0 && side.last_key_ns < step_ns && step_ns <= edge.key_ns;
+  side.last_key_ns = edge.key_ns;
   chunk.events(side.role).push_back(core::Event{node, config_.channel, core::Edge::falling,
                                                 core::TimePoint::from_ns(core::Clock::realtime, stamp), seqno,
-                                                seqno, core::kFlagSimulated});
+                                                seqno, core::kFlagSimulated | 
+                                                    (after_step ? core::kFlagAfterClockStep : 0u)});
   chunk.truth(side.role).push_back(EventTruth{edge.kind, edge.manoeuvre, edge.pass, edge.magnet,
                                               true_time(edge.true_ns), core::Duration{edge.irq_ns}, error});
   if (edge.kind != EdgeKind::pass) return;

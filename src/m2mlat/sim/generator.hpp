@@ -7,10 +7,11 @@
 // their events does. Same configuration and seed -> the same chunks, bit for bit, on every platform.
 #pragma once
 
-#include <cstddef>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <queue>
 #include <vector>
 
@@ -97,6 +98,7 @@ class Generator {
     Queue queue;
     Pending spurious;  // the next spurious edge (key INT64_MAX: none)
     std::int64_t emitted = 0;
+    std::int64_t last_key_ns = std::numeric_limits<std::int64_t>::min();  // of the last emitted edge
     Side(core::Role r, const SensorConfig& config, std::uint64_t seed) : role(r), sensor(config, seed, r) {}
   };
 

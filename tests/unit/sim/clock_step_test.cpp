@@ -75,6 +75,12 @@ TEST(ClockStep, TheRunRecordsTheStepOnceInTimeOrder) {
   }
   EXPECT_GT(before, 5);
   EXPECT_GT(after, 5);
+  // The vehicle's first edge after the step carries the flag; no other edge does.
+  const auto flagged = std::count_if(run.effect_events.begin(), run.effect_events.end(),
+                                     [](const auto& e) { return (e.flags & core::kFlagAfterClockStep) != 0; });
+  EXPECT_EQ(flagged, 1);
+  EXPECT_TRUE(std::none_of(run.cause_events.begin(), run.cause_events.end(),
+                           [](const auto& e) { return (e.flags & core::kFlagAfterClockStep) != 0; }));
 }
 
 }  // namespace
