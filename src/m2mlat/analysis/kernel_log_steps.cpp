@@ -40,7 +40,13 @@ std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> rea
     if (mono[i] >= mono[i - 1]) jumps.push_back(std::llabs(d[i] - d[i - 1]));
   if (jumps.empty()) return steps;
   const std::int64_t jitter = median_of(jumps);
+  // Stamps that do not follow the realtime ones (written by a script, lines of another clock) are no
+  // clock to compare with: a typical jump beyond the smallest step, or jumps at more than one line
+  // in 20, and nothing is said.
+  if (jitter > options.threshold_ns) return steps;
   const std::int64_t threshold = std::max(options.threshold_ns, 8 * jitter);
+  const auto beyond = std::count_if(jumps.begin(), jumps.end(), [&](std::int64_t j) { return j > threshold; });
+  if (static_cast<std::size_t>(beyond) * 20 > jumps.size() && beyond > 2) return steps;
   const std::size_t w = std::max<std::size_t>(options.window, 1);
 
   std::size_t segment = 0;  // first line of the current run of increasing monotonic stamps

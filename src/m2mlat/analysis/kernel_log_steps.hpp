@@ -14,6 +14,8 @@
 // time between the windows' first and last lines, its standard uncertainty 1.5 J (one line's d has a
 // standard deviation of about J / 0.95 for a normal jitter; a difference of two is sqrt(2) that).
 // The step lies between the two lines: the first line after it is the first stamp surely after it.
+// Stamps that are no clock beside the realtime ones (J above the threshold, or jumps at more than
+// one line in 20: a script's "[ 1.000000]" counter) give no steps.
 #pragma once
 
 #include <cstddef>

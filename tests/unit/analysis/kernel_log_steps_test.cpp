@@ -60,6 +60,13 @@ TEST(KernelLogSteps, SlewingAndOneLatePrintkAreNoStep) {
   EXPECT_TRUE(kernel_log_steps(log.realtime_ns, log.log_time_us).empty());
 }
 
+TEST(KernelLogSteps, StampsThatAreNoClockGiveNoSteps) {
+  auto log = make_log(40, 0, 0);
+  for (std::size_t i = 0; i < log.log_time_us.size(); ++i)
+    log.log_time_us[i] = static_cast<std::int64_t>(i) * 1'000'000;  // "[ 7.000000]": a line counter
+  EXPECT_TRUE(kernel_log_steps(log.realtime_ns, log.log_time_us).empty());
+}
+
 TEST(KernelLogSteps, NothingIsSeenAcrossAReboot) {
   auto log = make_log(20, 0, 0);
   auto second = make_log(20, 5'000 * kMs, 0);  // another boot: uptime restarts, realtime moved on
