@@ -98,6 +98,13 @@ grep -q "1 clock steps of vehicle" out.txt || { cat out.txt >&2; fail "import --
 "$M2MLAT" pair chrony.db --out pairs.csv >/dev/null
 check_pairs pairs.csv csv40ms/operator.csv csv40ms/truth.csv 40 >/dev/null || fail "chrony log"
 
+# A store exported to an events file carries its clock records: the file alone gives the same pairs.
+"$M2MLAT" export s40ms.db -o exported.csv
+grep -q '^# clock: .*"source":"step"' exported.csv || fail "export lost the step record"
+"$M2MLAT" pair s40ms.db --out store_pairs.csv >/dev/null
+"$M2MLAT" pair exported.csv --out file_pairs.csv >/dev/null
+cmp -s store_pairs.csv file_pairs.csv || fail "the exported file pairs differently from its store"
+
 # A step of unknown size (its record says only that the clock was set) and no clock sample after
 # it that says the clock is good: every later pair is flagged and left out of the statistics.
 "$M2MLAT" simulate "${SIM[@]}" --set effect_clock.step=40ms --set clock_sample_interval=0s --out-dir unknown >/dev/null
