@@ -114,8 +114,12 @@ std::string scenario_detail(const analysis::ScenarioResult& r) {
       fmt::format("scenario {}: {} -> {}, {} pairs{}\n", core::printable(r.input.scenario),
                   core::printable(core::to_string(r.input.cause_ref)),
                   core::printable(core::to_string(r.input.effect_ref)), s.n,
-                  r.include_ambiguous ? " (ambiguous included)"
-                                      : fmt::format(" ({} ambiguous left out)", r.ambiguous_pairs()));
+                  (r.include_ambiguous ? std::string(" (ambiguous included)")
+                                       : fmt::format(" ({} ambiguous left out)", r.ambiguous_pairs())) +
+                      (r.pairs_marked(analysis::StepMark::unknown) == 0
+                           ? std::string()
+                           : fmt::format(" ({} after a clock step left out)",
+                                         r.pairs_marked(analysis::StepMark::unknown))));
   Table table({"statistic", "value (ms)", "note"});
   auto extreme = [&](const char* name, const std::optional<stats::Extreme>& e) {
     if (e)
