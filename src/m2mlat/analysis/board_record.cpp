@@ -103,6 +103,11 @@ void attach_board_record(ScenarioResult& result, const BoardRecord& record, cons
   const auto cause = track(in.cause_ref.node);
   const auto effect = track(in.effect_ref.node);
   attach_uncertainty(result, cause, effect, options, summary_options);
+  // A pair after a step of unknown offset (clock_steps.hpp) is a clock-step sample too.
+  if (result.steps.steps() != 0)
+    for (std::size_t i = 0; i < result.uncertainty.size() && i < result.match.pairs.size(); ++i)
+      if (result.step_mark(result.match.pairs[i]) == StepMark::unknown)
+        result.uncertainty[i].flags |= kUncertaintyClockStep;
   attach_budget(result, cause, effect, options.growth_ppm);
 }
 

@@ -47,8 +47,11 @@ ClockTrack make_clock_track(std::vector<store::ClockSample> samples, core::Clock
   for (auto& s : samples) {
     if (s.time.clock() != clock) continue;
     if (s.source == kStepSource) {
-      track.steps_ns.push_back(s.time.ns());
-      if (auto step = store::clock_step_of(s)) track.step_records.push_back(std::move(*step));
+      // A step of known size is taken out of the later stamps before pairing (clock_steps.hpp): only
+      // the others leave a latency that straddles them wrong.
+      auto step = store::clock_step_of(s);
+      if (!step || !step->size_ns) track.steps_ns.push_back(s.time.ns());
+      if (step) track.step_records.push_back(std::move(*step));
     }
     else if (!has_daemon || s.source != kKernelSource)
       track.samples.push_back(std::move(s));
