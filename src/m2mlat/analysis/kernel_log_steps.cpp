@@ -29,15 +29,15 @@ std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> rea
   std::vector<store::ClockStep> steps;
   const std::size_t n = std::min(realtime_ns.size(), log_time_us.size());
   if (n < 2) return steps;
-  std::vector<std::int64_t> d(n), mono(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    mono[i] = log_time_us[i] * 1000;
-    d[i] = realtime_ns[i] - mono[i];
-  }
+  // Computed per line, not stored: a log of 10^7 lines costs no further columns.
+  const auto mono = [&](std::size_t i) { return log_time_us[i] * 1000; };
+  const auto d_at = [&](std::size_t i) { return realtime_ns[i] - mono(i); };
+  // The jitter from at most 2^16 line pairs spread over the log (a median needs no more).
+  const std::size_t stride = std::max<std::size_t>(1, (n - 1) >> 16);
   std::vector<std::int64_t> jumps;
-  jumps.reserve(n);
-  for (std::size_t i = 1; i < n; ++i)
-    if (mono[i] >= mono[i - 1]) jumps.push_back(std::llabs(d[i] - d[i - 1]));
+  std::size_t pairs = 0, beyond = 0;
+  for (std::size_t i = 1; i < n; i += stride)
+    if (mono(i) >= mono(i - 1)) jumps.push_back(std::llabs(d_at(i) - d_at(i - 1)));
   if (jumps.empty()) return steps;
   const std::int64_t jitter = median_of(jumps);
   // Stamps that do not follow the realtime ones (written by a script, lines of another clock) are no
@@ -45,29 +45,31 @@ std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> rea
   // in 20, and nothing is said.
   if (jitter > options.threshold_ns) return steps;
   const std::int64_t threshold = std::max(options.threshold_ns, 8 * jitter);
-  const auto beyond = std::count_if(jumps.begin(), jumps.end(), [&](std::int64_t j) { return j > threshold; });
-  if (static_cast<std::size_t>(beyond) * 20 > jumps.size() && beyond > 2) return steps;
+  for (const auto j : jumps) {
+    ++pairs;
+    if (j > threshold) ++beyond;
+  }
+  if (beyond * 20 > pairs && beyond > 2) return steps;
   const std::size_t w = std::max<std::size_t>(options.window, 1);
 
   std::size_t segment = 0;  // first line of the current run of increasing monotonic stamps
   std::size_t last_step = 0;
   for (std::size_t i = 1; i < n; ++i) {
-    if (mono[i] < mono[i - 1]) {
+    if (mono(i) < mono(i - 1)) {
       segment = last_step = i;
       continue;
     }
-    const std::int64_t allowance = threshold + slew(options.slew_ppm, mono[i] - mono[i - 1]);
-    if (std::llabs(d[i] - d[i - 1]) <= allowance) continue;
+    const std::int64_t allowance = threshold + slew(options.slew_ppm, mono(i) - mono(i - 1));
+    if (std::llabs(d_at(i) - d_at(i - 1)) <= allowance) continue;
     // The windows: up to w lines each side, within this segment and not across the last step.
     const std::size_t lo = std::max({segment, last_step, i >= w ? i - w : std::size_t{0}});
     std::size_t hi = i;
-    while (hi < n && hi - i < w && (hi == i || mono[hi] >= mono[hi - 1])) ++hi;
-    const std::vector<std::int64_t> before(d.begin() + static_cast<std::ptrdiff_t>(lo),
-                                           d.begin() + static_cast<std::ptrdiff_t>(i));
-    const std::vector<std::int64_t> after(d.begin() + static_cast<std::ptrdiff_t>(i),
-                                          d.begin() + static_cast<std::ptrdiff_t>(hi));
+    while (hi < n && hi - i < w && (hi == i || mono(hi) >= mono(hi - 1))) ++hi;
+    std::vector<std::int64_t> before, after;
+    for (std::size_t k = lo; k < i; ++k) before.push_back(d_at(k));
+    for (std::size_t k = i; k < hi; ++k) after.push_back(d_at(k));
     const std::int64_t size = median_of(after) - median_of(before);
-    const std::int64_t span = mono[hi - 1] - mono[lo];
+    const std::int64_t span = mono(hi - 1) - mono(lo);
     if (std::llabs(size) <= threshold + slew(options.slew_ppm, span)) continue;  // one late printk
     const auto [bmin, bmax] = std::minmax_element(before.begin(), before.end());
     const auto [amin, amax] = std::minmax_element(after.begin(), after.end());
