@@ -3,6 +3,8 @@
 // step of unknown size until a synchronised sample says the clock is good again.
 #include "m2mlat/analysis/clock_steps.hpp"
 
+#include "m2mlat/analysis/scenario_result.hpp"
+
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -109,6 +111,35 @@ TEST(ClockSteps, EveryStepRecordReadsBack) {
   store::ClockSample chrony;
   chrony.source = "chrony";
   EXPECT_FALSE(store::clock_step_of(chrony));
+}
+
+// A scenario: causes every 100 ms, effects 30 ms after each on the stepped board.
+ScenarioInput scenario(std::int64_t size) {
+  ScenarioInput input;
+  input.scenario = "s";
+  input.cause_ref = {"operator", "wheel"};
+  input.effect_ref = {"vehicle", "wheel"};
+  input.cause.t_ns = truth();
+  input.effect = stamped(size);
+  for (auto& t : input.effect.t_ns) t += 30 * kMs;
+  return input;
+}
+
+TEST(ClockSteps, CorrectedPairsStayInTheStatisticsFlaggedOnesLeave) {
+  for (const bool size_known : {true, false}) {
+    auto input = scenario(40 * kMs);
+    store::ClockStep step = known(kT0 + 1040 * kMs, 40 * kMs);
+    if (!size_known) step.size_ns.reset();
+    const std::vector<store::ClockSample> effect_samples{store::step_clock_sample(step)};
+    auto steps = correct_scenario(input, {}, effect_samples);
+    const auto result = analyse(std::move(input), std::move(steps), {}, {});
+    ASSERT_EQ(result.match.pairs.size(), 20u) << size_known;
+    EXPECT_EQ(result.pairs_marked(StepMark::corrected), size_known ? 10u : 0u);
+    EXPECT_EQ(result.pairs_marked(StepMark::unknown), size_known ? 0u : 10u);
+    EXPECT_EQ(result.summary.n, size_known ? 20u : 10u);
+    // What reaches the statistics is the true 30 ms, never 70 ms.
+    for (const auto latency : result.latencies_ns()) EXPECT_EQ(latency, 30 * kMs);
+  }
 }
 
 }  // namespace
