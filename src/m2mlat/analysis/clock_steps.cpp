@@ -144,11 +144,87 @@ void flag_events_after_steps(std::span<core::Event> events, const std::string& n
     if (seq >= 0) events[static_cast<std::size_t>(seq)].flags |= core::kFlagAfterClockStep;
 }
 
+std::vector<store::ClockStep> followed_steps(std::span<const store::ClockStep> stepped,
+                                             std::span<const store::ClockSample> follower) {
+  std::vector<store::ClockStep> out;
+  std::vector<const store::ClockSample*> daemon;  // the follower's daemon samples, by time
+  for (const auto& s : follower)
+    if (s.source != store::kStepSource && s.source != "adjtimex" && s.synchronised) daemon.push_back(&s);
+  std::stable_sort(daemon.begin(), daemon.end(),
+                   [](const auto* a, const auto* b) { return a->time.ns() < b->time.ns(); });
+  for (const auto& step : stepped) {
+    if (!step.size_ns) continue;
+    const std::int64_t size = *step.size_ns;
+    const std::int64_t magnitude = std::llabs(size);
+    // Its usual |offset| and error estimate before the step: a jump must stand far above them.
+    std::vector<std::int64_t> offsets, estimates;
+    auto it = daemon.begin();
+    // The follower reads the old timescale until it follows: the step's moment there is earliest -
+    // size; a sample taken a little before it (the two clocks differ) shows nothing, so it may count.
+    const std::int64_t from_ns = std::min(step.earliest_ns, step.earliest_ns - size) - magnitude;
+    for (; it != daemon.end() && (*it)->time.ns() < from_ns; ++it) {
+      offsets.push_back(std::llabs((*it)->offset_ns));
+      estimates.push_back(std::max<std::int64_t>((*it)->est_error_ns, 0));
+    }
+    const auto median = [](std::vector<std::int64_t>& v) -> std::int64_t {
+      if (v.empty()) return 0;
+      std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+      return v[v.size() / 2];
+    };
+    const std::int64_t usual = median(offsets);
+    const std::int64_t usual_est = median(estimates);
+    if (8 * usual >= magnitude) continue;  // the step would not stand out of its noise
+    // Its daemon measures the jump at its next poll and slews it away over the next ones: among its
+    // next three samples, an offset far beyond its usual one (either sign: behind, then overshooting)
+    // or an error estimate jumped up by an eighth of the step says its reference moved with the step.
+    const auto horizon = it + std::min<std::ptrdiff_t>(3, daemon.end() - it);
+    const auto disturbed = std::find_if(it, horizon, [&](const auto* s) {
+      return std::llabs(s->offset_ns) > std::max(8 * usual, magnitude / 16) ||
+             (!estimates.empty() && s->est_error_ns - usual_est > magnitude / 8);
+    });
+    if (disturbed == horizon) continue;
+    store::ClockStep follow;
+    follow.origin = "followed";
+    follow.size_ns = size;
+    follow.earliest_ns = step.earliest_ns;
+    // Back in step: two samples in a row (or the last) within max(step / 16, 4 x usual).
+    const std::int64_t close = std::max(magnitude / 16, 4 * usual);
+    const auto within = [&](auto k) { return k == daemon.end() || std::llabs((*k)->offset_ns) <= close; };
+    auto back = disturbed + 1;
+    while (back != daemon.end() && !(within(back) && within(back + 1))) ++back;
+    if (back == daemon.end()) {
+      follow.at_ns = std::numeric_limits<std::int64_t>::max() / 2;  // never back in step: flagged to the end
+    } else {
+      // Stamps in [earliest, back) are mid-slew (flagged); from `back` on the follower reads the stepped
+      // board's new timescale: the overlap rule of correct_side places that boundary at at_ns - size.
+      follow.at_ns = (*back)->time.ns() + size;
+      std::int64_t left = std::llabs((*back)->offset_ns);
+      if (back + 1 != daemon.end()) left = std::max<std::int64_t>(left, std::llabs((*(back + 1))->offset_ns));
+      // The offset left is what its daemon measured: twice that bounds what the clock still had.
+      follow.size_max_ns = add_bound(step.size_max_ns, 2 * left);
+      const auto est = static_cast<double>(step.size_est_ns == store::kUnknownSize ? 0 : step.size_est_ns);
+      follow.size_est_ns = std::llround(std::sqrt(est * est + static_cast<double>(left) * static_cast<double>(left)));
+    }
+    out.push_back(follow);
+  }
+  return out;
+}
+
 ScenarioSteps correct_scenario(ScenarioInput& input, std::span<const store::ClockSample> cause_samples,
                                std::span<const store::ClockSample> effect_samples) {
   ScenarioSteps out;
-  const auto cause_steps = steps_of(cause_samples, input.clock);
-  const auto effect_steps = steps_of(effect_samples, input.clock);
+  auto cause_steps = steps_of(cause_samples, input.clock);
+  auto effect_steps = steps_of(effect_samples, input.clock);
+  // A board whose daemon follows the other board (co-referenced: the vehicle's reference is the
+  // operator's clock) is pulled onto a step of that board: it takes the step too, after its slew.
+  auto cause_follow = followed_steps(effect_steps, cause_samples);
+  auto effect_follow = followed_steps(cause_steps, effect_samples);
+  const auto merge = [](std::vector<store::ClockStep>& into, std::vector<store::ClockStep>& more) {
+    into.insert(into.end(), more.begin(), more.end());
+    std::stable_sort(into.begin(), into.end(), [](const auto& a, const auto& b) { return a.earliest_ns < b.earliest_ns; });
+  };
+  merge(cause_steps, cause_follow);
+  merge(effect_steps, effect_follow);
   out.cause = correct_side(input.cause, cause_steps, cause_samples);
   out.effect = correct_side(input.effect, effect_steps, effect_samples);
   return out;

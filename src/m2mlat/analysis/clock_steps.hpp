@@ -66,7 +66,18 @@ SideSteps correct_side(store::Timestamps& side, std::span<const store::ClockStep
 void flag_events_after_steps(std::span<core::Event> events, const std::string& node,
                              std::span<const store::ClockSample> samples);
 
-// Both sides of a scenario, each from its board's clock samples (steps and others).
+// The steps a board takes over from the other board's steps of known size: when one of its daemon's
+// next three samples after such a step shows it behind (ahead) by more than half the step, and the
+// step stands 8 times above the board's usual |offset| (the median before it), its daemon follows the
+// stepped board (in a co-referenced rig the vehicle's reference is the operator's clock) and slews
+// onto the new timescale. Its stamps from the step until its daemon's offset is back within
+// max(step / 16, 4 x usual) are flagged; from there on they are corrected by the same size (the
+// step's uncertainty plus the offset left then). Never back: flagged to the end. origin "followed".
+std::vector<store::ClockStep> followed_steps(std::span<const store::ClockStep> stepped,
+                                             std::span<const store::ClockSample> follower);
+
+// Both sides of a scenario, each from its board's clock samples (steps and others), with the steps
+// each takes over from the other (followed_steps).
 struct ScenarioSteps {
   SideSteps cause, effect;
   std::size_t steps() const { return cause.steps + effect.steps; }

@@ -113,6 +113,39 @@ TEST(ClockSteps, EveryStepRecordReadsBack) {
   EXPECT_FALSE(store::clock_step_of(chrony));
 }
 
+store::ClockSample daemon_sample(std::int64_t t_ns, std::int64_t offset_ns, std::int64_t est_ns = 200'000) {
+  store::ClockSample s;
+  s.time = core::TimePoint::from_ns(core::Clock::realtime, t_ns);
+  s.source = "chrony";
+  s.offset_ns = offset_ns;
+  s.est_error_ns = est_ns;
+  s.max_error_ns = 3 * est_ns;
+  s.synchronised = true;
+  return s;
+}
+
+TEST(ClockSteps, ABoardWhoseDaemonFollowsTheSteppedOneTakesTheStepAfterItsSlew) {
+  constexpr std::int64_t kS = 1'000'000'000;
+  const std::vector<store::ClockStep> stepped{known(kT0 + 60 * kS, 40 * kMs, 100, 50)};
+  std::vector<store::ClockSample> follower;
+  for (int k = 0; k < 6; ++k) follower.push_back(daemon_sample(kT0 + k * 10 * kS, (k % 2 ? 1 : -1) * 100'000));
+  // After the step: behind by the step, overshooting, then back within 2.5 ms twice in a row.
+  for (auto [k, offset] : {std::pair{6, -30 * kMs}, {7, 4 * kMs}, {8, 2 * kMs}, {9, kMs / 2}, {10, 0}})
+    follower.push_back(daemon_sample(kT0 + k * 10 * kS, offset));
+  const auto taken = followed_steps(stepped, follower);
+  ASSERT_EQ(taken.size(), 1u);
+  EXPECT_EQ(taken[0].size_ns, 40 * kMs);
+  EXPECT_EQ(taken[0].earliest_ns, kT0 + 60 * kS);
+  EXPECT_EQ(taken[0].at_ns - 40 * kMs, kT0 + 80 * kS);  // flagged until the 80 s sample, corrected after
+  EXPECT_EQ(taken[0].size_max_ns, 100 + 2 * 2 * kMs);
+  EXPECT_EQ(taken[0].origin, "followed");
+
+  // A daemon with its own reference does not notice the other board's step: nothing taken over.
+  std::vector<store::ClockSample> independent(follower.begin(), follower.begin() + 6);
+  for (int k = 6; k < 11; ++k) independent.push_back(daemon_sample(kT0 + k * 10 * kS, 150'000));
+  EXPECT_TRUE(followed_steps(stepped, independent).empty());
+}
+
 // A scenario: causes every 100 ms, effects 30 ms after each on the stepped board.
 ScenarioInput scenario(std::int64_t size) {
   ScenarioInput input;
