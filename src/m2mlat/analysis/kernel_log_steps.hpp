@@ -14,8 +14,12 @@
 // time between the windows' first and last lines, its standard uncertainty 1.5 J (one line's d has a
 // standard deviation of about J / 0.95 for a normal jitter; a difference of two is sqrt(2) that).
 // The step lies between the two lines: the first line after it is the first stamp surely after it.
-// Stamps that are no clock beside the realtime ones (J above the threshold, or jumps at more than
-// one line in 20: a script's "[ 1.000000]" counter) give no steps.
+// Jumps the same way within `window` lines of each other are one step (a clock slewed faster than
+// 500 ppm, e.g. a daemon catching up with a stepped reference, moves over a few lines): its size from
+// before the first to after the last, the lines between flagged (at_ns = last jump's stamp + size,
+// see clock_steps.hpp), its standard uncertainty its bound / sqrt(3).
+// Stamps that are no clock beside the realtime ones (J above the threshold, or jumps beyond what
+// slewing allows at more than one line pair in 4: a script's "[ 1.000000]" counter) give no steps.
 #pragma once
 
 #include <cstddef>
