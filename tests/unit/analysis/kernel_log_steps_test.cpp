@@ -67,6 +67,19 @@ TEST(KernelLogSteps, StampsThatAreNoClockGiveNoSteps) {
   EXPECT_TRUE(kernel_log_steps(log.realtime_ns, log.log_time_us).empty());
 }
 
+TEST(KernelLogSteps, AFastSlewOverAFewLinesIsOneStep) {
+  // A daemon catching up with a stepped reference: +15, +15, +10 ms over three lines.
+  auto log = make_log(40, 15 * kMs, 17);
+  for (std::size_t i = 18; i < log.realtime_ns.size(); ++i) log.realtime_ns[i] += 15 * kMs;
+  for (std::size_t i = 19; i < log.realtime_ns.size(); ++i) log.realtime_ns[i] += 10 * kMs;
+  const auto steps = kernel_log_steps(log.realtime_ns, log.log_time_us);
+  ASSERT_EQ(steps.size(), 1u);
+  EXPECT_LT(std::llabs(*steps[0].size_ns - 40 * kMs), 200'000);
+  EXPECT_EQ(steps[0].earliest_ns, log.realtime_ns[17]);
+  EXPECT_EQ(steps[0].at_ns - *steps[0].size_ns, log.realtime_ns[19]);  // lines 17, 18 are flagged
+  EXPECT_GT(steps[0].size_est_ns, steps[0].size_max_ns / 2);
+}
+
 TEST(KernelLogSteps, NothingIsSeenAcrossAReboot) {
   auto log = make_log(20, 0, 0);
   auto second = make_log(20, 5'000 * kMs, 0);  // another boot: uptime restarts, realtime moved on
