@@ -60,16 +60,19 @@ void attach_budget(ScenarioResult& result, const ClockTrack& cause, const ClockT
 
 }  // namespace
 
-void attach_board_record(ScenarioResult& result, const store::Store& store, const UncertaintyOptions& options,
-                         const stats::SummaryOptions& summary_options) {
-  const auto& in = result.input;
-  std::map<std::string, std::vector<store::ClockSample>> samples;  // by node, in session order
+std::span<const store::ClockSample> BoardRecord::of(const std::string& node) const {
+  const auto it = samples.find(node);
+  return it == samples.end() ? std::span<const store::ClockSample>{} : std::span(it->second);
+}
+
+BoardRecord read_board_record(const store::Store& store, const ScenarioInput& in) {
+  BoardRecord record;
   std::map<std::pair<std::string, std::string>, LossCount> losses;
   for (const auto& session : store.sessions()) {
     if (session.scenario != in.scenario) continue;
     if (session.node != in.cause_ref.node && session.node != in.effect_ref.node) continue;
     auto part = store.clock_samples(session.id);
-    auto& node_samples = samples[session.node];
+    auto& node_samples = record.samples[session.node];
     node_samples.insert(node_samples.end(), std::make_move_iterator(part.begin()),
                         std::make_move_iterator(part.end()));
     for (const auto& l : store.losses(session.id)) {
@@ -80,24 +83,39 @@ void attach_board_record(ScenarioResult& result, const store::Store& store, cons
       count.events += l.count;
     }
   }
+  for (const auto& entry : losses) record.losses.push_back(entry.second);
+  return record;
+}
 
+void attach_board_record(ScenarioResult& result, const BoardRecord& record, const UncertaintyOptions& options,
+                         const stats::SummaryOptions& summary_options) {
+  const auto& in = result.input;
   result.clocks.clear();
-  for (const auto& [node, node_samples] : samples)
+  for (const auto& [node, node_samples] : record.samples)
     if (auto series = series_of(node, node_samples, in.clock); !series.t_ns.empty())
       result.clocks.push_back(std::move(series));
-  result.losses.clear();
-  for (const auto& entry : losses) result.losses.push_back(entry.second);
+  result.losses = record.losses;
 
   const auto track = [&](const std::string& node) {
-    const auto it = samples.find(node);
-    auto t = make_clock_track(it == samples.end() ? std::vector<store::ClockSample>{} : it->second, in.clock);
+    const auto part = record.of(node);
+    auto t = make_clock_track(std::vector<store::ClockSample>(part.begin(), part.end()), in.clock);
     t.node = node;  // the model recognises a board that follows the other by its name
     return t;
   };
   const auto cause = track(in.cause_ref.node);
   const auto effect = track(in.effect_ref.node);
   attach_uncertainty(result, cause, effect, options, summary_options);
+  // A pair after a step of unknown offset (clock_steps.hpp) is a clock-step sample too.
+  if (result.steps.steps() != 0)
+    for (std::size_t i = 0; i < result.uncertainty.size() && i < result.match.pairs.size(); ++i)
+      if (result.step_mark(result.match.pairs[i]) == StepMark::unknown)
+        result.uncertainty[i].flags |= kUncertaintyClockStep;
   attach_budget(result, cause, effect, options.growth_ppm);
+}
+
+void attach_board_record(ScenarioResult& result, const store::Store& store, const UncertaintyOptions& options,
+                         const stats::SummaryOptions& summary_options) {
+  attach_board_record(result, read_board_record(store, result.input), options, summary_options);
 }
 
 }  // namespace m2mlat::analysis

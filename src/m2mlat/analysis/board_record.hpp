@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,7 @@
 namespace m2mlat::analysis {
 
 struct ScenarioResult;
+struct ScenarioInput;
 
 // One board's clock samples over a scenario as recorded (every source, steps included), in time
 // order, on the scenario's clock: what a figure of the board's clock state draws.
@@ -31,6 +34,23 @@ struct LossCount {
   std::size_t records = 0;   // loss records
   std::uint64_t events = 0;  // events known missing
 };
+
+// What was recorded on a scenario's two boards besides their events: read from a store, or the
+// clock records of events files (then without losses).
+struct BoardRecord {
+  std::map<std::string, std::vector<store::ClockSample>> samples;  // by node, in session (file) order
+  std::vector<LossCount> losses;                                   // by node, then kind
+  std::span<const store::ClockSample> of(const std::string& node) const;  // empty if none
+};
+// The clock samples and losses of the scenario's sessions on its cause and effect nodes (one pass
+// over the store).
+BoardRecord read_board_record(const store::Store& store, const ScenarioInput& input);
+
+// From `record`, fills result.clocks (one series per node, by node name), result.losses, result.uncertainty
+// (attach_uncertainty with `options`, from the same samples) and the per-board error budget
+// result.cause_clock_ms / effect_clock_ms.
+void attach_board_record(ScenarioResult& result, const BoardRecord& record, const UncertaintyOptions& options,
+                         const stats::SummaryOptions& summary_options);
 
 // Reads the clock samples and losses of the scenario's sessions on its cause and effect nodes (one
 // pass over the store) and fills result.clocks (one series per node, by node name), result.losses

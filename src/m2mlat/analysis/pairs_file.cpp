@@ -30,7 +30,9 @@ void write_pairs_file(const std::string& path, formats::Format format,
   UncertaintyColumns columns;
   bool any_clock = false;
   for (const auto& r : results) {
-    const auto scenario_rows = pair_rows(r.match.pairs);
+    auto scenario_rows = pair_rows(r.match.pairs);
+    for (std::size_t i = 0; i < scenario_rows.size(); ++i)
+      scenario_rows[i].flags |= pair_flags(r.step_mark(r.match.pairs[i]));
     rows.insert(rows.end(), scenario_rows.begin(), scenario_rows.end());
     append_columns(columns, r.uncertainty, r.match.pairs.size());
     any_clock |= !r.uncertainty.empty();

@@ -9,6 +9,9 @@
 #include <future>
 
 #include "m2mlat/analysis/board_record.hpp"
+#include "m2mlat/analysis/clock_records.hpp"
+#include "m2mlat/analysis/clock_steps.hpp"
+#include "m2mlat/analysis/kernel_log_steps.hpp"
 #include "m2mlat/analysis/pairs_file.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/formats/import_file.hpp"
@@ -17,6 +20,33 @@
 namespace m2mlat::analysis {
 
 namespace {
+
+// The clock state a data file carries: its clock records (m2mlat's events files) and the steps its
+// kernel-log lines show (kernel_log_steps.hpp), the latter on `node` (the node its events are on).
+void add_file_clock(BoardRecord& record, const formats::ImportedFile& file, const std::string& node) {
+  const auto* events = std::get_if<formats::EventImport>(&file.content);
+  if (events == nullptr) return;
+  for (const auto& r : events->clock_records) record.samples[r.node].push_back(to_clock_sample(r));
+  if (events->kernel_records.empty()) return;
+  std::vector<std::int64_t> realtime, monotonic;
+  for (const auto& k : events->kernel_records) {
+    if (!k.log_time_us) return;  // lines without the log's own stamp: nothing to compare
+    realtime.push_back(k.time_ns);
+    monotonic.push_back(*k.log_time_us);
+  }
+  for (const auto& step : kernel_log_steps(realtime, monotonic))
+    record.samples[node].push_back(store::step_clock_sample(step));
+}
+
+// Pairs and summarises `input` after its boards' clock steps (clock_steps.hpp), then attaches what
+// `record` holds (clock series, losses, per-sample uncertainty) when it holds anything.
+ScenarioResult analyse_with_record(ScenarioInput input, const BoardRecord& record, const PipelineOptions& options) {
+  auto steps = correct_scenario(input, record.of(input.cause_ref.node), record.of(input.effect_ref.node));
+  auto result = analyse(std::move(input), std::move(steps), options.match, options.summary, options.include_ambiguous);
+  if (!record.samples.empty() || !record.losses.empty())
+    attach_board_record(result, record, options.uncertainty, options.summary);
+  return result;
+}
 
 std::vector<core::Event> events_of(formats::ImportedFile&& file, const std::string& path) {
   if (auto* events = std::get_if<formats::EventImport>(&file.content)) return std::move(events->events);
@@ -55,10 +85,14 @@ ScenarioResult as_given(std::string scenario, const formats::PairedImport& paire
 }
 
 // The reference rig's kernel log and export CSV hold one pin per line and nothing but timestamps:
-// read only those (8 bytes an edge, no events built) when the file has one pin and no other channel
-// was asked for. nullopt: take the general path.
-std::optional<SideInput> lean_side(const std::string& path, std::optional<formats::Format> format,
-                                   const std::string& node, const std::optional<core::ChannelRef>& want) {
+// read only those (8 bytes an edge, no events built; 16 with the log's own stamps) when the file has
+// one pin and no other channel was asked for. nullopt: take the general path.
+struct LeanSide {
+  SideInput side;
+  std::vector<store::ClockSample> steps;  // the kernel log's clock steps (kernel_log_steps.hpp)
+};
+std::optional<LeanSide> lean_side(const std::string& path, std::optional<formats::Format> format,
+                                  const std::string& node, const std::optional<core::ChannelRef>& want) {
   if (!format) {
     // A raw read of a data file: safe here, before this process opens any store (see docs/store.md
     // on why a process must never open and close a store file it holds SQLite connections to).
@@ -73,19 +107,21 @@ std::optional<SideInput> lean_side(const std::string& path, std::optional<format
   if (series.size() != 1) return std::nullopt;
   auto& only = series.front();
   const bool numeric = !only.label.empty() && only.label.find_first_not_of("0123456789") == std::string::npos;
-  SideInput side{{node, numeric ? "gpio" + only.label : only.label}, std::move(only.ns)};
-  if (want && (want->node != side.ref.node || (!want->channel.empty() && want->channel != side.ref.channel)))
+  LeanSide lean;
+  for (const auto& step : kernel_log_steps(only.ns, only.log_time_us))
+    lean.steps.push_back(store::step_clock_sample(step));
+  lean.side = SideInput{{node, numeric ? "gpio" + only.label : only.label}, std::move(only.ns)};
+  if (want && (want->node != lean.side.ref.node ||
+               (!want->channel.empty() && want->channel != lean.side.ref.channel)))
     return std::nullopt;
-  return side;
+  return lean;
 }
 
 }  // namespace
 
 std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const PipelineOptions& options) {
   const auto& selection = options.selection;
-  const auto& match_options = options.match;
   const auto& summary_options = options.summary;
-  const auto& uncertainty_options = options.uncertainty;
   const auto format = inputs.format;
   formats::ImportOptions import_options;
 
@@ -104,18 +140,23 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
     auto cause = lean_side(inputs.cause_file, format, "cause", selection.cause);
     auto effect = effect_read.get();
     const auto scenario = std::filesystem::path(inputs.cause_file).stem().string();
+    BoardRecord record;
     if (cause && effect) {
-      results.push_back(analyse(from_timestamps(scenario, std::move(*cause), std::move(*effect)),
-                                match_options, summary_options, options.include_ambiguous));
+      record.samples["cause"] = std::move(cause->steps);
+      record.samples["effect"] = std::move(effect->steps);
+      if (record.samples["cause"].empty() && record.samples["effect"].empty()) record.samples.clear();
+      results.push_back(analyse_with_record(
+          from_timestamps(scenario, std::move(cause->side), std::move(effect->side)), record, options));
     } else {
       import_options.node = "cause";
-      const auto causes =
-          events_of(formats::import_file(inputs.cause_file, format, import_options), inputs.cause_file);
+      auto cause_file = formats::import_file(inputs.cause_file, format, import_options);
+      add_file_clock(record, cause_file, import_options.node);
+      const auto causes = events_of(std::move(cause_file), inputs.cause_file);
       import_options.node = "effect";
-      const auto effects =
-          events_of(formats::import_file(inputs.effect_file, format, import_options), inputs.effect_file);
-      results.push_back(analyse(from_events(scenario, causes, effects, selection), match_options,
-                                summary_options, options.include_ambiguous));
+      auto effect_file = formats::import_file(inputs.effect_file, format, import_options);
+      add_file_clock(record, effect_file, import_options.node);
+      const auto effects = events_of(std::move(effect_file), inputs.effect_file);
+      results.push_back(analyse_with_record(from_events(scenario, causes, effects, selection), record, options));
     }
   }
   for (const auto& path : inputs.inputs) {
@@ -127,9 +168,9 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
       const auto store = store::Store::open(path, read);
       const auto names = inputs.scenarios.empty() ? scenarios(store) : inputs.scenarios;
       for (const auto& name : names) {
-        results.push_back(analyse(load_scenario(store, name, selection), match_options, summary_options,
-                                  options.include_ambiguous));
-        attach_board_record(results.back(), store, uncertainty_options, summary_options);
+        auto input = load_scenario(store, name, selection);
+        const auto record = read_board_record(store, input);
+        results.push_back(analyse_with_record(std::move(input), record, options));
       }
       continue;
     }
@@ -145,9 +186,10 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
     auto sel = selection;
     if (!sel.cause) sel.cause = core::ChannelRef{"operator", ""};
     if (!sel.effect) sel.effect = core::ChannelRef{"vehicle", ""};
+    BoardRecord record;
+    add_file_clock(record, file, import_options.node);
     const auto events = events_of(std::move(file), path);
-    results.push_back(analyse(from_events(scenario, events, events, sel), match_options, summary_options,
-                              options.include_ambiguous));
+    results.push_back(analyse_with_record(from_events(scenario, events, events, sel), record, options));
   }
   return results;
 }

@@ -1,7 +1,8 @@
 // The offline pipeline every number of `pair`, `stats`, `export --what pairs` and `report` takes:
 // inputs (campaign stores, data files, or a cause file and an effect file) -> one ScenarioInput per
-// scenario -> pairing -> statistics -> per-sample uncertainty, and for a store the boards' clock
-// samples and losses (board_record.hpp). A caller gets everything it shows from the result and
+// scenario -> the boards' clock steps (clock_steps.hpp: from the store's or the files' clock records
+// and a kernel log's own stamps) -> pairing -> statistics -> per-sample uncertainty, and the boards'
+// clock samples and losses (board_record.hpp). A caller gets everything it shows from the result and
 // opens no store afterwards.
 #pragma once
 
@@ -33,7 +34,7 @@ struct PipelineOptions {
   pairing::MatchOptions match;
   bool include_ambiguous = false;  // statistics over ambiguous pairs too
   stats::SummaryOptions summary;
-  UncertaintyOptions uncertainty;  // applied to stores' scenarios (data files carry no clock samples)
+  UncertaintyOptions uncertainty;  // applied to scenarios with clock samples: stores, events files with clock records
 };
 
 // Loads and analyses every selected scenario: the cause/effect files first, then each input in the

@@ -5,8 +5,21 @@
 
 namespace m2mlat::analysis {
 
+StepMark ScenarioResult::step_mark(const pairing::Pair& p) const {
+  const auto c = steps.cause.at(static_cast<std::size_t>(p.cause_index));
+  const auto e = steps.effect.at(static_cast<std::size_t>(p.effect_index));
+  return std::max(c, e);
+}
+
+std::size_t ScenarioResult::pairs_marked(StepMark mark) const {
+  if (steps.steps() == 0) return 0;
+  return static_cast<std::size_t>(
+      std::count_if(match.pairs.begin(), match.pairs.end(), [&](const auto& p) { return step_mark(p) == mark; }));
+}
+
 bool ScenarioResult::in_statistics(std::size_t i) const {
   if (!include_ambiguous && match.pairs[i].ambiguous()) return false;
+  if (steps.steps() != 0 && step_mark(match.pairs[i]) == StepMark::unknown) return false;
   return !(refuse_gated && i < uncertainty.size() && uncertainty[i].gated());
 }
 
@@ -25,7 +38,13 @@ std::size_t ScenarioResult::ambiguous_pairs() const {
 
 ScenarioResult analyse(ScenarioInput input, const pairing::MatchOptions& match_options,
                        const stats::SummaryOptions& summary_options, bool include_ambiguous) {
+  return analyse(std::move(input), ScenarioSteps{}, match_options, summary_options, include_ambiguous);
+}
+
+ScenarioResult analyse(ScenarioInput input, ScenarioSteps steps, const pairing::MatchOptions& match_options,
+                       const stats::SummaryOptions& summary_options, bool include_ambiguous) {
   ScenarioResult result;
+  result.steps = std::move(steps);
   result.match = pairing::match(input.cause.t_ns, input.effect.t_ns, input.clock, match_options);
   result.input = std::move(input);
   result.include_ambiguous = include_ambiguous;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "m2mlat/analysis/board_record.hpp"
+#include "m2mlat/analysis/clock_steps.hpp"
 #include "m2mlat/analysis/selection.hpp"
 #include "m2mlat/analysis/uncertainty.hpp"
 #include "m2mlat/pairing/matcher.hpp"
@@ -32,7 +33,13 @@ struct ScenarioResult {
   // Median of each board's own clock bound at its event times over the pairs kept by the ambiguity
   // choice (ms): the error budget. Unset when a board has no clock samples.
   std::optional<double> cause_clock_ms, effect_clock_ms;
-  // Whether match.pairs[i] is one of the pairs the summary is over.
+  // What the boards' clock steps did to each event (clock_steps.hpp; parallel to input.cause and
+  // input.effect): corrected onto the timescale before the step, or of unknown offset.
+  ScenarioSteps steps;
+  StepMark step_mark(const pairing::Pair& p) const;  // the worse of the pair's two events
+  std::size_t pairs_marked(StepMark mark) const;     // unknown ones are flagged, out of the statistics
+  // Whether match.pairs[i] is one of the pairs the summary is over (not ambiguous unless
+  // include_ambiguous, not gated when refused, not after a clock step of unknown offset).
   bool in_statistics(std::size_t i) const;
 
   std::vector<std::int64_t> latencies_ns() const;  // of the pairs the summary is over
@@ -51,6 +58,9 @@ void summarize(ScenarioResult& result, const stats::SummaryOptions& summary_opti
 
 // Pairs the input and summarises the latencies of the pairs that are not ambiguous (or of all pairs).
 ScenarioResult analyse(ScenarioInput input, const pairing::MatchOptions& match_options,
+                       const stats::SummaryOptions& summary_options, bool include_ambiguous = false);
+// The same for an input whose timestamps correct_scenario corrected, with its marks.
+ScenarioResult analyse(ScenarioInput input, ScenarioSteps steps, const pairing::MatchOptions& match_options,
                        const stats::SummaryOptions& summary_options, bool include_ambiguous = false);
 
 }  // namespace m2mlat::analysis

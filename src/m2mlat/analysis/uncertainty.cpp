@@ -72,8 +72,13 @@ ClockTrack make_clock_track(std::vector<store::ClockSample> samples, core::Clock
   });
   for (auto& s : samples) {
     if (s.time.clock() != clock) continue;
-    if (s.source == kStepSource)
-      track.steps_ns.push_back(s.time.ns());
+    if (s.source == kStepSource) {
+      // A step of known size is taken out of the later stamps before pairing (clock_steps.hpp): only
+      // the others leave a latency that straddles them wrong.
+      auto step = store::clock_step_of(s);
+      if (!step || !step->size_ns) track.steps_ns.push_back(s.time.ns());
+      if (step) track.step_records.push_back(std::move(*step));
+    }
     else if (!has_daemon || s.source != kKernelSource)
       track.samples.push_back(std::move(s));
   }
@@ -86,6 +91,8 @@ ClockTrack make_clock_track(std::vector<store::ClockSample> samples, core::Clock
     track.skew_ppm.push_back(d.skew_ppm);
     track.reference = std::move(d.ref_name);  // the last sample's: what the daemon follows now
   }
+  std::stable_sort(track.step_records.begin(), track.step_records.end(),
+                   [](const auto& a, const auto& b) { return a.at_ns < b.at_ns; });
   return track;
 }
 

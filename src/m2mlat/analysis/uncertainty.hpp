@@ -33,7 +33,9 @@
 //
 // Flags: no_clock (a board has no clock samples: the values are unknown), unsynchronised (a
 // neighbouring sample says the clock was not synchronised: no bound), clock_step (a "step" sample of
-// either board lies between the cause and effect times: the latency straddles a clock step), gated
+// unknown size of either board lies between the cause and effect times: the latency straddles a
+// clock step; steps of known size are corrected before pairing, clock_steps.hpp; board_record also
+// sets it on every pair after a step of unknown offset), gated
 // (a sync gate is set and the sample's clock part max_err_cause + max_err_effect exceeds it, or it is
 // unsynchronised or straddles a step). With gate_refuse, gated samples stay in the pairs but leave
 // the statistics.
@@ -50,6 +52,7 @@
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/pairing/pair.hpp"
 #include "m2mlat/stats/summary.hpp"
+#include "m2mlat/store/clock_step.hpp"
 #include "m2mlat/store/records.hpp"
 
 namespace m2mlat::analysis {
@@ -101,7 +104,10 @@ struct SampleUncertainty {
 struct ClockTrack {
   std::vector<store::ClockSample> samples;  // by time
   std::vector<double> skew_ppm;             // per sample: its daemon's rate uncertainty, ppm (detail)
-  std::vector<std::int64_t> steps_ns;       // times of "step" samples, sorted
+  std::vector<std::int64_t> steps_ns;       // times of "step" samples of unknown size, sorted
+  // The same steps as records (store/clock_step.hpp): the size and its uncertainty (size_max_ns,
+  // size_est_ns) that a corrected event carries (clock_steps.hpp; per event in ScenarioResult::steps).
+  std::vector<store::ClockStep> step_records;
   std::string node;                         // the board (set by the caller; empty: unnamed)
   std::string reference;                    // the node its daemon follows (detail "ref_name" of its last
                                             // sample); empty: its own time servers

@@ -7,11 +7,24 @@
 #include <nlohmann/json.hpp>
 
 #include "m2mlat/capture/recorder.hpp"
+#include "m2mlat/store/clock_step.hpp"
 
 namespace m2mlat::capture {
 
 store::ClockSample sim_clock_sample(const sim::ClockSample& s, std::int64_t session_id,
                                     std::string_view reference) {
+  if (s.step.count() != 0) {
+    // The simulated twin of the clock monitor's step record, its size exact and its time known.
+    store::ClockStep step;
+    step.at_ns = s.true_time.ns() + s.error.count();
+    step.earliest_ns = step.at_ns;
+    step.size_ns = s.step.count();
+    step.size_max_ns = step.size_est_ns = 0;
+    step.origin = "sim";
+    auto out = store::step_clock_sample(step);
+    out.session_id = session_id;
+    return out;
+  }
   store::ClockSample out;
   out.session_id = session_id;
   // The sample is taken on the node's own clock: true time plus that clock's error.

@@ -14,6 +14,7 @@
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/printable.hpp"
+#include "m2mlat/store/clock_step.hpp"
 #include "m2mlat/store/store.hpp"
 #include "m2mlat/sync/clock_monitor.hpp"
 
@@ -86,7 +87,10 @@ void print_sample(const store::ClockSample& s) {
                d["gm_identity"].get<std::string>(), d["steps_removed"].get<int>(), ns_text(s.offset_ns),
                ns_text(d["mean_path_delay_ns"].get<std::int64_t>()));
   } else if (s.source == "step") {
-    fmt::print("STEP:    CLOCK_REALTIME jumped by {} at {}\n", ns_text(s.offset_ns),
+    const auto step = store::clock_step_of(s);
+    fmt::print("STEP:    CLOCK_REALTIME jumped by {} at {}\n",
+               step && !step->size_ns ? std::string("an unknown amount (the kernel's state was reset)")
+                                      : ns_text(s.offset_ns),
                core::format_seconds(s.time.ns()));
   }
 }

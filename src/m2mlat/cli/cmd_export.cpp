@@ -4,6 +4,7 @@
 #include <limits>
 #include <memory>
 
+#include "m2mlat/analysis/clock_records.hpp"
 #include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/analysis/pairs_file.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
@@ -50,6 +51,7 @@ int run_export(const ExportCommand& c) {
   options.read_only = true;
   auto store = store::Store::open(c.store_path, options);
   std::vector<core::Event> events;
+  std::vector<formats::ClockRecord> clocks;  // the sessions' clock samples and steps, carried along
   for (const auto& session : store.sessions()) {
     if (!c.scenarios.empty() &&
         std::find(c.scenarios.begin(), c.scenarios.end(), session.scenario) == c.scenarios.end())
@@ -64,8 +66,10 @@ int run_export(const ExportCommand& c) {
                core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::min()),
                core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::max()), filter))
         events.push_back(std::move(e.event));
+    for (const auto& s : store.clock_samples(session.id)) clocks.push_back(analysis::to_clock_record(s, session.node));
   }
-  formats::export_events(c.out, formats::parse_format(c.format.empty() ? "events-csv" : c.format), events);
+  formats::export_events(c.out, formats::parse_format(c.format.empty() ? "events-csv" : c.format), events,
+                         clocks);
   return 0;
 }
 

@@ -1,6 +1,8 @@
 // `m2mlat import`: read data files (the reference rig's formats or m2mlat's own) into a store.
 // Every file is read and checked whole before anything is written, so malformed input stores
-// nothing; each node of each file becomes one closed session.
+// nothing; each node of each file becomes one closed session, with the clock samples and steps the
+// file carries (events files' clock records, a kernel log's steps). --clock-log adds chronyd's steps
+// (formats/chrony_log.hpp) to the sessions of --node.
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -8,11 +10,17 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "m2mlat/analysis/clock_records.hpp"
+#include "m2mlat/analysis/clock_steps.hpp"
+#include "m2mlat/analysis/kernel_log_steps.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/printable.hpp"
+#include "m2mlat/formats/chrony_log.hpp"
 #include "m2mlat/formats/import_file.hpp"
+#include "m2mlat/formats/input_text.hpp"
+#include "m2mlat/store/clock_step.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::cli {
@@ -29,6 +37,7 @@ struct ImportCommand {
   std::string role;
   std::string scenario;
   std::string label = "import";
+  std::string clock_log;  // chronyd's log: its steps go to the sessions of `node`
   bool json = false;
 };
 
@@ -36,7 +45,45 @@ struct ImportCommand {
 struct PendingSession {
   store::Session session;
   std::vector<core::Event> events;
+  std::vector<store::ClockSample> clock;  // session_id set when written
 };
+
+// The clock samples a file carries, by node: an events file's clock records, a kernel log's steps
+// (kernel_log_steps.hpp, on the node of its events).
+std::map<std::string, std::vector<store::ClockSample>> clock_of(const formats::EventImport& file) {
+  std::map<std::string, std::vector<store::ClockSample>> out;
+  for (const auto& r : file.clock_records) out[r.node].push_back(analysis::to_clock_sample(r));
+  if (file.kernel_records.empty() || file.events.empty()) return out;
+  std::vector<std::int64_t> realtime, monotonic;
+  for (const auto& k : file.kernel_records) {
+    if (!k.log_time_us) return out;
+    realtime.push_back(k.time_ns);
+    monotonic.push_back(*k.log_time_us);
+  }
+  for (const auto& step : analysis::kernel_log_steps(realtime, monotonic))
+    out[file.events.front().node].push_back(store::step_clock_sample(step));
+  return out;
+}
+
+// chronyd's steps as step records: the line's stamp is after the step (chronyd logs it at once; the
+// logger stamps it on receipt, allowed 1 s) and before the stamp's next tick; the size is exact to
+// the microsecond chronyd prints.
+std::vector<store::ClockSample> chrony_steps(const std::string& path) {
+  const auto input = formats::InputText::read_file(path);
+  formats::check_input(input.text(), input.name());
+  const auto log = formats::import_chrony_log(input.text(), input.name());
+  std::vector<store::ClockSample> out;
+  for (const auto& s : log.steps) {
+    store::ClockStep step;
+    step.at_ns = s.time_ns + s.resolution_ns;
+    step.earliest_ns = s.time_ns - 1'000'000'000;
+    step.size_ns = s.size_ns;
+    if (s.size_ns) step.size_max_ns = 500, step.size_est_ns = 289;  // +-0.5 us, uniform: 0.5/sqrt(3)
+    step.origin = "chrony";
+    out.push_back(store::step_clock_sample(step));
+  }
+  return out;
+}
 
 core::Role role_for(const ImportCommand& c, const std::string& node) {
   if (!c.role.empty()) return core::parse_role(c.role);
@@ -78,6 +125,8 @@ std::vector<PendingSession> sessions_of(const ImportCommand& c, const std::strin
 }
 
 int run_import(const ImportCommand& c) {
+  if (c.files.empty() && c.clock_log.empty())
+    throw core::Error(core::ErrorKind::usage, "nothing to import: give files and/or --clock-log");
   formats::ImportOptions options;
   options.node = c.node;
   options.channel = c.channel;
@@ -89,9 +138,12 @@ int run_import(const ImportCommand& c) {
   // process must not open and close a file it holds SQLite connections to (docs/store.md).
   std::vector<PendingSession> pending;
   nlohmann::json report = nlohmann::json::array();
+  nlohmann::json clock_logs = nlohmann::json::array();
   for (const auto& path : c.files) {
     auto file = formats::import_file(path, format, options);
     nlohmann::json entry{{"file", path}, {"format", formats::to_string(file.format)}};
+    const auto* imported = std::get_if<formats::EventImport>(&file.content);
+    const auto clock = imported ? clock_of(*imported) : std::map<std::string, std::vector<store::ClockSample>>{};
     std::vector<core::Event> events;
     if (auto* e = std::get_if<formats::EventImport>(&file.content)) {
       entry["records"] = e->records;
@@ -114,7 +166,10 @@ int run_import(const ImportCommand& c) {
                                     path, path));
     }
     if (events.empty()) throw core::Error(core::ErrorKind::data, fmt::format("{}: no events", path));
+    for (const auto& [node, samples] : clock) analysis::flag_events_after_steps(events, node, samples);
     auto sessions = sessions_of(c, path, file.format, std::move(events));
+    for (auto& s : sessions)
+      if (const auto it = clock.find(s.session.node); it != clock.end()) s.clock = it->second;
     entry["sessions"] = nlohmann::json::array();
     for (const auto& s : sessions)
       entry["sessions"].push_back({{"node", s.session.node},
@@ -125,6 +180,35 @@ int run_import(const ImportCommand& c) {
     std::move(sessions.begin(), sessions.end(), std::back_inserter(pending));
   }
 
+  if (!c.clock_log.empty()) {
+    // chronyd's steps go with the node's sessions of this import, or into one of their own.
+    auto steps = chrony_steps(c.clock_log);
+    nlohmann::json entry{{"file", c.clock_log}, {"format", "chrony-log"}, {"steps", steps.size()}};
+    bool placed = false;
+    for (auto& p : pending)
+      if (p.session.node == c.node) {
+        p.clock.insert(p.clock.end(), steps.begin(), steps.end());
+        analysis::flag_events_after_steps(p.events, p.session.node, p.clock);
+        placed = true;
+      }
+    if (!placed && !steps.empty()) {
+      PendingSession p;
+      p.session.node = c.node;
+      p.session.role = role_for(c, c.node);
+      p.session.label = c.label;
+      p.session.scenario =
+          c.scenario.empty() ? std::filesystem::path(c.clock_log).stem().string() : c.scenario;
+      p.session.config_json = nlohmann::json{{"source", "import"}, {"file", c.clock_log}, {"format", "chrony-log"}}
+                                  .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+      p.session.start = steps.front().time;
+      p.session.end = steps.back().time;
+      p.clock = std::move(steps);
+      pending.push_back(std::move(p));
+    }
+    entry["node"] = c.node;
+    clock_logs.push_back(entry);
+  }
+
   // Then write: one transaction per session.
   auto store = store::Store::open(c.store_path);
   for (auto& p : pending) {
@@ -132,11 +216,18 @@ int run_import(const ImportCommand& c) {
     p.session.end.reset();
     const auto id = store.begin_session(p.session);
     store.append_events(id, p.events);
+    for (auto& s : p.clock) s.session_id = id;
+    if (!p.clock.empty()) store.append_clock_samples(p.clock);
     store.end_session(id, end);
   }
   if (c.json) {
-    print_json({{"store", c.store_path}, {"files", report}});
+    nlohmann::json doc{{"store", c.store_path}, {"files", report}};
+    if (!clock_logs.empty()) doc["clock_logs"] = clock_logs;
+    print_json(doc);
   } else {
+    for (const auto& f : clock_logs)
+      fmt::print("{} (chrony-log): {} clock steps of {}\n", core::printable(f["file"].get<std::string>()),
+                 f["steps"].get<std::size_t>(), core::printable(f["node"].get<std::string>()));
     for (const auto& f : report)
       for (const auto& s : f["sessions"])
         fmt::print("{} ({}): {} events of {} ({}) -> scenario '{}'\n",
@@ -151,7 +242,7 @@ int run_import(const ImportCommand& c) {
 
 Runner attach_import(CLI::App& sub) {
   auto c = std::make_shared<ImportCommand>();
-  sub.add_option("files", c->files, "Files to import ('-' = standard input)")->required();
+  sub.add_option("files", c->files, "Files to import ('-' = standard input)");
   sub.add_option("--store", c->store_path, "Store to import into (created if missing)")->required();
   sub.add_option("--format", c->format,
                  "Input format (default: detected): kernel-log, rig-export-csv, "
@@ -165,6 +256,8 @@ Runner attach_import(CLI::App& sub) {
                  "(default: from the node's name)");
   sub.add_option("--scenario", c->scenario, "Scenario of the sessions (default: the file's name)");
   sub.add_option("--label", c->label, "Label of the sessions")->capture_default_str();
+  sub.add_option("--clock-log", c->clock_log,
+                 "chronyd's log (journalctl -o short-iso-precise): its clock steps go to --node");
   sub.add_flag("--json", c->json, "Print what was imported as JSON");
   return [c] { return run_import(*c); };
 }

@@ -56,6 +56,7 @@ Runner attach_pair(CLI::App& sub) {
       print_json(report::pairing_document(results));
     } else if (c->out != "-") {
       fmt::print("{}", report::pairing_table(results));
+      if (const auto s = report::clock_step_table(results); !s.empty()) fmt::print("\n{}", s);
     }
     return 0;
   };

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <memory>
 
+#include "m2mlat/analysis/clock_records.hpp"
+#include "m2mlat/capture/sim_source.hpp"
 #include "m2mlat/capture/sim_to_store.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
@@ -69,6 +71,32 @@ void check_file_name(const std::string& key, const std::string& node) {
                                   key, node));
 }
 
+// The node's clock samples and steps as the events files carry them.
+std::vector<formats::ClockRecord> clock_records(const sim::Simulation& run, const sim::RigConfig& config,
+                                                core::Role role, const std::string& node) {
+  std::vector<formats::ClockRecord> out;
+  const auto reference = capture::sim_reference(config, role);
+  for (const auto& s : run.clock_samples)
+    if (s.node == role)
+      out.push_back(analysis::to_clock_record(capture::sim_clock_sample(s, 0, reference), node));
+  return out;
+}
+
+// The kernel log's own stamp of each event (us since boot, CLOCK_MONOTONIC): the true time of the
+// kernel's timestamp plus a printk delay of 20..200 us, the board booted 1000 s before the run.
+// CLOCK_MONOTONIC is never stepped, so a clock step shows in realtime - monotonic.
+std::vector<std::int64_t> log_times_us(const std::vector<sim::EventTruth>& truth, std::int64_t boot_ns,
+                                       std::int64_t first_index) {
+  std::vector<std::int64_t> out;
+  out.reserve(truth.size());
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    const auto index = static_cast<std::uint64_t>(first_index) + i;
+    const std::int64_t delay_ns = 20'000 + static_cast<std::int64_t>((index * 2654435761u) % 180'000u);
+    out.push_back((truth[i].true_time.ns() + truth[i].irq_latency.count() + delay_ns - boot_ns) / 1000);
+  }
+  return out;
+}
+
 // Files: kernel-log streams chunk by chunk (any length); the event formats are written whole.
 void write_files(const sim::RigConfig& config, const std::string& dir, formats::Format format,
                  std::uint32_t pin) {
@@ -88,8 +116,10 @@ void write_files(const sim::RigConfig& config, const std::string& dir, formats::
         sim::Chunk chunk;
         std::int64_t total = 0;
         while (generator.next(chunk, 1 << 18)) {
-          cause_log.write(chunk.cause_events);
-          effect_log.write(chunk.effect_events);
+          const std::int64_t boot_ns = config.start.ns() - 1'000'000'000'000;
+          cause_log.write(chunk.cause_events, log_times_us(chunk.cause_truth, boot_ns, chunk.cause_first_index));
+          effect_log.write(chunk.effect_events,
+                           log_times_us(chunk.effect_truth, boot_ns, chunk.effect_first_index));
           truth.insert(truth.end(), chunk.pairs.begin(), chunk.pairs.end());
           total += static_cast<std::int64_t>(chunk.event_count());
           progress(fmt::format("simulating: {} events", total));
@@ -100,8 +130,10 @@ void write_files(const sim::RigConfig& config, const std::string& dir, formats::
   } else {
     const auto run = sim::simulate(config);
     const char* ext = format == formats::Format::events_jsonl ? ".jsonl" : ".csv";
-    formats::export_events(name(config.cause_node, ext), format, run.cause_events);
-    formats::export_events(name(config.effect_node, ext), format, run.effect_events);
+    formats::export_events(name(config.cause_node, ext), format, run.cause_events,
+                           clock_records(run, config, core::Role::cause, config.cause_node));
+    formats::export_events(name(config.effect_node, ext), format, run.effect_events,
+                           clock_records(run, config, core::Role::effect, config.effect_node));
     truth = run.pairs;
   }
   core::write_output_file(name("truth", ".csv"), [&](std::ostream& out) { write_truth(out, truth); });

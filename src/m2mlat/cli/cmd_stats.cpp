@@ -97,6 +97,7 @@ Runner attach_stats(CLI::App& sub) {
     if (results.empty()) return 0;
     fmt::print("{}\n{}", report::pairing_table(results), report::scenario_table(results));
     if (const auto u = report::uncertainty_table(results); !u.empty()) fmt::print("\n{}", u);
+    if (const auto s = report::clock_step_table(results); !s.empty()) fmt::print("\n{}", s);
     if (c->detail)
       for (const auto& r : results) fmt::print("\n{}", report::scenario_detail(r));
     return 0;

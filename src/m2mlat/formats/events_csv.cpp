@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "m2mlat/core/error.hpp"
 #include "m2mlat/formats/event_fields.hpp"
 #include "m2mlat/formats/fields.hpp"
 #include "m2mlat/formats/input_text.hpp"
@@ -37,9 +38,15 @@ std::string all_field_names() {
   return names;
 }
 
-// A "#" line before the header: a comment, or the format marker "# format: m2mlat-events/1".
-void check_comment(std::string_view line, std::string_view name, long line_number) {
+// A "#" line before the header: a comment, a clock record "# clock: {...}" (added to `clocks`), or
+// the format marker "# format: m2mlat-events/1".
+void check_comment(std::string_view line, std::string_view name, long line_number,
+                   std::vector<ClockRecord>& clocks) {
   const std::string_view body = trim(line.substr(1));
+  if (body.starts_with(kClockCommentPrefix)) {
+    clocks.push_back(parse_clock_record(trim(body.substr(kClockCommentPrefix.size())), name, line_number));
+    return;
+  }
   if (!body.starts_with("format:")) return;
   const std::string_view marker = trim(body.substr(7));
   if (marker == kEventsFormat) return;
@@ -175,10 +182,11 @@ EventImport import_events_csv(std::string_view text, std::string_view name, cons
   std::vector<std::string_view> fields;
   std::string_view line;
   bool found = false;
+  std::vector<ClockRecord> clocks;
   while (reader.next(line)) {
     if (is_blank(line)) continue;
     if (trim(line).front() == '#') {
-      check_comment(trim(line), name, reader.line_number());
+      check_comment(trim(line), name, reader.line_number(), clocks);
       continue;
     }
     found = true;
@@ -189,6 +197,7 @@ EventImport import_events_csv(std::string_view text, std::string_view name, cons
   const Layout layout = read_header(fields, name, reader.line_number());
 
   EventImport result;
+  result.clock_records = std::move(clocks);
   result.events.reserve(count_lines(text));
   RowReader rows(layout, name, options);
   while (reader.next(line)) {
@@ -208,9 +217,16 @@ EventImport import_events_csv(std::string_view text, std::string_view name, cons
   return result;
 }
 
-void write_events_csv(std::ostream& out, std::span<const core::Event> events) {
+void write_events_csv(std::ostream& out, std::span<const core::Event> events,
+                      std::span<const ClockRecord> clocks) {
   OutputBuffer buffer(out);
   buffer << "# format: " << kEventsFormat << '\n';
+  for (const auto& record : clocks) {
+    if (record.node.find_first_of("\r\n") != std::string::npos)
+      throw core::Error(core::ErrorKind::data, "a clock record's node holds a line break");
+    buffer << "# " << kClockCommentPrefix << ' ' << clock_record_json(record) << '\n';
+    buffer.end_record();
+  }
   for (std::size_t i = 0; i < kExportedEventFields.size(); ++i) {
     if (i > 0) buffer << ',';
     buffer << name_of(kExportedEventFields[i]);

@@ -7,7 +7,8 @@
 // Export writes exactly this. Import also accepts: no "# format:" line, other "#" comment lines
 // before the header, the columns in any order, time_s (exact decimal seconds) instead of time_ns,
 // and any of edge, clock, seqno, line_seqno, flags left out (then ImportOptions::edge, realtime, 0,
-// 0, 0). Fields with a comma or quote are double-quoted, a quote doubled. Export then import gives
+// 0, 0), and "# clock: {...}" lines (clock_records.hpp: the clock samples and steps of the
+// nodes) among the comments before the header. Fields with a comma or quote are double-quoted, a quote doubled. Export then import gives
 // back the very same events.
 #pragma once
 
@@ -26,6 +27,8 @@ namespace m2mlat::formats {
 EventImport import_events_csv(std::string_view text, std::string_view name, const ImportOptions& options);
 
 // Throws core::Error(data) for an event that could not be read back (empty node, line break).
-void write_events_csv(std::ostream& out, std::span<const core::Event> events);
+// `clocks` (clock samples and steps) go before the header as "# clock: {...}" lines.
+void write_events_csv(std::ostream& out, std::span<const core::Event> events,
+                      std::span<const ClockRecord> clocks = {});
 
 }  // namespace m2mlat::formats

@@ -22,6 +22,12 @@ EventImport import_events_jsonl(std::string_view text, std::string_view name, co
     if (is_blank(line)) continue;
     const JsonLine json(line, name, reader.line_number());
     json.expect_format(kEventsFormat, kEventsFormatFamily);
+    if (const auto clock = json.object().find(kClockMember); clock != json.object().end()) {
+      if (json.object().size() != 2) json.fail(kClockMember, *clock, "shares its line with other members");
+      if (!clock->is_object()) json.fail(kClockMember, *clock, "is not an object");
+      result.clock_records.push_back(parse_clock_record(clock->dump(), name, reader.line_number()));
+      continue;
+    }
 
     core::Event event;
     event.edge = options.edge;
@@ -74,9 +80,18 @@ EventImport import_events_jsonl(std::string_view text, std::string_view name, co
   return result;  // no lines at all is zero events: what exporting zero events writes
 }
 
-void write_events_jsonl(std::ostream& out, std::span<const core::Event> events) {
+void write_events_jsonl(std::ostream& out, std::span<const core::Event> events,
+                        std::span<const ClockRecord> clocks) {
   OutputBuffer buffer(out);
   std::string& text = buffer.text();
+  for (const auto& record : clocks) {
+    text.append("{\"format\":");
+    append_json_string(text, kEventsFormat);
+    text.append(",\"").append(kClockMember).append("\":");
+    text.append(clock_record_json(record));
+    text.append("}\n");
+    buffer.end_record();
+  }
   for (std::size_t i = 0; i < events.size(); ++i) {
     const core::Event& event = events[i];
     check_exportable(event, i);

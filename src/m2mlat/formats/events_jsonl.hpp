@@ -7,7 +7,8 @@
 // (one line in the file). time_ns must be a JSON integer: a float (1.762e18) would have lost the
 // nanoseconds and is refused; "time_s" is accepted instead as a string of exact decimal seconds.
 // Members may come in any order; edge, clock, seqno, line_seqno and flags may be left out (then
-// ImportOptions::edge, realtime, 0, 0, 0); unknown members are refused. Export then import gives
+// ImportOptions::edge, realtime, 0, 0, 0); unknown members are refused. A line
+// {"format":"m2mlat-events/1","clock_sample":{...}} is a clock record (clock_records.hpp), not an event. Export then import gives
 // back the very same events.
 #pragma once
 
@@ -24,6 +25,8 @@ namespace m2mlat::formats {
 EventImport import_events_jsonl(std::string_view text, std::string_view name, const ImportOptions& options);
 
 // Throws core::Error(data) for an event that could not be read back (empty node, line break).
-void write_events_jsonl(std::ostream& out, std::span<const core::Event> events);
+// `clocks` (clock samples and steps) are written first, one {"format":..,"clock_sample":{..}} line each.
+void write_events_jsonl(std::ostream& out, std::span<const core::Event> events,
+                        std::span<const ClockRecord> clocks = {});
 
 }  // namespace m2mlat::formats

@@ -33,7 +33,7 @@ void add_to_series(std::vector<TimestampSeries>& series, const std::string& labe
       return;
     }
   }
-  series.push_back({label, {ns}});
+  series.push_back({label, {ns}, {}});
 }
 
 void add_events(std::vector<TimestampSeries>& series, const std::vector<core::Event>& events) {
@@ -89,8 +89,8 @@ std::vector<TimestampSeries> read_timestamps(const std::string& path, std::optio
     case Format::rig_paired_csv: {
       const ImportOptions options;
       const PairedImport paired = import_rig_paired_csv(input.text(), input.name(), options);
-      TimestampSeries causes{core::to_string(options.cause), {}};
-      TimestampSeries effects{core::to_string(options.effect), {}};
+      TimestampSeries causes{core::to_string(options.cause), {}, {}};
+      TimestampSeries effects{core::to_string(options.effect), {}, {}};
       for (const PairRow& pair : paired.pairs) {
         causes.ns.push_back(pair.cause_time.ns());
         effects.ns.push_back(pair.effect_time.ns());
@@ -108,16 +108,17 @@ std::vector<TimestampSeries> read_timestamps(const std::string& path, std::optio
   return series;
 }
 
-void export_events(const std::string& path, Format format, std::span<const core::Event> events) {
+void export_events(const std::string& path, Format format, std::span<const core::Event> events,
+                   std::span<const ClockRecord> clocks) {
   if (format != Format::events_csv && format != Format::events_jsonl)
     throw core::Error(
         core::ErrorKind::usage,
         fmt::format("events cannot be exported as {} (use events-csv or events-jsonl)", to_string(format)));
   core::write_output_file(path, [&](std::ostream& out) {
     if (format == Format::events_csv)
-      write_events_csv(out, events);
+      write_events_csv(out, events, clocks);
     else
-      write_events_jsonl(out, events);
+      write_events_jsonl(out, events, clocks);
   });
 }
 

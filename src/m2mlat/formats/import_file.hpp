@@ -45,7 +45,9 @@ std::vector<TimestampSeries> read_timestamps(const std::string& path, std::optio
 
 // Writes events as events_csv or events_jsonl to `path` ("-" = standard output), atomically.
 // Throws core::Error(usage) for another format.
-void export_events(const std::string& path, Format format, std::span<const core::Event> events);
+// `clocks`: the nodes' clock samples and steps, carried beside the events (clock_records.hpp).
+void export_events(const std::string& path, Format format, std::span<const core::Event> events,
+                   std::span<const ClockRecord> clocks = {});
 // Writes pairs as pairs_csv, pairs_jsonl or rig_paired_csv (which has no names, uncertainty or
 // flags: options only feed the other two), atomically. Throws core::Error(usage) for another format.
 void export_pairs(const std::string& path, Format format, std::span<const PairRow> pairs,

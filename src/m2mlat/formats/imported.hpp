@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "m2mlat/core/event.hpp"
+#include "m2mlat/formats/clock_records.hpp"
 
 namespace m2mlat::formats {
 
@@ -45,6 +46,9 @@ struct EventImport {
   // Kernel log only: one record per event (same index), with the kmsg sequence number and the log's
   // own timestamp; empty for other formats.
   std::vector<KernelLogRecord> kernel_records;
+  // m2mlat's events files: the clock samples and steps carried beside the events (clock_records.hpp),
+  // in file order; empty for other formats and for files written without them.
+  std::vector<ClockRecord> clock_records;
   std::size_t records = 0;        // data lines read (header, comments and blank lines excluded)
   std::size_t ignored_lines = 0;  // kernel log: unrelated log lines passed over
   std::size_t skipped_lines = 0;  // records of other pins/labels left out by ImportOptions::only_line
@@ -54,6 +58,9 @@ struct EventImport {
 struct TimestampSeries {
   std::string label;             // the pin number ("16") or Line label as written in the file
   std::vector<std::int64_t> ns;  // CLOCK_REALTIME ns since 1970, in file order
+  // Kernel log: the log's own stamp of each line (us since boot, CLOCK_MONOTONIC), parallel to ns
+  // when every line of the series had one, else empty.
+  std::vector<std::int64_t> log_time_us;
 };
 
 }  // namespace m2mlat::formats

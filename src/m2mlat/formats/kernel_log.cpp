@@ -221,6 +221,7 @@ std::vector<TimestampSeries> scan_kernel_log_timestamps(std::string_view text, s
   std::vector<TimestampSeries> series;
   std::size_t last = 0;
   std::size_t kept = 0;
+  bool all_stamped = true;  // every kept line had the log's own stamp
   const ScanCounts counts = scan(text, name, [&](const KernelLogLine& parsed, long) {
     const std::string_view pin = canonical_label(parsed.pin_text);
     if (series.empty() || series[last].label != pin) {
@@ -229,14 +230,20 @@ std::vector<TimestampSeries> scan_kernel_log_timestamps(std::string_view text, s
       for (std::size_t i = 0; i < series.size(); ++i)
         if (series[i].label == pin) last = i;
       if (last == series.size()) {
-        series.push_back({std::string(pin), {}});
+        series.push_back({std::string(pin), {}, {}});
         if (last == 0) series.front().ns.reserve(count_lines(text));
       }
     }
     series[last].ns.push_back(parsed.record.time_ns);
+    if (parsed.record.log_time_us && all_stamped)
+      series[last].log_time_us.push_back(*parsed.record.log_time_us);
+    else
+      all_stamped = false;
     ++kept;
   });
   if (kept == 0) throw_nothing_selected(name, only_line, counts.records);
+  if (!all_stamped)
+    for (auto& s : series) std::vector<std::int64_t>().swap(s.log_time_us);
   return series;
 }
 

@@ -54,7 +54,8 @@ KernelLogLine parse_kernel_log_line(std::string_view line);
 // input without any GPIO record (of ImportOptions::only_line, if given).
 EventImport import_kernel_log(std::string_view text, std::string_view name, const ImportOptions& options);
 
-// The lean import: the timestamps per pin, in order of first appearance, without events. Same
+// The lean import: the timestamps per pin, in order of first appearance, without events (with the
+// log's own stamps when every line had one: TimestampSeries::log_time_us). Same
 // checks and errors as import_kernel_log. `only_line` (a pin number, or empty for all) filters.
 std::vector<TimestampSeries> scan_kernel_log_timestamps(std::string_view text, std::string_view name,
                                                         std::string_view only_line = {});

@@ -15,8 +15,9 @@ class KernelLogWriter {
  public:
   KernelLogWriter(std::ostream& out, std::uint32_t pin) : out_(out), pin_(pin) {}
   // Throws core::Error(data) for an event not on CLOCK_REALTIME (the module used ktime_get_real_ns)
-  // and core::Error(io) if the stream fails.
-  void write(std::span<const core::Event> events);
+  // and core::Error(io) if the stream fails. With `log_time_us` (one per event: the log's own stamp,
+  // us since boot) each line gets dmesg's "[ seconds.micro] " prefix.
+  void write(std::span<const core::Event> events, std::span<const std::int64_t> log_time_us = {});
 
  private:
   std::ostream& out_;

@@ -56,7 +56,7 @@ std::vector<TimestampSeries> scan_rig_export_timestamps(std::string_view text, s
       last = series.size();
       for (std::size_t i = 0; i < series.size(); ++i)
         if (series[i].label == label) last = i;
-      if (last == series.size()) series.push_back({std::string(label), {}});
+      if (last == series.size()) series.push_back({std::string(label), {}, {}});
     }
     series[last].ns.push_back(ns);
   }

@@ -97,7 +97,7 @@ std::size_t candidate_count(const Sides& sides) {
   return total;
 }
 
-// Global reference latency: the centre of the densest 20 ms-wide bin of all candidate latencies.
+// Global reference latency: the centre of the densest 100 ms-wide bin of all candidate latencies.
 // True pairs pile up around the typical latency; wrong candidates spread over the whole window.
 // The counts are kept for the occupied bins only, so that memory follows the number of candidates
 // and never the window's width: a table of every bin while there are fewer bins than candidates,
@@ -132,18 +132,14 @@ std::int64_t global_reference(const Sides& sides, std::size_t candidates) {
       ++occupied.back().second;
     }
   }
-  // Smooth over the neighbouring bins so that a spread-out peak wins over a lucky spike. The first
-  // maximum is always an occupied bin (an empty one's smoothed count, c[b-1] + c[b+1], is at most
-  // that of its larger neighbour), so only those are looked at; the first of equal ones wins.
+  // The fullest bin; of equal ones the first (the shorter latency: a chain shifted by one edge makes
+  // a peak one edge interval later, with one pair fewer). Bins of 100 ms hold the bulk of a typical
+  // latency's spread (tens of ms); no smoothing over neighbours, which would let a periodic signal's
+  // shifted peak, one period later, win by its own neighbours.
   std::size_t best_bin = 0;
   std::int64_t best_count = -1;
-  for (std::size_t k = 0; k < occupied.size(); ++k) {
-    const auto [bin, count] = occupied[k];
-    std::int64_t smoothed = 2 * count;
-    if (k > 0 && occupied[k - 1].first + 1 == bin) smoothed += occupied[k - 1].second;
-    if (k + 1 < occupied.size() && occupied[k + 1].first == bin + 1) smoothed += occupied[k + 1].second;
-    if (smoothed > best_count) best_count = smoothed, best_bin = bin;
-  }
+  for (const auto& [bin, count] : occupied)
+    if (count > best_count) best_count = count, best_bin = bin;
   return sides.min_ns + static_cast<std::int64_t>(best_bin) * kBin + kBin / 2;
 }
 

@@ -382,6 +382,20 @@ std::string report_html(const Report& report) {
                    "cause unmatched (bounce / no candidate / outmatched)",
                    "effect unmatched (bounce / no candidate / outmatched)", "recorded losses"},
                   lrows, "losses");
+  // Clock steps (docs/sync.md): only where a board's clock stepped.
+  std::vector<std::vector<std::string>> srows;
+  for (const auto& s : report.scenarios)
+    if (s.result.steps.steps() != 0)
+      srows.push_back({s.result.input.scenario, std::to_string(s.result.steps.cause.steps),
+                       std::to_string(s.result.steps.effect.steps),
+                       std::to_string(s.result.pairs_marked(analysis::StepMark::corrected)),
+                       std::to_string(s.result.pairs_marked(analysis::StepMark::unknown))});
+  if (!srows.empty()) {
+    h += "<h2>Clock steps</h2>\n";
+    h += html_table({"scenario", "cause steps", "effect steps", "pairs corrected by the step's known size",
+                     "pairs after a step of unknown size (left out)"},
+                    srows, "clock-steps");
+  }
   h += "<p class=\"meta\">Every number and chart is recomputed from the raw events by the command above; "
        "re-run it "
        "with other matcher windows, thresholds or groups to change them.</p>\n";

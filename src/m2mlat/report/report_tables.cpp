@@ -54,6 +54,7 @@ std::string md_escape(const std::string& s) {
 std::string report_text(const Report& report) {
   const auto results = results_of(report);
   std::string out = pairing_table(results) + "\n" + scenario_table(results);
+  if (const auto steps = clock_step_table(results); !steps.empty()) out += "\n" + steps;
   bool any_uncertainty = false;
   for (const auto& s : report.scenarios) any_uncertainty |= s.median_uncertainty_ms().has_value();
   if (any_uncertainty) {

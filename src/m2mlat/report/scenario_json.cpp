@@ -84,6 +84,14 @@ nlohmann::json uncertainty_json(const analysis::UncertaintySummary& s) {
           {"share_flagged", number(s.share_flagged())}};
 }
 
+// Only where a board's clock stepped: what the steps did to the pairs (analysis/clock_steps.hpp).
+nlohmann::json clock_steps_json(const analysis::ScenarioResult& r) {
+  return {{"cause_steps", r.steps.cause.steps},
+          {"effect_steps", r.steps.effect.steps},
+          {"pairs_corrected", r.pairs_marked(analysis::StepMark::corrected)},
+          {"pairs_after_step", r.pairs_marked(analysis::StepMark::unknown)}};
+}
+
 nlohmann::json scenario_json(const analysis::ScenarioResult& r) {
   nlohmann::json j{{"scenario", r.input.scenario},
                    {"cause", core::to_string(r.input.cause_ref)},
@@ -95,6 +103,7 @@ nlohmann::json scenario_json(const analysis::ScenarioResult& r) {
   if (!r.uncertainty.empty())
     j["sample_uncertainty"] =
         uncertainty_json(analysis::summarize_uncertainty(r.uncertainty, r.refuse_gated));
+  if (r.steps.steps() != 0) j["clock_steps"] = clock_steps_json(r);
   return j;
 }
 
@@ -106,8 +115,10 @@ nlohmann::json stats_document(std::span<const analysis::ScenarioResult> results)
 
 nlohmann::json pairing_document(std::span<const analysis::ScenarioResult> results) {
   nlohmann::json doc{{"format", kStatsFormat}, {"scenarios", nlohmann::json::array()}};
-  for (const auto& r : results)
+  for (const auto& r : results) {
     doc["scenarios"].push_back({{"scenario", r.input.scenario}, {"pairing", pairing_json(r)}});
+    if (r.steps.steps() != 0) doc["scenarios"].back()["clock_steps"] = clock_steps_json(r);
+  }
   return doc;
 }
 

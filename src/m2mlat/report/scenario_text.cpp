@@ -94,14 +94,33 @@ std::string uncertainty_table(std::span<const analysis::ScenarioResult> results)
          table.render();
 }
 
+std::string clock_step_table(std::span<const analysis::ScenarioResult> results) {
+  Table table({"scenario", "cause steps", "effect steps", "pairs corrected", "after step (left out)"});
+  bool any = false;
+  for (const auto& r : results) {
+    if (r.steps.steps() == 0) continue;
+    any = true;
+    table.add_row({r.input.scenario, std::to_string(r.steps.cause.steps), std::to_string(r.steps.effect.steps),
+                   std::to_string(r.pairs_marked(analysis::StepMark::corrected)),
+                   std::to_string(r.pairs_marked(analysis::StepMark::unknown))});
+  }
+  if (!any) return {};
+  return "clock steps (later events brought back by a step's known size; of unknown size: flagged, left out)\n" +
+         table.render();
+}
+
 std::string scenario_detail(const analysis::ScenarioResult& r) {
   const auto& s = r.summary;
   std::string out =
       fmt::format("scenario {}: {} -> {}, {} pairs{}\n", core::printable(r.input.scenario),
                   core::printable(core::to_string(r.input.cause_ref)),
                   core::printable(core::to_string(r.input.effect_ref)), s.n,
-                  r.include_ambiguous ? " (ambiguous included)"
-                                      : fmt::format(" ({} ambiguous left out)", r.ambiguous_pairs()));
+                  (r.include_ambiguous ? std::string(" (ambiguous included)")
+                                       : fmt::format(" ({} ambiguous left out)", r.ambiguous_pairs())) +
+                      (r.pairs_marked(analysis::StepMark::unknown) == 0
+                           ? std::string()
+                           : fmt::format(" ({} after a clock step left out)",
+                                         r.pairs_marked(analysis::StepMark::unknown))));
   Table table({"statistic", "value (ms)", "note"});
   auto extreme = [&](const char* name, const std::optional<stats::Extreme>& e) {
     if (e)

@@ -68,6 +68,8 @@ void validate(const ClockConfig& clock, std::string_view field) {
   if (clock.initial_offset > 24h || clock.initial_offset < -24h)
     fail(key("initial_offset"), "must be within a day");
   if (clock.sync_bias > 1s || clock.sync_bias < -1s) fail(key("sync_bias"), "must be within a second");
+  if (clock.step > 24h || clock.step < -24h) fail(key("step"), "must be within a day");
+  if (clock.step_at.count() < 0) fail(key("step_at"), "must not be negative");
 }
 
 void validate(const SyncConfig& sync, std::string_view field) {
@@ -98,6 +100,7 @@ ClockPair::ClockPair(const ClockConfig& cause, const ClockConfig& effect, const 
       effect_(effect, seed, kEffectClockStream),
       grid_ns_(start_ns),
       wander_scale_(std::sqrt(static_cast<double>(sync.poll_interval.count()) * 1e-9) * 1e-6) {
+  for (Node* node : {&cause_, &effect_}) node->step_true_ns = start_ns + node->config.step_at.count();
   if (sync_.mode == SyncMode::perfect) return;
   if (sync_.mode != SyncMode::free) {
     cause_.disciplined = effect_.disciplined = true;
@@ -128,8 +131,10 @@ void ClockPair::discipline(Node& node, double reference_error_ns) {
       outlier ? static_cast<double>(link.outlier_mean.count()) * node.rng.exponential() : 0.0;
   // The daemon sees the offset to its reference, shifted by the path's asymmetry; an outlier makes
   // the clock look behind by `outlier_size`, so the loop pulls it ahead.
-  const double measured = node.error_ns - reference_error_ns -
-                          static_cast<double>(node.config.sync_bias.count()) + noise - outlier_size;
+  // After a step the daemon's reference moved with the clock: the step is part of the bias.
+  const double bias =
+      static_cast<double>(node.config.sync_bias.count() + (node.stepped ? node.config.step.count() : 0));
+  const double measured = node.error_ns - reference_error_ns - bias + noise - outlier_size;
   node.measured_ns = measured;
   node.dispersion_var += kDispersionAverage * (measured * measured - node.dispersion_var);
   const auto interval = static_cast<double>(sync_.poll_interval.count());
@@ -146,6 +151,12 @@ void ClockPair::step() {
     if (!node->disciplined) node->rate = node->oscillator;
   }
   grid_ns_ += sync_.poll_interval.count();
+  for (Node* node : {&cause_, &effect_}) {
+    if (node->config.step.count() != 0 && !node->stepped && node->step_true_ns <= grid_ns_) {
+      node->error_ns += static_cast<double>(node->config.step.count());
+      node->stepped = true;
+    }
+  }
   if (cause_.disciplined) discipline(cause_, 0.0);
   if (effect_.disciplined) discipline(effect_, sync_.mode == SyncMode::co_referenced ? cause_.error_ns : 0.0);
 }
@@ -153,7 +164,7 @@ void ClockPair::step() {
 ClockState ClockPair::state_of(const Node& node, std::int64_t true_ns) const {
   ClockState state;
   const auto since_grid = static_cast<double>(true_ns - grid_ns_);
-  state.error_ns = node.error_ns + node.rate * since_grid;
+  state.error_ns = node.error_ns + node.rate * since_grid + step_part(node, true_ns);
   if (!node.disciplined) {
     state.error_bound = core::Duration::max();
     return state;
@@ -177,10 +188,18 @@ ClockState ClockPair::state_of(const Node& node, std::int64_t true_ns) const {
   return state;
 }
 
+double ClockPair::step_part(const Node& node, std::int64_t true_ns) const {
+  return node.config.step.count() != 0 && !node.stepped && node.step_true_ns <= true_ns
+             ? static_cast<double>(node.config.step.count())
+             : 0.0;
+}
+
 ClockState ClockPair::at(core::Role role, std::int64_t true_ns) {
   if (true_ns < grid_ns_)
     throw core::Error(core::ErrorKind::internal, "clock model queried at an earlier time than before");
-  if (sync_.mode == SyncMode::perfect) return ClockState{0, core::Duration{0}, core::Duration{0}};
+  if (sync_.mode == SyncMode::perfect)
+    return ClockState{step_part(role == core::Role::effect ? effect_ : cause_, true_ns), core::Duration{0},
+                      core::Duration{0}};
   const std::int64_t interval = sync_.poll_interval.count();
   while (true_ns - grid_ns_ >= interval) step();
   return state_of(role == core::Role::effect ? effect_ : cause_, true_ns);

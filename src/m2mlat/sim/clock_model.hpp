@@ -36,6 +36,11 @@ struct ClockConfig {
   double wander_ppm_per_sqrt_s = 0;  // random walk of the frequency error: its std dev after 1 s, ppm
   core::Duration sync_bias{0};       // the error synchronisation leaves on average relative to the
                                      // reference (path asymmetry); |bias| <= rtt/2 physically
+  // A step of CLOCK_REALTIME (settimeofday, chrony's makestep to another reference): at true time
+  // start + step_at the reading jumps by `step` (positive = forward) and stays there: the daemon's
+  // reference moved with it, so it does not slew it back (0 = no step; every mode, perfect included).
+  core::Duration step_at{0};  // after the run's start
+  core::Duration step{0};     // new reading - old reading
 
   friend bool operator==(const ClockConfig&, const ClockConfig&) = default;
 };
@@ -118,9 +123,12 @@ class ClockPair {
     double correction = 0;      // the daemon's frequency correction (dimensionless)
     double measured_ns = 0;     // last measured offset
     double dispersion_var = 0;  // running mean of measured_ns^2 (the daemon's jitter estimate)
+    std::int64_t step_true_ns = 0;  // true time of the configured step (config.step != 0)
+    bool stepped = false;           // the step is in error_ns already
     Node(const ClockConfig& c, std::uint64_t seed, std::uint64_t stream) : config(c), rng(seed, stream) {}
   };
   void step();
+  double step_part(const Node& node, std::int64_t true_ns) const;  // the step not yet in error_ns
   void discipline(Node& node, double reference_error_ns);
   ClockState state_of(const Node& node, std::int64_t true_ns) const;
 

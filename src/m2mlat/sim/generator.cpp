@@ -111,8 +111,31 @@ void Generator::plan_manoeuvre(Chunk& chunk) {
 
 void Generator::sample_clocks_until(std::int64_t true_ns, Chunk& chunk) {
   const std::int64_t interval = config_.clock_sample_interval.count();
-  if (interval <= 0) return;
-  while (next_sample_ns_ <= true_ns) {
+  // A configured clock step is recorded once, at its true time, in time order with the samples.
+  const auto step_ns = [&](core::Role role) {
+    const ClockConfig& c = role == core::Role::effect ? config_.effect_clock : config_.cause_clock;
+    const bool pending = c.step.count() != 0 && !step_recorded_[role == core::Role::effect ? 1 : 0];
+    return pending ? config_.start.ns() + c.step_at.count() : kNever;
+  };
+  while (true) {
+    const std::int64_t next = std::min<std::int64_t>(
+        {interval > 0 ? next_sample_ns_ : kNever, step_ns(core::Role::cause), step_ns(core::Role::effect)});
+    if (next > true_ns) return;
+    for (core::Role role : {core::Role::cause, core::Role::effect}) {
+      if (step_ns(role) != next) continue;
+      const ClockConfig& c = role == core::Role::effect ? config_.effect_clock : config_.cause_clock;
+      const ClockState state = clocks_.at(role, next);
+      ClockSample record;  // a step record, not a state: only what describes the step
+      record.node = role;
+      record.true_time = true_time(next);
+      record.error = core::Duration{std::llround(state.error_ns)};
+      record.estimated_offset = state.estimated_offset;
+      record.error_bound = state.error_bound;
+      record.step = c.step;
+      chunk.clock_samples.push_back(record);
+      step_recorded_[role == core::Role::effect ? 1 : 0] = true;
+    }
+    if (interval <= 0 || next_sample_ns_ != next) continue;
     for (core::Role role : {core::Role::cause, core::Role::effect}) {
       const ClockState state = clocks_.at(role, next_sample_ns_);
       chunk.clock_samples.push_back({role, true_time(next_sample_ns_),
@@ -131,9 +154,15 @@ void Generator::emit(Side& side, const Pending& edge, Chunk& chunk) {
   const std::int64_t index = side.emitted++;
   const auto seqno = static_cast<std::uint64_t>(side.emitted);
   const std::string& node = side.role == core::Role::effect ? config_.effect_node : config_.cause_node;
+  // The first edge after the board's clock step says so, as a recorder's would.
+  const ClockConfig& clock = side.role == core::Role::effect ? config_.effect_clock : config_.cause_clock;
+  const std::int64_t step_ns = config_.start.ns() + clock.step_at.count();
+  const bool after_step = clock.step.count() != 0 && side.last_key_ns < step_ns && step_ns <= edge.key_ns;
+  side.last_key_ns = edge.key_ns;
   chunk.events(side.role).push_back(core::Event{node, config_.channel, core::Edge::falling,
                                                 core::TimePoint::from_ns(core::Clock::realtime, stamp), seqno,
-                                                seqno, core::kFlagSimulated});
+                                                seqno, core::kFlagSimulated | 
+                                                    (after_step ? core::kFlagAfterClockStep : 0u)});
   chunk.truth(side.role).push_back(EventTruth{edge.kind, edge.manoeuvre, edge.pass, edge.magnet,
                                               true_time(edge.true_ns), core::Duration{edge.irq_ns}, error});
   if (edge.kind != EdgeKind::pass) return;

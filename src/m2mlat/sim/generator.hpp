@@ -7,9 +7,11 @@
 // their events does. Same configuration and seed -> the same chunks, bit for bit, on every platform.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <queue>
 #include <vector>
 
@@ -96,6 +98,7 @@ class Generator {
     Queue queue;
     Pending spurious;  // the next spurious edge (key INT64_MAX: none)
     std::int64_t emitted = 0;
+    std::int64_t last_key_ns = std::numeric_limits<std::int64_t>::min();  // of the last emitted edge
     Side(core::Role r, const SensorConfig& config, std::uint64_t seed) : role(r), sensor(config, seed, r) {}
   };
 
@@ -121,6 +124,7 @@ class Generator {
   std::int64_t last_edge_ns_ = 0;  // latest true time of any planned edge
   std::int64_t end_ns_;
   std::int64_t next_sample_ns_;
+  std::array<bool, 2> step_recorded_{};  // cause, effect: the configured clock step is in a chunk
   bool done_ = false;
 };
 

@@ -325,6 +325,15 @@ class Table {
         "the error synchronisation leaves on average (path asymmetry)", [access](auto& c) -> auto& {
           return access(c).sync_bias;
         });
+    add_duration(
+        key + ".step_at", "when the " + whose + " clock is stepped, after the start", [access](auto& c) -> auto& {
+          return access(c).step_at;
+        });
+    add_duration(
+        key + ".step",
+        "size of that step (new - old reading; 0s: no step); it stays", [access](auto& c) -> auto& {
+          return access(c).step;
+        });
   }
   template <typename Access>
   void add_link(const std::string& key, const std::string& what, Access access) {

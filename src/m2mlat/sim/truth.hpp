@@ -104,6 +104,9 @@ struct ClockSample {
   core::Duration error_estimate{0};    // the daemon's standard uncertainty of its offset (ClockState)
   core::Duration rms_offset{0};        // RMS of its measured offsets
   double skew_ppm = 0;                 // sd of its slew rate, ppm
+  // Nonzero: not a state but the record of a clock step of this size (new - old reading) at
+  // true_time; `error` is then the error just after it.
+  core::Duration step{0};
 
   friend bool operator==(const ClockSample&, const ClockSample&) = default;
 };

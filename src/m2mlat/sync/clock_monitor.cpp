@@ -3,6 +3,8 @@
 
 #include <utility>
 
+#include "m2mlat/store/clock_step.hpp"
+
 namespace m2mlat::sync {
 
 namespace {
@@ -13,6 +15,15 @@ bool state_changed(const KernelClockState& a, const KernelClockState& b) {
 }
 
 bool due(const std::optional<std::int64_t>& at, std::int64_t now) { return !at || now >= *at; }
+
+// The kernel's ntp_clear(), which a settimeofday() runs, sets STA_UNSYNC and resets maxerror and
+// esterror to NTP_PHASE_LIMIT (16 s). A clock that was synchronised and now shows that reset was
+// set from outside: a step whose size the adjtimex state does not tell.
+constexpr std::int64_t kPhaseLimitNs = 16'000'000'000;
+bool looks_reset(const KernelClockState& before, const KernelClockState& now) {
+  return before.available && now.available && before.synchronised && !now.synchronised &&
+         now.max_error_ns >= kPhaseLimitNs && before.max_error_ns < kPhaseLimitNs;
+}
 
 }  // namespace
 
@@ -44,7 +55,20 @@ void ClockMonitor::read_kernel(std::int64_t session, bool force, std::vector<sto
     sample.session_id = session;
     out.push_back(std::move(sample));
     ++steps_;
+  } else if (last_kernel_ && looks_reset(*last_kernel_, state)) {
+    // No size seen against CLOCK_MONOTONIC_RAW (below the threshold, or the clock was set back to
+    // about where it was), but the kernel's state says it was set: a step of unknown size since
+    // the previous reading.
+    store::ClockStep unknown;
+    unknown.at_ns = now_pair_.realtime_ns;
+    unknown.earliest_ns = last_realtime_ns_;  // the previous reading (last_kernel_ is set)
+    unknown.origin = "adjtimex";
+    auto sample = store::step_clock_sample(unknown);
+    sample.session_id = session;
+    out.push_back(std::move(sample));
+    ++steps_;
   }
+  last_realtime_ns_ = now_pair_.realtime_ns;
   const bool changed = !last_kernel_ || state_changed(*last_kernel_, state);
   if (force || changed || due(kernel_due_raw_ns_, now_raw_ns_)) {
     auto sample =

@@ -5,7 +5,9 @@
 //   - "adjtimex": every kernel_interval, and at once when the synchronised flag, the STA_* bits or
 //     the TAI offset change;
 //   - "step": whenever CLOCK_REALTIME moved against CLOCK_MONOTONIC_RAW by more than the rate
-//     correction explains (StepDetector);
+//     correction explains (StepDetector, size known), or, when it did not, the kernel's state went
+//     from synchronised to the reset a settimeofday() leaves (STA_UNSYNC, maxerror 16 s): a step of
+//     unknown size (store/clock_step.hpp, origin "adjtimex");
 //   - "chrony" / "ptp": every chrony_interval / ptp_interval (0 = off) by running chronyc / pmc
 //     (a few ms / about 100 ms: keep these intervals long). A failing program adds no sample; its
 //     message is kept in last_error() until it works again.
@@ -79,6 +81,7 @@ class ClockMonitor {
   std::optional<std::int64_t> kernel_due_raw_ns_, chrony_due_raw_ns_, ptp_due_raw_ns_;
   std::int64_t now_raw_ns_ = 0;  // CLOCK_MONOTONIC_RAW of the current call
   ClockPair now_pair_;
+  std::int64_t last_realtime_ns_ = 0;  // CLOCK_REALTIME of the previous reading
   std::string chrony_error_, ptp_error_, last_error_;
   std::uint64_t steps_ = 0;
 };

@@ -1,6 +1,8 @@
 // Step detection from realtime - monotonic_raw between readings.
 #include "m2mlat/sync/step_detector.hpp"
 
+#include "m2mlat/store/clock_step.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -27,6 +29,8 @@ std::optional<Step> StepDetector::observe(const ClockPair& pair, double rate_ppm
       s.from_ns = last_->pair.realtime_ns + elapsed_raw;
       s.step_ns = s.to_ns - s.from_ns;
       s.unexplained_ns = unexplained;
+      s.explained_ns = explained;
+      s.elapsed_ns = elapsed_raw;
       step = s;
     }
   }
@@ -35,18 +39,17 @@ std::optional<Step> StepDetector::observe(const ClockPair& pair, double rate_ppm
 }
 
 store::ClockSample step_sample(const Step& step) {
-  store::ClockSample sample;
-  sample.time = core::TimePoint::from_ns(core::Clock::realtime, step.to_ns);
-  sample.source = "step";
-  sample.offset_ns = step.step_ns;
-  sample.max_error_ns = std::llabs(step.step_ns);
-  sample.est_error_ns = std::llabs(step.step_ns);
-  sample.synchronised = false;
-  sample.detail_json = nlohmann::json{{"from_ns", step.from_ns},
-                                      {"to_ns", step.to_ns},
-                                      {"step_ns", step.step_ns},
-                                      {"unexplained_ns", step.unexplained_ns}}
-                           .dump();
+  store::ClockStep record;
+  record.at_ns = step.to_ns;
+  record.earliest_ns = step.to_ns - std::max<std::int64_t>(step.elapsed_ns, 0) - step.explained_ns;
+  record.size_ns = step.step_ns;
+  record.size_max_ns = step.explained_ns;
+  record.size_est_ns = (step.explained_ns + 1) / 2;
+  record.origin = "monitor";
+  store::ClockSample sample = store::step_clock_sample(record);
+  auto detail = nlohmann::json::parse(sample.detail_json);
+  detail["unexplained_ns"] = step.unexplained_ns;
+  sample.detail_json = detail.dump();
   return sample;
 }
 

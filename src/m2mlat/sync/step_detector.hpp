@@ -26,6 +26,8 @@ struct Step {
   std::int64_t to_ns = 0;           // CLOCK_REALTIME as read, ns
   std::int64_t step_ns = 0;         // to - from, ns (positive = the clock jumped forward)
   std::int64_t unexplained_ns = 0;  // |step| less what the rates allow, ns (> threshold)
+  std::int64_t explained_ns = 0;    // what the rates and pairing windows allow: the bound on the size's error, ns
+  std::int64_t elapsed_ns = 0;      // CLOCK_MONOTONIC_RAW between the two readings: the step lies somewhere in it, ns
 };
 
 class StepDetector {
@@ -45,7 +47,10 @@ class StepDetector {
   std::optional<Last> last_;
 };
 
-// The step as a clock sample (source "step") at the time of the reading.
+// The step as a clock sample (source "step", store/clock_step.hpp, origin "monitor") at the time of
+// the reading: size step_ns known to within explained_ns (standard uncertainty half of that); it
+// happened between the two readings, so at a reading of the new timescale in
+// [to_ns - elapsed_ns - explained_ns, to_ns].
 store::ClockSample step_sample(const Step& step);
 
 }  // namespace m2mlat::sync

@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "m2mlat/store/clock_step.hpp"
+
 #include "fixtures.hpp"
 
 namespace m2mlat::sync {
@@ -90,6 +92,55 @@ TEST(ClockMonitor, AStepIsRecordedAtOnce) {
   ASSERT_EQ(sources(out), std::vector<std::string>{"step"});
   EXPECT_EQ(out[0].session_id, 1);
   EXPECT_EQ(nlohmann::json::parse(out[0].detail_json)["step_ns"], -40 * kMs);
+  EXPECT_EQ(m.steps_detected(), 1u);
+}
+
+TEST(ClockMonitor, AStepRecordCarriesItsSizeAndWindow) {
+  FakeClocks clocks;
+  ClockMonitor m({}, clocks, nullptr);
+  std::vector<store::ClockSample> out;
+  m.on_batch(1, out);
+  out.clear();
+  clocks.raw_ns = 50 * kMs;
+  clocks.step_ns = 40 * kMs;
+  m.on_batch(1, out);
+  ASSERT_EQ(sources(out), std::vector<std::string>{"step"});
+  const auto step = store::clock_step_of(out[0]);
+  ASSERT_TRUE(step);
+  EXPECT_EQ(step->size_ns, 40 * kMs);
+  EXPECT_EQ(step->at_ns, kEpoch + 90 * kMs);
+  // Somewhere between the two readings (50 ms apart), less the size's own allowance.
+  EXPECT_LE(step->earliest_ns, kEpoch + 40 * kMs);
+  EXPECT_GT(step->earliest_ns, kEpoch + 39 * kMs);
+  EXPECT_LT(step->size_max_ns, 1 * kMs);  // 500 ppm of 50 ms plus the 100 ns windows
+  EXPECT_EQ(step->origin, "monitor");
+}
+
+TEST(ClockMonitor, AKernelResetWithoutAVisibleSizeIsAStepOfUnknownSize) {
+  FakeClocks clocks;
+  ClockMonitor m({}, clocks, nullptr);
+  std::vector<store::ClockSample> out;
+  m.on_batch(1, out);
+  out.clear();
+  // settimeofday() to about the same time: no size against CLOCK_MONOTONIC_RAW, but ntp_clear().
+  clocks.raw_ns = 20 * kMs;
+  clocks.state.synchronised = false;
+  clocks.state.status = STA_UNSYNC;
+  clocks.state.max_error_ns = 16'000'000'000;
+  m.on_batch(1, out);
+  ASSERT_EQ(sources(out), (std::vector<std::string>{"step", "adjtimex"}));
+  const auto step = store::clock_step_of(out[0]);
+  ASSERT_TRUE(step);
+  EXPECT_FALSE(step->size_ns);
+  EXPECT_EQ(step->earliest_ns, kEpoch);
+  EXPECT_EQ(step->at_ns, kEpoch + 20 * kMs);
+  EXPECT_EQ(step->origin, "adjtimex");
+  EXPECT_EQ(m.steps_detected(), 1u);
+  // Staying unsynchronised is no further step.
+  out.clear();
+  clocks.raw_ns = 40 * kMs;
+  m.on_batch(1, out);
+  EXPECT_TRUE(out.empty());
   EXPECT_EQ(m.steps_detected(), 1u);
 }
 

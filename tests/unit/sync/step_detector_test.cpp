@@ -1,5 +1,6 @@
 // Step detection: a change of realtime - monotonic_raw beyond what the rate correction explains.
 #include "m2mlat/sync/step_detector.hpp"
+#include "m2mlat/store/clock_step.hpp"
 
 #include <gtest/gtest.h>
 
@@ -66,8 +67,16 @@ TEST(StepDetector, SampleHasTheDetail) {
   EXPECT_EQ(s.source, "step");
   EXPECT_EQ(s.time.ns(), kRealtimeAtRawZero + kSecond - 3'000'000);
   EXPECT_EQ(s.offset_ns, -3'000'000);
-  EXPECT_EQ(s.max_error_ns, 3'000'000);
+  // The error fields hold the size's uncertainty (what the rates and windows explain), not |step|.
+  EXPECT_EQ(s.max_error_ns, step->explained_ns);
+  EXPECT_LT(s.max_error_ns, 1'000'000);
   EXPECT_FALSE(s.synchronised);
+  const auto record = store::clock_step_of(s);
+  ASSERT_TRUE(record);
+  EXPECT_EQ(record->size_ns, -3'000'000);
+  EXPECT_EQ(record->at_ns, s.time.ns());
+  EXPECT_EQ(record->earliest_ns, s.time.ns() - kSecond - step->explained_ns);
+  EXPECT_EQ(record->origin, "monitor");
   const auto j = nlohmann::json::parse(s.detail_json);
   EXPECT_EQ(j["from_ns"], kRealtimeAtRawZero + kSecond);
   EXPECT_EQ(j["to_ns"], kRealtimeAtRawZero + kSecond - 3'000'000);

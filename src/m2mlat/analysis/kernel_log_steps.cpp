@@ -1,0 +1,123 @@
+// Clock steps from a kernel log's realtime and printk stamps (rules in kernel_log_steps.hpp).
+#include "m2mlat/analysis/kernel_log_steps.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+namespace m2mlat::analysis {
+
+namespace {
+
+std::int64_t median_of(std::vector<std::int64_t> v) {
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  if (v.size() % 2 == 1) return *mid;
+  const auto low = *std::max_element(v.begin(), mid);
+  return low + (*mid - low) / 2;
+}
+
+std::int64_t slew(double ppm, std::int64_t span_ns) {
+  return static_cast<std::int64_t>(std::ceil(ppm * 1e-6 * static_cast<double>(std::llabs(span_ns))));
+}
+
+}  // namespace
+
+std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> realtime_ns,
+                                               std::span<const std::int64_t> log_time_us,
+                                               const KernelLogStepOptions& options) {
+  std::vector<store::ClockStep> steps;
+  const std::size_t n = std::min(realtime_ns.size(), log_time_us.size());
+  if (n < 2) return steps;
+  // Computed per line, not stored: a log of 10^7 lines costs no further columns.
+  const auto mono = [&](std::size_t i) { return log_time_us[i] * 1000; };
+  const auto d_at = [&](std::size_t i) { return realtime_ns[i] - mono(i); };
+  // The jitter from at most 2^16 line pairs spread over the log (a median needs no more).
+  const std::size_t stride = std::max<std::size_t>(1, (n - 1) >> 16);
+  std::vector<std::int64_t> jumps;
+  std::vector<std::size_t> lines;  // the later line of each jump
+  for (std::size_t i = 1; i < n; i += stride)
+    if (mono(i) >= mono(i - 1)) {
+      jumps.push_back(std::llabs(d_at(i) - d_at(i - 1)));
+      lines.push_back(i);
+    }
+  if (jumps.empty()) return steps;
+  std::int64_t jitter = 0;
+  {
+    auto copy = jumps;
+    jitter = median_of(std::move(copy));
+  }
+  // Stamps that do not follow the realtime ones (written by a script, lines of another clock) are no
+  // clock to compare with: a typical jump beyond the smallest step, or jumps beyond what slewing
+  // allows at more than one line pair in 4, and nothing is said.
+  if (jitter > options.threshold_ns) return steps;
+  const std::int64_t threshold = std::max(options.threshold_ns, 8 * jitter);
+  std::size_t beyond = 0;
+  for (std::size_t k = 0; k < jumps.size(); ++k)
+    if (jumps[k] > threshold + slew(options.slew_ppm, mono(lines[k]) - mono(lines[k] - 1))) ++beyond;
+  if (beyond * 4 > jumps.size() && beyond > 2) return steps;
+  const std::size_t w = std::max<std::size_t>(options.window, 1);
+
+  std::size_t segment = 0;  // first line of the current run of increasing monotonic stamps
+  std::size_t last_step = 0;
+  struct Open {  // the last step, while a next jump may continue it
+    bool active = false;
+    std::size_t line = 0;
+    std::int64_t size = 0, before_median = 0, before_range = 0, lo_mono = 0;
+  };
+  Open open;
+  for (std::size_t i = 1; i < n; ++i) {
+    if (mono(i) < mono(i - 1)) {
+      segment = last_step = i;
+      open.active = false;
+      continue;
+    }
+    const std::int64_t allowance = threshold + slew(options.slew_ppm, mono(i) - mono(i - 1));
+    if (std::llabs(d_at(i) - d_at(i - 1)) <= allowance) continue;
+    // The windows: up to w lines each side, within this segment and not across the last step.
+    const std::size_t lo = std::max({segment, last_step, i >= w ? i - w : std::size_t{0}});
+    std::size_t hi = i;
+    while (hi < n && hi - i < w && (hi == i || mono(hi) >= mono(hi - 1))) ++hi;
+    std::vector<std::int64_t> before, after;
+    for (std::size_t k = lo; k < i; ++k) before.push_back(d_at(k));
+    for (std::size_t k = i; k < hi; ++k) after.push_back(d_at(k));
+    const std::int64_t size = median_of(after) - median_of(before);
+    const std::int64_t span = mono(hi - 1) - mono(lo);
+    if (std::llabs(size) <= threshold + slew(options.slew_ppm, span)) continue;  // one late printk
+    const auto [bmin, bmax] = std::minmax_element(before.begin(), before.end());
+    const auto [amin, amax] = std::minmax_element(after.begin(), after.end());
+    // A jump within `window` lines of the last step, the same way, continues it: a clock slewed
+    // faster than the kernel's 500 ppm (a daemon catching up with a stepped reference) moves over a
+    // few lines. One step from before the first jump to after the last; the lines between are
+    // neither here nor there (stamped while it moved): at_ns = the last jump's stamp + size puts
+    // them in the overlap correct_side flags.
+    if (open.active && i - open.line <= w && (size > 0) == (open.size > 0)) {
+      auto& merged = steps.back();
+      const std::int64_t total = median_of(after) - open.before_median;
+      const std::int64_t total_span = mono(hi - 1) - open.lo_mono;
+      merged.size_ns = total;
+      merged.at_ns = realtime_ns[i] + total;
+      merged.size_max_ns = open.before_range + (*amax - *amin) + slew(options.slew_ppm, total_span);
+      // Its size is then known only to the slewing's extent: as uniform within that bound.
+      merged.size_est_ns = std::max(merged.size_est_ns,
+                                    static_cast<std::int64_t>(std::ceil(static_cast<double>(merged.size_max_ns) / std::sqrt(3.0))));
+      open.line = i;
+      open.size = total;
+      last_step = i;
+      continue;
+    }
+    store::ClockStep step;
+    step.at_ns = realtime_ns[i];
+    step.earliest_ns = realtime_ns[i];  // the lines' order places it: between line i-1 and line i
+    step.size_ns = size;
+    step.size_max_ns = (*bmax - *bmin) + (*amax - *amin) + slew(options.slew_ppm, span);
+    step.size_est_ns = (3 * jitter + 1) / 2;
+    step.origin = "kernel_log";
+    steps.push_back(step);
+    open = Open{true, i, size, median_of(before), *bmax - *bmin, mono(lo)};
+    last_step = i;
+  }
+  return steps;
+}
+
+}  // namespace m2mlat::analysis

@@ -1,0 +1,46 @@
+// Clock steps seen in a kernel log. Each GPIO line carries two stamps of the same moment: the
+// module's CLOCK_REALTIME nanoseconds of the edge, and the log's own printk stamp ("[ s.us]" or the
+// kmsg header's us since boot), which is CLOCK_MONOTONIC and never stepped. Per line,
+//   d = realtime - monotonic = (the realtime clock's offset from boot) - (the printk delay)
+// is constant up to the printk delay (us .. ms, always >= 0) and the kernel's slewing of
+// CLOCK_REALTIME (<= 500 ppm: MAXFREQ plus the PLL's phase slew). A change of d between two
+// consecutive lines beyond that, which the next lines keep (a single late printk is no step), is a
+// step of CLOCK_REALTIME between the two lines.
+//
+// The jitter J is measured from the lines themselves: the median of |d[i] - d[i-1]| over the log.
+// A step is a jump of more than max(threshold, 8 J) + slew_ppm * (time between the lines), confirmed
+// by the medians of up to `window` lines on each side. Its size is the difference of those two
+// medians; the size's bound is the spread (max - min of d) of both windows plus slew_ppm over the
+// time between the windows' first and last lines, its standard uncertainty 1.5 J (one line's d has a
+// standard deviation of about J / 0.95 for a normal jitter; a difference of two is sqrt(2) that).
+// The step lies between the two lines: the first line after it is the first stamp surely after it.
+// Jumps the same way within `window` lines of each other are one step (a clock slewed faster than
+// 500 ppm, e.g. a daemon catching up with a stepped reference, moves over a few lines): its size from
+// before the first to after the last, the lines between flagged (at_ns = last jump's stamp + size,
+// see clock_steps.hpp), its standard uncertainty its bound / sqrt(3).
+// Stamps that are no clock beside the realtime ones (J above the threshold, or jumps beyond what
+// slewing allows at more than one line pair in 4: a script's "[ 1.000000]" counter) give no steps.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "m2mlat/store/clock_step.hpp"
+
+namespace m2mlat::analysis {
+
+struct KernelLogStepOptions {
+  std::int64_t threshold_ns = 1'000'000;  // the smallest step reported, ns
+  double slew_ppm = 500;                  // the fastest slewing that is no step, ppm
+  std::size_t window = 4;                 // lines on each side that confirm a step and measure it
+};
+
+// realtime_ns and log_time_us: one entry per line, in file order (same length). Lines whose
+// monotonic stamp goes back (a reboot, two logs joined) start afresh: no step is seen across them.
+std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> realtime_ns,
+                                               std::span<const std::int64_t> log_time_us,
+                                               const KernelLogStepOptions& options = {});
+
+}  // namespace m2mlat::analysis

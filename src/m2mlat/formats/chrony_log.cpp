@@ -1,0 +1,139 @@
+// chronyd's step messages from a log (messages and rules in chrony_log.hpp).
+#include "m2mlat/formats/chrony_log.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdlib>
+
+#include "m2mlat/formats/fields.hpp"
+#include "m2mlat/formats/input_text.hpp"
+
+namespace m2mlat::formats {
+
+namespace {
+
+constexpr std::string_view kStepped = "System clock was stepped by ";
+constexpr std::string_view kWrong = "System clock wrong by ";
+constexpr std::string_view kForward = "Forward time jump detected!";
+constexpr std::string_view kBackward = "Backward time jump detected!";
+constexpr std::string_view kSeconds = " seconds";
+
+bool digits(std::string_view text, std::size_t pos, std::size_t count, int& out) {
+  if (pos + count > text.size()) return false;
+  out = 0;
+  for (std::size_t i = pos; i < pos + count; ++i) {
+    if (text[i] < '0' || text[i] > '9') return false;
+    out = out * 10 + (text[i] - '0');
+  }
+  return true;
+}
+
+// The decimal seconds after `prefix` up to " seconds".
+std::string_view seconds_after(std::string_view line, std::size_t at, std::string_view prefix) {
+  const std::size_t from = at + prefix.size();
+  const std::size_t end = line.find(kSeconds, from);
+  return end == std::string_view::npos ? std::string_view{} : line.substr(from, end - from);
+}
+
+}  // namespace
+
+std::optional<LogStamp> parse_log_stamp(std::string_view text) {
+  int year = 0, month = 0, day = 0, hour = 0, minute = 0, second = 0;
+  if (!digits(text, 0, 4, year) || text.size() < 19 || text[4] != '-' || !digits(text, 5, 2, month) ||
+      text[7] != '-' || !digits(text, 8, 2, day) || (text[10] != 'T' && text[10] != ' ') ||
+      !digits(text, 11, 2, hour) || text[13] != ':' || !digits(text, 14, 2, minute) || text[16] != ':' ||
+      !digits(text, 17, 2, second))
+    return std::nullopt;
+  using namespace std::chrono;
+  const year_month_day date{std::chrono::year{year}, std::chrono::month{static_cast<unsigned>(month)},
+                            std::chrono::day{static_cast<unsigned>(day)}};
+  if (!date.ok() || hour > 23 || minute > 59 || second > 60) return std::nullopt;
+  LogStamp stamp;
+  std::size_t pos = 19;
+  std::int64_t fraction = 0;
+  stamp.resolution_ns = 1'000'000'000;
+  if (pos < text.size() && (text[pos] == '.' || text[pos] == ',')) {
+    std::size_t n = 0;
+    ++pos;
+    while (pos < text.size() && text[pos] >= '0' && text[pos] <= '9') {
+      if (n < 9) {
+        fraction = fraction * 10 + (text[pos] - '0');
+        stamp.resolution_ns /= 10;
+      }
+      ++n;
+      ++pos;
+    }
+    if (n == 0) return std::nullopt;
+    for (std::size_t k = n; k < 9; ++k) fraction *= 10;
+  }
+  std::int64_t offset_s = 0;  // local - UTC
+  if (pos < text.size() && text[pos] == 'Z') {
+    ++pos;
+  } else if (pos < text.size() && (text[pos] == '+' || text[pos] == '-')) {
+    const int sign = text[pos] == '-' ? -1 : 1;
+    int oh = 0, om = 0;
+    if (!digits(text, pos + 1, 2, oh)) return std::nullopt;
+    std::size_t m = pos + 3;
+    if (m < text.size() && text[m] == ':') ++m;
+    if (!digits(text, m, 2, om)) return std::nullopt;
+    offset_s = sign * (oh * 3600 + om * 60);
+    pos = m + 2;
+  } else {
+    return std::nullopt;  // a local time without its zone cannot be placed
+  }
+  const std::int64_t days = sys_days(date).time_since_epoch().count();
+  const std::int64_t seconds = days * 86400 + hour * 3600 + minute * 60 + second - offset_s;
+  stamp.ns = seconds * 1'000'000'000 + fraction;
+  stamp.length = pos;
+  return stamp;
+}
+
+ChronyLogImport import_chrony_log(std::string_view text, std::string_view name) {
+  ChronyLogImport result;
+  LineReader reader(text);
+  std::string_view line;
+  while (reader.next(line)) {
+    const long number = reader.line_number();
+    std::optional<std::int64_t> size;
+    bool step = false;
+    std::size_t at = 0;
+    if ((at = line.find(kStepped)) != std::string_view::npos) {
+      step = true;
+      size = require_decimal_seconds(name, number, "step", trim(seconds_after(line, at, kStepped)));
+    } else if ((at = line.find(kWrong)) != std::string_view::npos) {
+      if (line.find(" seconds (step)", at) != std::string_view::npos) {
+        step = true;
+        size = require_decimal_seconds(name, number, "step", trim(seconds_after(line, at, kWrong)));
+      }
+    } else if (line.find(kForward) != std::string_view::npos || line.find(kBackward) != std::string_view::npos) {
+      step = true;
+    }
+    if (step || line.find("System clock") != std::string_view::npos)
+      ++result.chrony_lines;
+    else if (!is_blank(line))
+      ++result.ignored_lines;
+    if (!step) continue;
+    const auto stamp = parse_log_stamp(trim(line));
+    if (!stamp)
+      throw_line_error(name, number,
+                       "a chronyd step message without a time and zone at the start of the line: write "
+                       "the log with `journalctl -o short-iso-precise` (or chronyd's own log)");
+    ChronyStep s{number, stamp->ns, stamp->resolution_ns, size};
+    // The same step told twice ("wrong by X (step)" then "stepped by X", or two log copies).
+    if (!result.steps.empty()) {
+      const auto& last = result.steps.back();
+      const std::int64_t near = 2'000'000'000 + (size ? std::llabs(*size) : 0);
+      if (last.size_ns == size && std::llabs(s.time_ns - last.time_ns) <= near) continue;
+    }
+    result.steps.push_back(s);
+  }
+  if (result.chrony_lines == 0)
+    throw_line_error(name, 0,
+                     fmt::format("has no chronyd message about the system clock ({} other lines); is it "
+                                 "chronyd's log?",
+                                 result.ignored_lines));
+  return result;
+}
+
+}  // namespace m2mlat::formats

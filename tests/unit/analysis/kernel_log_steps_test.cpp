@@ -1,0 +1,92 @@
+// Clock steps from a kernel log's realtime stamps against its own printk (monotonic) stamps.
+#include "m2mlat/analysis/kernel_log_steps.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace m2mlat::analysis {
+namespace {
+
+constexpr std::int64_t kRealtimeAtBoot = 1'780'303'400'000'000'000;  // ns
+constexpr std::int64_t kMs = 1'000'000;
+
+// A log of `lines` edges 1.3 s apart with printk delays of 20..200 us; the realtime clock slews at
+// `slew_ppm` and is stepped by `step_ns` before line `step_line`.
+struct Log {
+  std::vector<std::int64_t> realtime_ns, log_time_us;
+};
+Log make_log(int lines, std::int64_t step_ns, int step_line, double slew_ppm = 0) {
+  Log log;
+  for (int i = 0; i < lines; ++i) {
+    const std::int64_t mono_ns = 1000'000 * kMs + i * 1'300 * kMs;  // uptime of the edge
+    const auto slewed = static_cast<std::int64_t>(static_cast<double>(mono_ns) * slew_ppm * 1e-6);
+    const std::int64_t delay_ns = 20'000 + (i * 7919 % 180) * 1000;
+    log.realtime_ns.push_back(kRealtimeAtBoot + mono_ns + slewed + (i >= step_line ? step_ns : 0));
+    log.log_time_us.push_back((mono_ns + delay_ns) / 1000);
+  }
+  return log;
+}
+
+TEST(KernelLogSteps, AStepForwardIsFoundBetweenItsLinesWithItsSize) {
+  const auto log = make_log(40, 40 * kMs, 17);
+  const auto steps = kernel_log_steps(log.realtime_ns, log.log_time_us);
+  ASSERT_EQ(steps.size(), 1u);
+  EXPECT_EQ(steps[0].at_ns, log.realtime_ns[17]);
+  EXPECT_EQ(steps[0].earliest_ns, log.realtime_ns[17]);
+  ASSERT_TRUE(steps[0].size_ns);
+  // Within the bound it states, and the bound is the printk jitter (<= 180 us a side) plus slewing.
+  EXPECT_LE(std::llabs(*steps[0].size_ns - 40 * kMs), steps[0].size_max_ns);
+  EXPECT_LT(std::llabs(*steps[0].size_ns - 40 * kMs), 200'000);
+  EXPECT_LT(steps[0].size_est_ns, 300'000);
+  EXPECT_EQ(steps[0].origin, "kernel_log");
+}
+
+TEST(KernelLogSteps, AStepBackIsFoundToo) {
+  const auto log = make_log(40, -40 * kMs, 25);
+  const auto steps = kernel_log_steps(log.realtime_ns, log.log_time_us);
+  ASSERT_EQ(steps.size(), 1u);
+  EXPECT_EQ(steps[0].at_ns, log.realtime_ns[25]);
+  EXPECT_LE(std::llabs(*steps[0].size_ns + 40 * kMs), steps[0].size_max_ns);
+  EXPECT_LT(std::llabs(*steps[0].size_ns + 40 * kMs), 200'000);
+}
+
+TEST(KernelLogSteps, SlewingAndOneLatePrintkAreNoStep) {
+  // 450 ppm is within the kernel's slewing: 0.6 ms between lines 1.3 s apart, 23 ms over the log.
+  EXPECT_TRUE(kernel_log_steps(make_log(40, 0, 0, 450).realtime_ns, make_log(40, 0, 0, 450).log_time_us).empty());
+  auto log = make_log(40, 0, 0);
+  log.log_time_us[12] += 30'000;  // one message printed 30 ms late (console lock)
+  EXPECT_TRUE(kernel_log_steps(log.realtime_ns, log.log_time_us).empty());
+}
+
+TEST(KernelLogSteps, StampsThatAreNoClockGiveNoSteps) {
+  auto log = make_log(40, 0, 0);
+  for (std::size_t i = 0; i < log.log_time_us.size(); ++i)
+    log.log_time_us[i] = static_cast<std::int64_t>(i) * 1'000'000;  // "[ 7.000000]": a line counter
+  EXPECT_TRUE(kernel_log_steps(log.realtime_ns, log.log_time_us).empty());
+}
+
+TEST(KernelLogSteps, AFastSlewOverAFewLinesIsOneStep) {
+  // A daemon catching up with a stepped reference: +15, +15, +10 ms over three lines.
+  auto log = make_log(40, 15 * kMs, 17);
+  for (std::size_t i = 18; i < log.realtime_ns.size(); ++i) log.realtime_ns[i] += 15 * kMs;
+  for (std::size_t i = 19; i < log.realtime_ns.size(); ++i) log.realtime_ns[i] += 10 * kMs;
+  const auto steps = kernel_log_steps(log.realtime_ns, log.log_time_us);
+  ASSERT_EQ(steps.size(), 1u);
+  EXPECT_LT(std::llabs(*steps[0].size_ns - 40 * kMs), 200'000);
+  EXPECT_EQ(steps[0].earliest_ns, log.realtime_ns[17]);
+  EXPECT_EQ(steps[0].at_ns - *steps[0].size_ns, log.realtime_ns[19]);  // lines 17, 18 are flagged
+  EXPECT_GT(steps[0].size_est_ns, steps[0].size_max_ns / 2);
+}
+
+TEST(KernelLogSteps, NothingIsSeenAcrossAReboot) {
+  auto log = make_log(20, 0, 0);
+  auto second = make_log(20, 5'000 * kMs, 0);  // another boot: uptime restarts, realtime moved on
+  log.realtime_ns.insert(log.realtime_ns.end(), second.realtime_ns.begin(), second.realtime_ns.end());
+  log.log_time_us.insert(log.log_time_us.end(), second.log_time_us.begin(), second.log_time_us.end());
+  EXPECT_TRUE(kernel_log_steps(log.realtime_ns, log.log_time_us).empty());
+}
+
+}  // namespace
+}  // namespace m2mlat::analysis
