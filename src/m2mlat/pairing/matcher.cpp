@@ -155,8 +155,8 @@ struct Candidates {
 // worth of pairing cause i at that latency (ns of the window): > 0 to be allowed, kDisallowed to
 // forbid. Returns for each cause the matched effect or kNone.
 //
-// G(i, j) = value(i, j) + max(0, max{ G(i', j') : i' < i, j' < j }) is the best value of an ordered
-// chain of pairs ending in (i, j). Causes are processed in order; for effects we keep best[j] = max
+// G(i, j) = (count, value)(i, j) + max(0, max{ G(i', j') : i' < i, j' < j }) is the best (count, then
+// value) of an ordered chain of pairs ending in (i, j). Causes are processed in order; for effects we keep best[j] = max
 // over the causes so far of G(., j). Because candidate windows only move forward, effects left behind
 // by the window are folded into one `frozen` maximum, so each cause costs O(its window), and best[]
 // only needs the effects inside the current window: it is a ring of the widest window's size
@@ -167,9 +167,9 @@ template <typename Count, typename Value>
 std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count count, Value value) {
   struct Best {                       // 16 bytes
     std::int64_t fit = 0;             // the chain's total value
-    std::uint32_t typical = 0;        // its pairs' counts (at most 2 each, fewer than 2^31 causes)
+    std::uint32_t count = 0;          // its pairs' counts (at most 2 each, fewer than 2^31 causes)
     std::uint32_t candidate = kNone;  // the chain's last candidate, or kNone for the empty chain
-    bool operator>(const Best& o) const { return typical != o.typical ? typical > o.typical : fit > o.fit; }
+    bool operator>(const Best& o) const { return count != o.count ? count > o.count : fit > o.fit; }
   };
   const auto& [causes, effects, min_ns, max_ns] = sides;
   std::size_t window_total = 0, widest = 1;
@@ -212,7 +212,7 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
         const auto id = static_cast<std::uint32_t>(cand.effect.size());
         cand.effect.push_back(j);
         cand.pred.push_back(running.candidate);
-        row.emplace_back(j, Best{running.fit + v, running.typical + count(i, v), id});
+        row.emplace_back(j, Best{running.fit + v, running.count + count(i, v), id});
       }
       if (best[j & mask] > running) running = best[j & mask];
     }
@@ -603,7 +603,7 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   const std::int64_t global = global_reference(sides, candidate_total);
   Candidates candidates;
   const LocalReference global_only{{global}, {kFirstPassAcceptance}};
-  LocalReference reference_of_pass;
+  LocalReference reference;  // of the pass before
   const auto fit_only = [](std::size_t, std::int64_t) { return 0u; };
   auto matched = align(sides, candidates, fit_only, [&](std::size_t, std::int64_t latency) {
     return pair_worth(global_only, 0, latency, options.tolerance.count());
@@ -611,17 +611,17 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   // Pass 2: against the local reference of pass 1; the most pairs (a typical one counting twice), then
   // the largest worth. (A third such pass, against pass 2's reference, changed nothing measurable.)
   const auto worth = [&](std::size_t i, std::int64_t latency) {
-    return pair_worth(reference_of_pass, i, latency, options.tolerance.count());
+    return pair_worth(reference, i, latency, options.tolerance.count());
   };
   constexpr std::int64_t kLooseWorth = kPairWorth - kDeviationCost;
-  reference_of_pass = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
+  reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
   matched = align(sides, candidates, [](std::size_t, std::int64_t v) { return v > kLooseWorth ? 2u : 1u; }, worth);
-  reference_of_pass = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
+  reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
   // Pass 3: a pair far from the typical latency that an unmatched edge could replace counts nothing
   // (only its worth), so that such pairs never displace a typical one: a lost edge and a spurious one
   // must not push a true pair out.
   {
-    const auto doubtful = uncertain_pairs(sides, matched, reference_of_pass, options.tolerance.count());
+    const auto doubtful = uncertain_pairs(sides, matched, reference, options.tolerance.count());
     std::vector<bool> demoted(matched.size(), false);
     for (std::size_t i = 0; i < matched.size(); ++i)
       demoted[i] = matched[i] != kNone && (doubtful[i] & kPairCompeting) != 0 &&
@@ -631,14 +631,13 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
         [&](std::size_t i, std::int64_t v) { return v > kLooseWorth ? 2u : demoted[i] ? 0u : 1u; }, worth);
   }
   candidates = Candidates();
-  const auto& reference = reference_of_pass;
 
   MatchResult result;
   result.clock = clock;
   result.cause_count = static_cast<std::int64_t>(cause_ns.size());
   result.effect_count = static_cast<std::int64_t>(effect_ns.size());
   auto flags = uncertain_pairs(sides, matched, reference, options.tolerance.count());
-  reference_of_pass = LocalReference();
+  reference = LocalReference();
   {
     const auto gap = options.burst_gap.count() > 0 ? options.burst_gap : burst_gap_for(options.magnets_deg);
     const auto ambiguous = ambiguous_pairs(causes.ns, effects.ns, matched, gap.count());

@@ -101,6 +101,29 @@ TEST(Uncertainty, SumOfBoundsAndRootSumSquareOfStandardUncertainties) {
   EXPECT_EQ(d.max_error_ns, u.max_error_ns);
 }
 
+// A latency whose effect was corrected by a clock step of known size carries the size's uncertainty:
+// its bound adds to the worst case, its standard uncertainty to u in quadrature.
+TEST(Uncertainty, ACorrectedEventCarriesItsStepsUncertainty) {
+  const auto cause = make_clock_track({sample(kT0, 1'000'000, 300'000)});
+  const auto effect = make_clock_track({sample(kT0, 2'000'000, 400'000)});
+  UncertaintyOptions o;
+  o.growth_ppm = 0;
+  o.kernel_u = o.path_u = core::Duration{0};
+  ScenarioResult result;
+  for (std::int64_t k = 0; k < 2; ++k)
+    result.match.pairs.push_back({k, k, core::TimePoint::from_ns(core::Clock::realtime, kT0 + k * kS),
+                                  core::TimePoint::from_ns(core::Clock::realtime, kT0 + k * kS + kS / 2), 0});
+  result.steps.effect.mark = {StepMark::none, StepMark::corrected};
+  result.steps.effect.size_max_ns = {0, 1'200'000};
+  result.steps.effect.size_est_ns = {0, 1'200'000};
+  attach_uncertainty(result, cause, effect, o, {});
+  ASSERT_EQ(result.uncertainty.size(), 2u);
+  EXPECT_EQ(result.uncertainty[0].max_error_ns, 3'000'000);
+  EXPECT_EQ(result.uncertainty[0].u_ns, 500'000);  // sqrt(0.3^2 + 0.4^2) ms
+  EXPECT_EQ(result.uncertainty[1].max_error_ns, 3'000'000 + 1'200'000);
+  EXPECT_EQ(result.uncertainty[1].u_ns, 1'300'000);  // sqrt(0.5^2 + 1.2^2) ms
+}
+
 TEST(Uncertainty, ACoReferencedBoardCountsTheCauseClockOnlyByItsMotion) {
   // The operator's daemon reports a rate uncertainty of 100 ppm; the vehicle's follows the operator.
   auto operator_sample = sample(kT0, 1'000'000, 200'000);
