@@ -6,13 +6,13 @@
 namespace m2mlat::formats {
 
 namespace {
-enum Column : std::size_t {
-  kTrigger = 0,
-  kOffsetNs = 1,
-  kJitterNs = 2,
-  kEmpty = 3,
-  kOffsetMs = 4,
-  kJitterMs = 5
+enum SyncColumn : std::size_t {
+  kSyncTrigger = 0,
+  kSyncOffsetNs = 1,
+  kSyncJitterNs = 2,
+  kSyncEmpty = 3,
+  kSyncOffsetMs = 4,
+  kSyncJitterMs = 5
 };
 }  // namespace
 
@@ -22,12 +22,12 @@ SyncImport import_rig_sync_csv(std::string_view text, std::string_view name) {
   while (csv.next()) {
     SyncSample sample;
     sample.line = csv.line();
-    sample.trigger_time = core::Duration{csv.decimal_seconds(kTrigger)};
-    sample.offset_ns = csv.int64(kOffsetNs);
-    sample.jitter_ns = csv.int64(kJitterNs);
-    csv.expect_empty(kEmpty);
-    (void)csv.decimal_ms(kOffsetMs);  // redundant magnitudes: only checked to be numbers
-    (void)csv.decimal_ms(kJitterMs);
+    sample.trigger_time = core::Duration{csv.decimal_seconds(kSyncTrigger)};
+    sample.offset_ns = csv.int64(kSyncOffsetNs);
+    sample.jitter_ns = csv.int64(kSyncJitterNs);
+    csv.expect_empty(kSyncEmpty);
+    (void)csv.decimal_ms(kSyncOffsetMs);  // redundant magnitudes: only checked to be numbers
+    (void)csv.decimal_ms(kSyncJitterMs);
     result.samples.push_back(sample);
   }
   return result;

@@ -418,7 +418,9 @@ std::int64_t pair_worth(const LocalReference& reference, std::size_t i, std::int
 //    the order alone fixes which edge belongs to which.
 std::vector<std::uint32_t> uncertain_pairs(const Sides& sides, const std::vector<std::uint32_t>& matched,
                                            const LocalReference& reference, std::int64_t tolerance_ns) {
-  const auto& [causes, effects, min_ns, max_ns] = sides;
+  // Named copies, not structured bindings: C++20 lets clang capture no binding in the lambdas below.
+  const std::span<const std::int64_t> causes = sides.causes, effects = sides.effects;
+  const std::int64_t min_ns = sides.min_ns, max_ns = sides.max_ns;
   std::vector<std::uint32_t> flags(matched.size(), 0);
   std::vector<std::uint32_t> pc, pe;  // the pairs in order: cause and effect indices
   for (std::size_t i = 0; i < matched.size(); ++i)

@@ -9,8 +9,7 @@
 
 #include <vector>
 
-namespace m2mlat::analysis {
-namespace {
+namespace m2mlat::analysis::clock_steps_test {
 
 constexpr std::int64_t kT0 = 1'780'304'400'000'000'000;
 constexpr std::int64_t kMs = 1'000'000;
@@ -175,5 +174,4 @@ TEST(ClockSteps, CorrectedPairsStayInTheStatisticsFlaggedOnesLeave) {
   }
 }
 
-}  // namespace
-}  // namespace m2mlat::analysis
+}  // namespace m2mlat::analysis::clock_steps_test

@@ -6,8 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace m2mlat::analysis {
-namespace {
+namespace m2mlat::analysis::kernel_log_steps_test {
 
 constexpr std::int64_t kRealtimeAtBoot = 1'780'303'400'000'000'000;  // ns
 constexpr std::int64_t kMs = 1'000'000;
@@ -88,5 +87,4 @@ TEST(KernelLogSteps, NothingIsSeenAcrossAReboot) {
   EXPECT_TRUE(kernel_log_steps(log.realtime_ns, log.log_time_us).empty());
 }
 
-}  // namespace
-}  // namespace m2mlat::analysis
+}  // namespace m2mlat::analysis::kernel_log_steps_test

@@ -10,7 +10,7 @@
 using namespace m2mlat;
 using namespace m2mlat::analysis;
 
-namespace {
+namespace m2mlat::analysis::truth_check_test {
 
 // 20 true pairs: cause i -> effect i, 800 ms apart.
 std::vector<sim::TruePair> twenty_true_pairs() {
@@ -30,7 +30,6 @@ pairing::Pair found_pair(std::int64_t cause, std::int64_t effect, std::uint32_t 
   return p;
 }
 
-}  // namespace
 
 TEST(TruthCheck, CountsWrongPairsByFlagAndTheFoundShare) {
   ScenarioResult result;
@@ -78,3 +77,5 @@ TEST(TruthCheck, AnIdealRunPairedByTheMatcherPasses) {
   EXPECT_TRUE(check.exact());
   EXPECT_TRUE(check.passes());
 }
+
+}  // namespace m2mlat::analysis::truth_check_test

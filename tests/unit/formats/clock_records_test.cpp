@@ -11,8 +11,7 @@
 #include "m2mlat/formats/events_jsonl.hpp"
 #include "m2mlat/formats/import_file.hpp"
 
-namespace m2mlat::formats {
-namespace {
+namespace m2mlat::formats::clock_records_test {
 
 using test::expect_data_error;
 
@@ -112,5 +111,4 @@ TEST(ChronyLog, UnplaceableOrForeignLogsAreRefused) {
   expect_data_error([] { import_chrony_log("hello\nworld\n", "u.log"); }, {"u.log", "chronyd"});
 }
 
-}  // namespace
-}  // namespace m2mlat::formats
+}  // namespace m2mlat::formats::clock_records_test

@@ -15,7 +15,7 @@ using namespace m2mlat::sim;
 using namespace std::chrono_literals;
 using core::Role;
 
-namespace {
+namespace m2mlat::sim::clock_step_test {
 
 constexpr std::int64_t kStart = 1'780'304'400'000'000'000;
 
@@ -83,4 +83,4 @@ TEST(ClockStep, TheRunRecordsTheStepOnceInTimeOrder) {
                            [](const auto& e) { return (e.flags & core::kFlagAfterClockStep) != 0; }));
 }
 
-}  // namespace
+}  // namespace m2mlat::sim::clock_step_test

@@ -20,7 +20,7 @@ using namespace m2mlat::sim;
 using namespace std::chrono_literals;
 using core::Role;
 
-namespace {
+namespace m2mlat::sim::stall_test {
 
 RigConfig stall_config(std::int64_t manoeuvres, std::uint64_t seed) {
   RigConfig config = preset("stalls");
@@ -53,7 +53,6 @@ void expect_exact_truth(const RigConfig& config, const Simulation& run) {
   }
 }
 
-}  // namespace
 
 TEST(Stalls, HeldCommandsArriveInOrderAfterTheStall) {
   const RigConfig config = stall_config(600, 7);
@@ -163,3 +162,5 @@ TEST(Magnets, FourRoundTheWheelAreSimulated) {
   config.magnets_deg = {0, 90, 180, 270, 355};
   EXPECT_THROW(validate(config), core::Error);
 }
+
+}  // namespace m2mlat::sim::stall_test
