@@ -395,6 +395,12 @@ constexpr std::size_t kConfirmingRun = 2;  // consecutive far pairs that confirm
 // Pass 1 knows no local spread yet: a pair within this of the global reference counts as typical.
 constexpr std::int64_t kFirstPassAcceptance = 1'000'000'000;  // ns
 
+// True when cause i at this latency lies beyond the local acceptance: not a typical pair.
+bool beyond_acceptance(const LocalReference& reference, std::size_t i, std::int64_t latency) {
+  const std::int64_t ref = reference.median[i];
+  return (latency > ref ? latency - ref : ref - latency) >= reference.acceptance[i];
+}
+
 std::int64_t pair_worth(const LocalReference& reference, std::size_t i, std::int64_t latency,
                         std::int64_t tolerance_ns) {
   const std::int64_t ref = reference.median[i];
@@ -503,8 +509,7 @@ std::vector<std::uint32_t> uncertain_pairs(const Sides& sides, const std::vector
 
   // Jumps: runs of consecutive pairs beyond the acceptance.
   const auto jumps = [&](std::size_t k) {
-    const std::int64_t latency = effects[pe[k]] - causes[pc[k]], ref = reference.median[pc[k]];
-    return (latency > ref ? latency - ref : ref - latency) >= reference.acceptance[pc[k]];
+    return beyond_acceptance(reference, pc[k], effects[pe[k]] - causes[pc[k]]);
   };
   for (std::size_t k = 0; k < n;) {
     if (!jumps(k)) {
@@ -524,8 +529,7 @@ std::vector<std::uint32_t> uncertain_pairs(const Sides& sides, const std::vector
         const auto q = static_cast<std::ptrdiff_t>(r) + shift;
         if (q < 0 || static_cast<std::size_t>(q) >= n) continue;
         const std::uint32_t i = pc[r], j = pe[static_cast<std::size_t>(q)];
-        const std::int64_t latency = effects[j] - causes[i], ref = reference.median[i];
-        fits += (latency > ref ? latency - ref : ref - latency) < reference.acceptance[i];
+        fits += !beyond_acceptance(reference, i, effects[j] - causes[i]);
       }
       if (2 * fits >= end - k) confirmed = false;
     }
@@ -627,7 +631,7 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
     std::vector<bool> demoted(matched.size(), false);
     for (std::size_t i = 0; i < matched.size(); ++i)
       demoted[i] = matched[i] != kNone && (doubtful[i] & kPairCompeting) != 0 &&
-                   worth(i, effects.ns[matched[i]] - causes.ns[i]) <= kLooseWorth;
+                   beyond_acceptance(reference, i, effects.ns[matched[i]] - causes.ns[i]);
     matched = align(
         sides, candidates,
         [&](std::size_t i, std::int64_t v) { return v > kLooseWorth ? 2u : demoted[i] ? 0u : 1u; }, worth);
