@@ -78,4 +78,10 @@ expect_exit 65 "$M2MLAT" import --store s.db long.csv
 grep -q "long.csv:3: line is longer than 65536 bytes" err.txt || fail "long.csv: $(cat err.txt)"
 "$M2MLAT" export s.db -o after2.csv
 cmp -s before.csv after2.csv || fail "the store changed"
+# One board's file given as if it were a whole scenario: the error names the file, the missing side and
+# what to do, instead of failing later on an empty channel name.
+"$M2MLAT" simulate --manoeuvres 5 --out-dir one >/dev/null
+expect_exit 65 "$M2MLAT" pair one/operator.csv one/vehicle.csv -o p.csv
+grep -q "one/operator.csv: no effect events of node 'vehicle' (the file has: operator).*--cause-file and --effect-file" err.txt ||
+  fail "one board's file: $(cat err.txt)"
 echo "1 passed, 0 failed"

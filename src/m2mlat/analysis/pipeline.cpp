@@ -2,11 +2,13 @@
 #include "m2mlat/analysis/pipeline.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <future>
+#include <set>
 
 #include "m2mlat/analysis/board_record.hpp"
 #include "m2mlat/analysis/clock_records.hpp"
@@ -189,7 +191,21 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
     BoardRecord record;
     add_file_clock(record, file, import_options.node);
     const auto events = events_of(std::move(file), path);
-    results.push_back(analyse_with_record(from_events(scenario, events, events, sel), record, options));
+    auto input = from_events(scenario, events, events, sel);
+    if (input.cause.t_ns.empty() || input.effect.t_ns.empty()) {
+      std::set<std::string> nodes;
+      for (const auto& e : events) nodes.insert(e.node);
+      const bool no_cause = input.cause.t_ns.empty();
+      throw core::Error(
+          core::ErrorKind::data,
+          fmt::format("{}: no {} events of node '{}' (the file has: {}): a data file is one scenario with both "
+                      "boards' edges; pair one file per board with --cause-file and --effect-file, or name "
+                      "the nodes with --cause and --effect",
+                      path, no_cause ? "cause" : "effect",
+                      no_cause ? input.cause_ref.node : input.effect_ref.node,
+                      nodes.empty() ? "none" : fmt::format("{}", fmt::join(nodes, ", "))));
+    }
+    results.push_back(analyse_with_record(std::move(input), record, options));
   }
   return results;
 }
