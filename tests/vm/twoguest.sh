@@ -8,8 +8,8 @@
 #   coref   chrony co-referenced: pairs ~ DELAY, synctest offset ~ 0, every pair with a finite,
 #           plausible uncertainty from both guests' clock samples (chrony and adjtimex);
 #   auto    chronyd stopped on both, the vehicle's clock stepped OFFSET ahead (clock_adjtime
-#           ADJ_SETOFFSET): pairs ~ DELAY + OFFSET, synctest offset ~ OFFSET, the vehicle's agent
-#           records the step.
+#           ADJ_SETOFFSET): the vehicle's agent records the step and the analysis corrects it, so
+#           pairs ~ DELAY (each flagged corrected), while the synctest, on the raw clocks, ~ OFFSET.
 # Prints one line per check and "N passed, N failed" last; exit 0 only if none failed.
 #
 #   tests/vm/twoguest.sh [--m2mlat BINARY]
