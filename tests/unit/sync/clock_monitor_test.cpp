@@ -80,12 +80,21 @@ TEST(ClockMonitor, AdjtimexOnFirstCallThenOnlyWhenDueOrChanged) {
   EXPECT_TRUE(out.empty());
 }
 
-TEST(ClockMonitor, AStepIsRecordedAtOnce) {
+// A monitor with default options that has seen its first batch (its first readings), output cleared:
+// what the step tests start from.
+struct MonitorAfterFirstBatch {
   FakeClocks clocks;
-  ClockMonitor m({}, clocks, nullptr);
+  ClockMonitor m{{}, clocks, nullptr};
   std::vector<store::ClockSample> out;
-  m.on_batch(1, out);
-  out.clear();
+  MonitorAfterFirstBatch() {
+    m.on_batch(1, out);
+    out.clear();
+  }
+};
+
+TEST(ClockMonitor, AStepIsRecordedAtOnce) {
+  MonitorAfterFirstBatch started;
+  auto& [clocks, m, out] = started;
   clocks.raw_ns = 50 * kMs;
   clocks.step_ns = -40 * kMs;
   m.on_batch(1, out);
@@ -96,11 +105,8 @@ TEST(ClockMonitor, AStepIsRecordedAtOnce) {
 }
 
 TEST(ClockMonitor, AStepRecordCarriesItsSizeAndWindow) {
-  FakeClocks clocks;
-  ClockMonitor m({}, clocks, nullptr);
-  std::vector<store::ClockSample> out;
-  m.on_batch(1, out);
-  out.clear();
+  MonitorAfterFirstBatch started;
+  auto& [clocks, m, out] = started;
   clocks.raw_ns = 50 * kMs;
   clocks.step_ns = 40 * kMs;
   m.on_batch(1, out);
@@ -117,11 +123,8 @@ TEST(ClockMonitor, AStepRecordCarriesItsSizeAndWindow) {
 }
 
 TEST(ClockMonitor, AKernelResetWithoutAVisibleSizeIsAStepOfUnknownSize) {
-  FakeClocks clocks;
-  ClockMonitor m({}, clocks, nullptr);
-  std::vector<store::ClockSample> out;
-  m.on_batch(1, out);
-  out.clear();
+  MonitorAfterFirstBatch started;
+  auto& [clocks, m, out] = started;
   // settimeofday() to about the same time: no size against CLOCK_MONOTONIC_RAW, but ntp_clear().
   clocks.raw_ns = 20 * kMs;
   clocks.state.synchronised = false;
