@@ -311,77 +311,120 @@ std::vector<std::uint32_t> bursts(std::span<const std::int64_t> times, std::int6
   return id;
 }
 
-// Marks the pairs whose assignment the data cannot make certain (PairFlag kPairAmbiguous):
-//  - a burst on either side holds an edge without partner (a pass missed on one side, or an extra
-//    edge): the order-preserving rule then had a choice of which edges to leave out;
-//  - a burst on one side is paired with edges of two bursts on the other side;
-//  - within a burst, the effect edges' spacing does not follow the cause edges' spacing: for two
-//    consecutive pairs in one burst, (effect interval / cause interval) differs from the median of
-//    that ratio over all bursts by more than a factor kPatternFactor. The vehicle's wheel replays the
-//    operator's motion at a similar speed, so both sides show the same pattern of magnet passes;
-//    passes missed on BOTH sides at different magnets leave the counts equal but break the pattern.
-std::vector<bool> ambiguous_pairs(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
-                                  const std::vector<std::uint32_t>& matched, std::int64_t gap_ns) {
-  constexpr double kPatternFactor = 1.5;
-  const auto cause_burst = bursts(causes, gap_ns), effect_burst = bursts(effects, gap_ns);
-  const std::size_t n_cause_bursts = causes.empty() ? 0 : cause_burst.back() + 1;
-  const std::size_t n_effect_bursts = effects.empty() ? 0 : effect_burst.back() + 1;
-  std::vector<bool> cause_bad(n_cause_bursts, false), effect_bad(n_effect_bursts, false);
-  std::vector<bool> effect_used(effects.size(), false);
-  for (std::size_t i = 0; i < matched.size(); ++i) {
-    if (matched[i] == kNone)
-      cause_bad[cause_burst[i]] = true;
-    else
-      effect_used[matched[i]] = true;
-  }
-  for (std::size_t j = 0; j < effects.size(); ++j)
-    if (!effect_used[j]) effect_bad[effect_burst[j]] = true;
-  // One burst of passes on one side must map to one burst on the other: pairs joining a cause burst
-  // to two effect bursts (or the reverse) mean an edge was taken from a neighbouring manoeuvre.
-  {
-    std::vector<std::uint32_t> effect_of(n_cause_bursts, kNone), cause_of(n_effect_bursts, kNone);
-    for (std::size_t i = 0; i < matched.size(); ++i) {
-      if (matched[i] == kNone) continue;
-      const auto cb = cause_burst[i], eb = effect_burst[matched[i]];
-      if (effect_of[cb] == kNone) effect_of[cb] = eb;
-      if (cause_of[eb] == kNone) cause_of[eb] = cb;
-      if (effect_of[cb] != eb || cause_of[eb] != cb) {
-        cause_bad[cb] = cause_bad[cause_of[eb]] = true;
-        effect_bad[eb] = effect_bad[effect_of[cb]] = true;
-      }
-    }
-  }
+// Marks the pairs whose assignment the data cannot make certain (PairFlag kPairAmbiguous), burst by
+// burst. A sweep of the wheel passes every magnet once, so a complete burst holds a multiple of the
+// magnets' count of edges, and where every edge of a burst has its partner in one burst of the other
+// side, order alone fixes which edge belongs to which. A burst is doubtful when
+//  - it holds an edge without partner (a pass missed on one side, or an extra edge): the order-preserving
+//    rule then had a choice of which edges to leave out;
+//  - its count of edges is not a multiple of the magnets: a pass was missed or an edge added on this
+//    side (a pass missed on each side at different magnets leaves no edge over, but pairs the wrong
+//    passes);
+//  - its pairs cross a burst boundary of the other side near a boundary of its own (shifted_bursts);
+//  - the spacing of its edges does not follow the other side's (broken_patterns).
+// Every pair with its cause or its effect in a doubtful burst is flagged. The vehicle's wheel may turn
+// slower than the operator's (down to half its speed): its bursts take a gap twice as wide, so that a
+// slow sweep stays one burst.
+constexpr std::int64_t kVehicleGapFactor = 2;
 
-  // Interval ratios of consecutive pairs sharing a burst on both sides.
+// The two sides' bursts and which of them are doubtful.
+struct BurstMarks {
+  std::vector<std::uint32_t> cause, effect;  // burst number of every kept edge
+  std::vector<bool> cause_bad, effect_bad;   // per burst
+  void mark(std::size_t i, std::uint32_t j) { cause_bad[cause[i]] = effect_bad[effect[j]] = true; }
+};
+
+// Bursts whose count of edges is not a multiple of `magnets`.
+void mark_misfits(const std::vector<std::uint32_t>& burst, std::size_t magnets, std::vector<bool>& bad) {
+  for (std::size_t k = 0, first = 0; k <= burst.size(); ++k)
+    if (k == burst.size() || burst[k] != burst[first]) {
+      if ((k - first) % magnets != 0) bad[burst[first]] = true;
+      first = k;
+    }
+}
+
+// A burst boundary between consecutive pairs on one side only is a merge (two sweeps close together on
+// one side) when alone, but a chain shifted by an edge when the other side has a boundary of its own
+// within fewer pairs than the magnets (at least 2): the pairs between the two are marked.
+void mark_shifted_bursts(const std::vector<std::uint32_t>& matched, std::size_t magnets, BurstMarks& b) {
+  std::vector<std::uint32_t> pc;  // the paired causes in order
+  for (std::size_t i = 0; i < matched.size(); ++i)
+    if (matched[i] != kNone) pc.push_back(static_cast<std::uint32_t>(i));
+  std::vector<std::ptrdiff_t> cause_only, effect_only;  // pair positions p: a boundary between p - 1 and p
+  for (std::size_t p = 1; p < pc.size(); ++p) {
+    const bool dc = b.cause[pc[p]] != b.cause[pc[p - 1]];
+    const bool de = b.effect[matched[pc[p]]] != b.effect[matched[pc[p - 1]]];
+    if (dc != de) (dc ? cause_only : effect_only).push_back(static_cast<std::ptrdiff_t>(p));
+  }
+  const auto reach = static_cast<std::ptrdiff_t>(std::max<std::size_t>(magnets, 2));
+  std::size_t e = 0;
+  for (const auto p : cause_only) {
+    while (e < effect_only.size() && effect_only[e] <= p - reach) ++e;
+    for (std::size_t f = e; f < effect_only.size() && effect_only[f] < p + reach; ++f)
+      for (auto q = std::min(p, effect_only[f]) - 1; q <= std::max(p, effect_only[f]); ++q) {
+        const auto i = pc[static_cast<std::size_t>(q)];
+        b.mark(i, matched[i]);
+      }
+  }
+}
+
+// Within a burst, the effect edges' spacing follows the cause edges' spacing: the vehicle's wheel
+// replays the operator's motion at a similar speed. Marks the bursts of two consecutive pairs (in one
+// burst on each side) whose ratio (effect interval / cause interval) differs from the median ratio over
+// all bursts by more than kPatternFactor: passes missed on both sides at different magnets, or a
+// chain shifted inside a burst.
+void mark_broken_patterns(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
+                          const std::vector<std::uint32_t>& matched, BurstMarks& b) {
+  constexpr double kPatternFactor = 1.5;
   struct Step {
-    std::uint32_t cause_burst, effect_burst;
+    std::uint32_t cause, effect;  // the later pair's edges
     double ratio;
   };
   std::vector<Step> steps;
   std::size_t prev = kNone;
   for (std::size_t i = 0; i < matched.size(); ++i) {
     if (matched[i] == kNone) continue;
-    if (prev != kNone && cause_burst[prev] == cause_burst[i] &&
-        effect_burst[matched[prev]] == effect_burst[matched[i]])
-      steps.push_back({cause_burst[i], effect_burst[matched[i]],
+    if (prev != kNone && b.cause[prev] == b.cause[i] && b.effect[matched[prev]] == b.effect[matched[i]])
+      steps.push_back({static_cast<std::uint32_t>(i), matched[i],
                        static_cast<double>(effects[matched[i]] - effects[matched[prev]]) /
                            static_cast<double>(causes[i] - causes[prev])});
     prev = i;
   }
-  if (!steps.empty()) {
-    std::vector<double> ratios;
-    for (const auto& s : steps) ratios.push_back(s.ratio);
-    auto mid = ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2);
-    std::nth_element(ratios.begin(), mid, ratios.end());
-    const double median = *mid;
-    for (const auto& s : steps)
-      if (s.ratio > median * kPatternFactor || s.ratio < median / kPatternFactor)
-        cause_bad[s.cause_burst] = effect_bad[s.effect_burst] = true;
-  }
+  if (steps.empty()) return;
+  std::vector<double> ratios;
+  ratios.reserve(steps.size());
+  for (const auto& s : steps) ratios.push_back(s.ratio);
+  const auto mid = ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2);
+  std::nth_element(ratios.begin(), mid, ratios.end());
+  const double median = *mid;
+  for (const auto& s : steps)
+    if (s.ratio > median * kPatternFactor || s.ratio < median / kPatternFactor) b.mark(s.cause, s.effect);
+}
 
+std::vector<bool> ambiguous_pairs(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
+                                  const std::vector<std::uint32_t>& matched, std::int64_t gap_ns,
+                                  std::size_t magnets) {
+  BurstMarks b{bursts(causes, gap_ns), bursts(effects, gap_ns * kVehicleGapFactor), {}, {}};
+  b.cause_bad.assign(causes.empty() ? 0 : b.cause.back() + 1, false);
+  b.effect_bad.assign(effects.empty() ? 0 : b.effect.back() + 1, false);
+  std::vector<bool> effect_used(effects.size(), false);
+  for (std::size_t i = 0; i < matched.size(); ++i) {
+    if (matched[i] == kNone)
+      b.cause_bad[b.cause[i]] = true;
+    else
+      effect_used[matched[i]] = true;
+  }
+  for (std::size_t j = 0; j < effects.size(); ++j)
+    if (!effect_used[j]) b.effect_bad[b.effect[j]] = true;
+  if (magnets > 1) {
+    mark_misfits(b.cause, magnets, b.cause_bad);
+    mark_misfits(b.effect, magnets, b.effect_bad);
+  }
+  mark_shifted_bursts(matched, magnets, b);
+  mark_broken_patterns(causes, effects, matched, b);
   std::vector<bool> ambiguous(matched.size(), false);
   for (std::size_t i = 0; i < matched.size(); ++i)
-    if (matched[i] != kNone) ambiguous[i] = cause_bad[cause_burst[i]] || effect_bad[effect_burst[matched[i]]];
+    if (matched[i] != kNone) ambiguous[i] = b.cause_bad[b.cause[i]] || b.effect_bad[b.effect[matched[i]]];
   return ambiguous;
 }
 
@@ -523,6 +566,16 @@ std::vector<std::uint32_t> uncertain_pairs(const Sides& sides, const std::vector
     // partner, the run is as likely a shifted chain that swallowed an unmatched edge at either end.
     bool confirmed = end - k >= kConfirmingRun && k > 0 && end < n && pc[end] - pc[k - 1] == end - k + 1 &&
                      pe[end] - pe[k - 1] == end - k + 1;
+    // A real change of latency moves it one way (a stall holds commands back; a handover to a faster
+    // link shortens them): a run that lies partly below and partly above the reference is a chain
+    // that took a wrong edge.
+    {
+      const auto above = [&](std::size_t r) {
+        return effects[pe[r]] - causes[pc[r]] > reference.median[pc[r]];
+      };
+      for (std::size_t r = k + 1; r < end; ++r)
+        if (above(r) != above(k)) confirmed = false;
+    }
     for (const int shift : {-1, +1}) {
       std::size_t fits = 0;
       for (std::size_t r = k; r < end; ++r) {
@@ -646,7 +699,8 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   reference = LocalReference();
   {
     const auto gap = options.burst_gap.count() > 0 ? options.burst_gap : burst_gap_for(options.magnets_deg);
-    const auto ambiguous = ambiguous_pairs(causes.ns, effects.ns, matched, gap.count());
+    const auto ambiguous = ambiguous_pairs(causes.ns, effects.ns, matched, gap.count(),
+                                           std::max<std::size_t>(1, options.magnets_deg.size()));
     for (std::size_t i = 0; i < flags.size(); ++i)
       if (ambiguous[i]) flags[i] |= kPairAmbiguous;
   }

@@ -42,6 +42,7 @@ void run_into(Tally& t, const LogOptions& options) {
 struct Bound {
   std::int64_t max_wrong_clear = 0;
   double min_found_pct = 95.0;
+  double min_clear_pct = 0;  // true pairs found and not flagged: what reaches the statistics
 };
 constexpr Bound kPromise{};
 
@@ -60,6 +61,9 @@ void expect_promise(const std::string& name, LogOptions options, int seeds, Boun
               static_cast<long long>(t.wrong_clear), static_cast<long long>(t.wrong_flagged), t.most_between);
   EXPECT_LE(t.wrong_clear, bound.max_wrong_clear) << name;
   EXPECT_GE(found, bound.min_found_pct) << name;
+  EXPECT_GE(100.0 * static_cast<double>(t.clear - t.wrong_clear) / static_cast<double>(t.true_pairs),
+            bound.min_clear_pct)
+      << name;
 }
 
 const std::vector<std::vector<double>> kWheels{{0}, {0, 30}, {0, 20, 40}, {0, 90, 180, 270}};
@@ -70,8 +74,15 @@ LogOptions with_wheel(LogOptions o, const std::vector<double>& wheel) {
 }
 std::string wheel_name(const std::vector<double>& wheel) { return std::to_string(wheel.size()) + " magnet(s)"; }
 
+// Measured shares of the true pairs that reach the statistics (found and not flagged) in clean logs and
+// with bounces and a step, per wheel of kWheels: a complete sweep is flagged only where the spacing of
+// its passes does not follow the other side's.
+const std::vector<double> kCleanShare{98.5, 97.0, 90.0, 73.0};
+
 TEST(MatcherGenerated, CleanLogsGiveExactlyTheTruePairs) {
-  for (const auto& wheel : kWheels) expect_promise("clean, " + wheel_name(wheel), with_wheel({}, wheel), 10);
+  for (std::size_t w = 0; w < kWheels.size(); ++w)
+    expect_promise("clean, " + wheel_name(kWheels[w]), with_wheel({}, kWheels[w]), 10,
+                   Bound{0, 95.0, kCleanShare[w]});
 }
 
 TEST(MatcherGenerated, StallsOfUpToSixSeconds) {
@@ -92,8 +103,8 @@ TEST(MatcherGenerated, LostEdgesOnOneSideSpuriousOnTheOther) {
     // Open (docs/matcher.md): a spurious edge landing where a lost edge's partner would be is
     // indistinguishable; several magnets lose more pairs.
     const std::vector<Bound> bounds = effect_loses
-                                          ? std::vector<Bound>{{0, 99.0}, {0, 97.0}, {0, 93.0}, {7, 91.0}}
-                                          : std::vector<Bound>{{0, 99.0}, {1, 96.5}, {1, 92.0}, {1, 89.0}};
+                                          ? std::vector<Bound>{{0, 99.0}, {0, 97.0}, {0, 93.0}, {1, 91.0}}
+                                          : std::vector<Bound>{{0, 99.0}, {2, 96.5}, {1, 92.0}, {0, 89.0}};
     for (std::size_t w = 0; w < kWheels.size(); ++w)
       expect_promise(std::string(effect_loses ? "effect lost, cause spurious, " : "cause lost, effect spurious, ") +
                          wheel_name(kWheels[w]),
@@ -106,8 +117,9 @@ TEST(MatcherGenerated, BouncesAndClockSteps) {
     LogOptions o;
     o.bounce_probability = 0.2;
     o.effect_step_s = step;
-    for (const auto& wheel : kWheels)
-      expect_promise("bounces, step " + std::to_string(step) + ", " + wheel_name(wheel), with_wheel(o, wheel), 6);
+    for (std::size_t w = 0; w < kWheels.size(); ++w)
+      expect_promise("bounces, step " + std::to_string(step) + ", " + wheel_name(kWheels[w]),
+                     with_wheel(o, kWheels[w]), 6, Bound{0, 95.0, kCleanShare[w] - 0.5});
   }
 }
 
@@ -120,7 +132,7 @@ TEST(MatcherGenerated, EverythingAtOnce) {
   o.cause_spurious = o.effect_spurious = 0.02;
   o.bounce_probability = 0.05;
   o.effect_step_s = 0.04;
-  const std::vector<Bound> bounds{{3, 98.5}, {9, 95.0}, {15, 92.0}, {7, 75.0}};  // open: docs/matcher.md
+  const std::vector<Bound> bounds{{2, 98.5}, {8, 95.0}, {6, 92.0}, {1, 75.0}};  // open: docs/matcher.md
   for (std::size_t w = 0; w < kWheels.size(); ++w)
     expect_promise("all, " + wheel_name(kWheels[w]), with_wheel(o, kWheels[w]), 10, bounds[w]);
 }
