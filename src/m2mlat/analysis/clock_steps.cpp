@@ -6,6 +6,8 @@
 #include <limits>
 #include <numeric>
 
+#include "m2mlat/pairing/pair.hpp"
+
 namespace m2mlat::analysis {
 
 namespace {
@@ -28,8 +30,8 @@ std::int64_t add_bound(std::int64_t a, std::int64_t b) {
 
 std::uint32_t pair_flags(StepMark mark) {
   switch (mark) {
-    case StepMark::corrected: return kPairStepCorrected;
-    case StepMark::unknown: return kPairAfterClockStep;
+    case StepMark::corrected: return pairing::kPairStepCorrected;
+    case StepMark::unknown: return pairing::kPairAfterClockStep;
     case StepMark::none: break;
   }
   return 0;

@@ -35,10 +35,7 @@ namespace m2mlat::analysis {
 // Values are shown in exports: never renumber.
 enum class StepMark : std::uint8_t { none = 0, corrected = 1, unknown = 2 };
 
-// Bits of the pairs files' flags column set from a pair's StepMark, beside pairing::PairFlag's.
-// Exported: never renumber.
-inline constexpr std::uint32_t kPairStepCorrected = 1u << 8;   // an event corrected by a known step
-inline constexpr std::uint32_t kPairAfterClockStep = 1u << 9;  // an event after a step of unknown offset
+// The pairing::PairFlag bit of a pair's StepMark (kPairStepCorrected, kPairAfterClockStep or none).
 std::uint32_t pair_flags(StepMark mark);
 
 // Per event of one side (parallel to its Timestamps after correct_side re-sorted them).

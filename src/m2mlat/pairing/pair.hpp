@@ -27,6 +27,12 @@ enum PairFlag : std::uint32_t {
   // for longer than kBounceSpanLimit: the pass's edge may be one of the later ones, so the latency may
   // be off by up to that span (a spurious edge just before the true one looks like this).
   kPairBounced = 1u << 3,
+  // Set by the analysis from the boards' clock records (analysis/clock_steps), not by the matcher:
+  // an edge of the pair was corrected by a clock step of known size (its uncertainty includes the
+  // step's), ...
+  kPairStepCorrected = 1u << 8,
+  // ... or came after a step of unknown size: the pair is left out of the statistics.
+  kPairAfterClockStep = 1u << 9,
 };
 inline constexpr std::uint32_t kPairUncertain = kPairAmbiguous | kPairCompeting | kPairJump | kPairBounced;
 // A cluster of edges no longer than this is one pass and its contact bounce: its first edge is taken,
