@@ -121,6 +121,13 @@ std::optional<LeanSide> lean_side(const std::string& path, std::optional<formats
 
 }  // namespace
 
+ScenarioResult analyse_store_scenario(const store::Store& store, const std::string& scenario,
+                                      const PipelineOptions& options) {
+  auto input = load_scenario(store, scenario, options.selection);
+  const auto record = read_board_record(store, input);
+  return analyse_with_record(std::move(input), record, options);
+}
+
 std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const PipelineOptions& options) {
   const auto& selection = options.selection;
   const auto& summary_options = options.summary;
@@ -169,11 +176,7 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
       read.read_only = true;
       const auto store = store::Store::open(path, read);
       const auto names = inputs.scenarios.empty() ? scenarios(store) : inputs.scenarios;
-      for (const auto& name : names) {
-        auto input = load_scenario(store, name, selection);
-        const auto record = read_board_record(store, input);
-        results.push_back(analyse_with_record(std::move(input), record, options));
-      }
+      for (const auto& name : names) results.push_back(analyse_store_scenario(store, name, options));
       continue;
     }
     const auto scenario = std::filesystem::path(path).stem().string();

@@ -16,6 +16,7 @@
 #include "m2mlat/formats/format.hpp"
 #include "m2mlat/pairing/matcher.hpp"
 #include "m2mlat/stats/summary.hpp"
+#include "m2mlat/store/store.hpp"
 
 namespace m2mlat::analysis {
 
@@ -41,5 +42,10 @@ struct PipelineOptions {
 // order given, a store's scenarios in the order of their first session. Throws core::Error naming
 // the file, line or scenario (usage when no input is given or only one of cause/effect file).
 std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const PipelineOptions& options);
+
+// One scenario of an open store, the same way (`collect`'s live view re-runs it as the store grows,
+// so that its numbers are the offline ones, clock steps corrected).
+ScenarioResult analyse_store_scenario(const store::Store& store, const std::string& scenario,
+                                      const PipelineOptions& options);
 
 }  // namespace m2mlat::analysis

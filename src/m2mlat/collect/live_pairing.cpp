@@ -8,6 +8,7 @@
 #include <chrono>
 #include <filesystem>
 
+#include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/analysis/scenario_result.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/store/store.hpp"
@@ -128,8 +129,12 @@ void LivePairing::repair() {
   }
   analysis::ScenarioResult r;
   try {
-    r = analysis::analyse(analysis::load_scenario(store, s.scenario, options_.selection), options_.match,
-                          options_.summary, options_.include_ambiguous);
+    analysis::PipelineOptions pipeline;
+    pipeline.selection = options_.selection;
+    pipeline.match = options_.match;
+    pipeline.summary = options_.summary;
+    pipeline.include_ambiguous = options_.include_ambiguous;
+    r = analysis::analyse_store_scenario(store, s.scenario, pipeline);
   } catch (const core::Error& e) {
     // Until both agents have sent their session, a side is missing: that is waiting, not an error.
     const std::string what = e.what();

@@ -1,7 +1,7 @@
 // Live pairing: the latency statistics of a campaign store while `m2mlat collect` is filling it.
 //
 // Every update() re-reads the current scenario from the store and pairs ALL of its events with the
-// same code as `m2mlat stats` (analysis::load_scenario, then analysis::analyse), so the live numbers
+// same code as `m2mlat stats` (analysis::analyse_store_scenario: clock steps corrected), so the live numbers
 // on a finished store are exactly the offline ones, and at every moment those of the store as it is.
 // Re-pairing everything is cheap while a live session is small (docs/dashboard.md: ~1.4 ms of CPU for
 // 1k events, ~90 ms for 100k; linear) and needs no stitching of windows; a test checks that pairs

@@ -107,6 +107,37 @@ TEST(LivePairing, FinishedStoreEqualsOfflineStats) {
   EXPECT_GT(s.histogram.back().upper_ns, s.summary.max->ns);
 }
 
+// A vehicle clock stepped by 40 ms mid-run: the live view corrects it as `m2mlat stats` does (the
+// store's clock records), so that its latencies do not jump by the step.
+TEST(LivePairing, CorrectsAClockStepAsOfflineDoes) {
+  using namespace std::chrono_literals;
+  TempDir dir;
+  const auto path = dir.file("campaign.db");
+  {
+    auto store = store::Store::open(path);
+    auto config = sim::preset("static_wifi");
+    config.manoeuvres = 60;
+    config.seed = 3;
+    config.effect_clock.step_at = 60s;
+    config.effect_clock.step = 40ms;
+    capture::record_simulation(store, config, "live");
+  }
+  const auto offline = offline_stats(path);
+  ASSERT_GT(offline.steps.steps(), 0u);
+  collect::LivePairing live(path, {});
+  const auto& s = live.update();
+  ASSERT_EQ(s.state, collect::LiveState::ok) << s.message;
+  EXPECT_EQ(s.pairs, offline.match.pairs.size());
+  EXPECT_EQ(s.summary.n, offline.summary.n);
+  expect_same_number(s.summary.median_ms, offline.summary.median_ms);
+  expect_same_number(s.summary.mean_ms, offline.summary.mean_ms);
+  // Every pair's latency is the offline (corrected) one; more than ten pairs lie after the step.
+  ASSERT_EQ(s.recent.size(), offline.match.pairs.size());
+  for (std::size_t k = 0; k < s.recent.size(); ++k)
+    EXPECT_EQ(s.recent[k].latency_ns, offline.match.pairs[k].latency().count()) << "pair " << k;
+  EXPECT_GT(offline.pairs_marked(analysis::StepMark::corrected), 10u);
+}
+
 TEST(LivePairing, RepairsOnlyWhenTheStoreChanged) {
   TempDir dir;
   const auto path = dir.file("campaign.db");
