@@ -148,7 +148,8 @@ std::int64_t SampleUncertainty::expanded_ns() const {
 }
 
 SampleUncertainty pair_uncertainty(const ClockTrack& cause, const ClockTrack& effect, std::int64_t cause_ns,
-                                   std::int64_t effect_ns, const UncertaintyOptions& options) {
+                                   std::int64_t effect_ns, const UncertaintyOptions& options,
+                                   std::int64_t bounce_span_ns) {
   SampleUncertainty u;
   const ClockBound c = bound_at(cause, cause_ns, options.growth_ppm);
   const ClockBound e = bound_at(effect, effect_ns, options.growth_ppm);
@@ -162,7 +163,7 @@ SampleUncertainty pair_uncertainty(const ClockTrack& cause, const ClockTrack& ef
   } else {
     u.sync_max_ns = add_saturating(c.max_error_ns, e.max_error_ns);
     u.max_error_ns = add_saturating(add_saturating(u.sync_max_ns, options.kernel_max.count()),
-                                    options.calibration_max.count());
+                                    add_saturating(options.calibration_max.count(), bounce_span_ns));
     const auto nsd = [](core::Duration d) { return static_cast<double>(d.count()); };
     const double path = nsd(options.path_u);
     double clock_sq = 0;
@@ -190,7 +191,7 @@ std::vector<SampleUncertainty> pair_uncertainties(const ClockTrack& cause, const
   std::vector<SampleUncertainty> out;
   out.reserve(pairs.size());
   for (const auto& p : pairs)
-    out.push_back(pair_uncertainty(cause, effect, p.cause_time.ns(), p.effect_time.ns(), options));
+    out.push_back(pair_uncertainty(cause, effect, p.cause_time.ns(), p.effect_time.ns(), options, p.bounce_span_ns));
   return out;
 }
 

@@ -10,6 +10,8 @@
 //   u   = sqrt(u_clock^2 + 2 kernel_u^2 + calibration_u^2)     standard uncertainty (k = 1), GUM
 //   U95 = 2 u                                                  expanded uncertainty (k = 2, ~95 %)
 //   max_error = max_err_cause(t_cause) + max_err_effect(t_effect) + kernel_max + calibration_max
+//               + bounce span (how long the edges dropped as bounces went on after either edge: the
+//               pass's edge may be a later one of its cluster)
 //
 // The clock term. A board's clock sample (store::ClockSample) carries the source's standard
 // uncertainty of its offset from its reference (est_error_ns: chrony's RMS offset, chronyd's offset
@@ -131,8 +133,10 @@ std::optional<std::int64_t> offset_at(const ClockTrack& track, std::int64_t t_ns
 // True if the track has a step at a time in [from_ns, to_ns] (either order).
 bool step_between(const ClockTrack& track, std::int64_t from_ns, std::int64_t to_ns);
 
+// bounce_span_ns: the pair's pairing::Pair::bounce_span_ns, added to max_error.
 SampleUncertainty pair_uncertainty(const ClockTrack& cause, const ClockTrack& effect, std::int64_t cause_ns,
-                                   std::int64_t effect_ns, const UncertaintyOptions& options);
+                                   std::int64_t effect_ns, const UncertaintyOptions& options,
+                                   std::int64_t bounce_span_ns = 0);
 std::vector<SampleUncertainty> pair_uncertainties(const ClockTrack& cause, const ClockTrack& effect,
                                                   std::span<const pairing::Pair> pairs,
                                                   const UncertaintyOptions& options);

@@ -758,16 +758,20 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   effects.release();
 
   // The pairs (56 bytes each, the largest part of the result), in cause order and so in effect order.
+  static_assert(sizeof(Pair) == 56, "Pair::bounce_span_ns lives in what was padding");
   result.pairs.reserve(pair_count);
   KeptIndex cause_index(causes.bounces), effect_index(effects.bounces);
   for (std::size_t i = 0; i < matched.size(); ++i) {
     if (matched[i] == kNone) continue;
     const auto c = cause_index(i), e = effect_index(matched[i]);
-    const bool bounced = bounce_span(cause_ns, causes.bounces, c) > kBounceSpanLimit.count() ||
-                         bounce_span(effect_ns, effects.bounces, e) > kBounceSpanLimit.count();
+    const std::int64_t cause_span = bounce_span(cause_ns, causes.bounces, c),
+                       effect_span = bounce_span(effect_ns, effects.bounces, e);
+    const bool bounced = cause_span > kBounceSpanLimit.count() || effect_span > kBounceSpanLimit.count();
     result.pairs.push_back(Pair{c, e, core::TimePoint::from_ns(clock, cause_ns[static_cast<std::size_t>(c)]),
                                 core::TimePoint::from_ns(clock, effect_ns[static_cast<std::size_t>(e)]),
-                                flags[i] | (bounced ? kPairBounced : 0u)});
+                                flags[i] | (bounced ? kPairBounced : 0u),
+                                static_cast<std::int32_t>(std::min<std::int64_t>(
+                                    cause_span + effect_span, std::numeric_limits<std::int32_t>::max()))});
   }
   return result;
 }

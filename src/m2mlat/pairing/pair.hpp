@@ -45,6 +45,11 @@ struct Pair {
   core::TimePoint cause_time;
   core::TimePoint effect_time;
   std::uint32_t flags = 0;  // PairFlag bits
+  // How long the edges dropped as bounces went on after the cause edge, plus after the effect edge, ns
+  // (0 without bounces; saturated at 2^31 - 1). The matcher takes each cluster's first edge; if that
+  // was a spurious edge just before the true one, the latency is off by up to this: the worst-case
+  // bound of the pair (analysis/uncertainty.hpp) includes it. (In the Pair's padding: no memory more.)
+  std::int32_t bounce_span_ns = 0;
 
   core::Duration latency() const { return effect_time - cause_time; }
   // Any reason to doubt the pair: such pairs stay out of the statistics unless asked for.

@@ -99,6 +99,10 @@ TEST(Uncertainty, SumOfBoundsAndRootSumSquareOfStandardUncertainties) {
   const auto d = pair_uncertainty(cause, effect, kT0 + kS, kT0 + 2 * kS, o);
   EXPECT_EQ(d.u_ns, 1'307'689);
   EXPECT_EQ(d.max_error_ns, u.max_error_ns);
+  // Edges followed by bounces (pairing::Pair::bounce_span_ns) widen the bound by the span, not u.
+  const auto b = pair_uncertainty(cause, effect, kT0 + kS, kT0 + 2 * kS, o, 2'500'000);
+  EXPECT_EQ(b.max_error_ns, u.max_error_ns + 2'500'000);
+  EXPECT_EQ(b.u_ns, d.u_ns);
 }
 
 // A latency whose effect was corrected by a clock step of known size carries the size's uncertainty:

@@ -98,6 +98,12 @@ TEST(Matcher, BouncesAreReportedAndIgnored) {
   EXPECT_EQ(index_pairs(r), (IndexPairs{{0, 0}, {3, 2}}));
   ASSERT_EQ(r.unmatched.size(), 3u);
   for (const auto& u : r.unmatched) EXPECT_EQ(u.reason, UnmatchedReason::bounce);
+  // The first pair's edges were followed by bounces for 3 ms (cause) and 2 ms (effect): the pass's
+  // edge may be a later one of either cluster, so its latency is known to within 5 ms; 3 ms on one
+  // side is not yet "bounced" (kBounceSpanLimit).
+  EXPECT_EQ(r.pairs[0].bounce_span_ns, 5 * kMs);
+  EXPECT_EQ(r.pairs[0].flags & pairing::kPairBounced, 0u);
+  EXPECT_EQ(r.pairs[1].bounce_span_ns, 0);
 }
 
 TEST(Matcher, NoCandidateReason) {
