@@ -118,8 +118,11 @@ void GyroSource::loop() {
     deadline += period;
     const std::int64_t now = now_ns(CLOCK_MONOTONIC);
     if (now > deadline) {
-      const std::int64_t missed = (now - deadline) / period + 1;
-      deadline += missed * period;
+      const std::int64_t skipped = (now - deadline) / period + 1;
+      // Only deadlines inside the run count as missed (the last read may end after the run's end).
+      const std::int64_t missed =
+          deadline >= end ? 0 : std::min(skipped, (end - deadline + period - 1) / period);
+      deadline += skipped * period;
       std::lock_guard lock(mutex_);
       summary_.missed_periods += static_cast<std::uint64_t>(missed);
     }
