@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/number.hpp"
 
 namespace m2mlat::capture {
 
@@ -38,6 +39,15 @@ std::string transfer_hint(int err) {
 }
 
 }  // namespace
+
+std::uint8_t parse_i2c_address(std::string_view flag, std::string_view text) {
+  unsigned value = 0;
+  const bool hex = text.starts_with("0x") || text.starts_with("0X");
+  if (!core::parse_integer(hex ? text.substr(2) : text, value, hex ? 16 : 10) || value < 0x03 || value > 0x77)
+    throw core::Error(core::ErrorKind::usage,
+                      fmt::format("{}: '{}' is not a 7-bit I2C address (0x03..0x77)", flag, text));
+  return static_cast<std::uint8_t>(value);
+}
 
 I2cBus::I2cBus(std::string device, std::uint8_t address) : device_(std::move(device)), address_(address) {
   if (address_ < 0x03 || address_ > 0x77)

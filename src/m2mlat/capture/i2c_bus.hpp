@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 
 #include "m2mlat/capture/register_bus.hpp"
 #include "m2mlat/core/fd.hpp"
@@ -42,5 +43,8 @@ class I2cBus final : public RegisterBus {
   std::uint8_t address_ = 0;
   core::Fd fd_;
 };
+
+// "0x68", "104": a 7-bit address (0x03..0x77); throws core::Error(usage) naming `flag` otherwise.
+std::uint8_t parse_i2c_address(std::string_view flag, std::string_view text);
 
 }  // namespace m2mlat::capture

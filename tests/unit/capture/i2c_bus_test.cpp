@@ -54,3 +54,24 @@ TEST(I2cBus, AnAddressOutsideTheSevenBitRangeIsAUsageError) {
 
 }  // namespace
 }  // namespace m2mlat::capture::i2c_bus_test
+
+namespace m2mlat::capture::i2c_bus_test {
+namespace {
+
+TEST(I2cBus, AddressesAreReadInHexOrDecimalAndCheckedForRange) {
+  EXPECT_EQ(parse_i2c_address("--address", "0x68"), 0x68);
+  EXPECT_EQ(parse_i2c_address("--address", "0X69"), 0x69);
+  EXPECT_EQ(parse_i2c_address("--address", "104"), 0x68);
+  for (const char* bad : {"", "0x", "0x78", "2", "68h", "-1", "0x1ff"}) {
+    try {
+      parse_i2c_address("--address", bad);
+      FAIL() << "no error for '" << bad << "'";
+    } catch (const core::Error& e) {
+      EXPECT_EQ(e.kind(), core::ErrorKind::usage);
+      EXPECT_NE(std::string(e.what()).find("--address"), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace m2mlat::capture::i2c_bus_test
