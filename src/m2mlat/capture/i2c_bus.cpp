@@ -28,10 +28,11 @@ int smbus(int fd, std::uint8_t read_write, std::uint8_t reg, std::uint32_t size,
   return ::ioctl(fd, I2C_SMBUS, &args) == 0 ? 0 : errno;
 }
 
-// What an errno from a transfer means for the user: ENXIO / EREMOTEIO is the chip not answering
-// (nothing at that address, or not powered, or SDA/SCL not wired).
+// What an errno from a transfer means for the user: the chip not answering (nothing at that
+// address, not powered, SDA/SCL not wired) is EREMOTEIO or ENXIO from most controllers (the
+// Raspberry Pi's: EREMOTEIO), ENODEV from i2c-stub, EIO from some.
 std::string transfer_hint(int err) {
-  if (err == ENXIO || err == EREMOTEIO || err == EIO)
+  if (err == ENXIO || err == EREMOTEIO || err == EIO || err == ENODEV)
     return " (no chip answered at that address: check its power, SDA/SCL wiring and address pin; i2cdetect "
            "lists what answers)";
   if (err == EOPNOTSUPP) return " (the bus controller does not support this SMBus transfer)";
