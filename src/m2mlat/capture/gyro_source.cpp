@@ -34,6 +34,8 @@ void sleep_until_monotonic(std::int64_t deadline_ns) {
 GyroSource::GyroSource(Mpu6050& chip, GyroSourceOptions options) : chip_(chip), options_(options) {
   if (options_.period.count() <= 0)
     throw core::Error(core::ErrorKind::usage, "the gyroscope's read period must be positive");
+  if (options_.chip_output_period.count() < 0)
+    throw core::Error(core::ErrorKind::usage, "the gyroscope's output period must not be negative");
 }
 
 GyroSource::~GyroSource() {
@@ -102,10 +104,13 @@ void GyroSource::loop() {
     }
     const std::int64_t after = now_ns(CLOCK_REALTIME);
     const std::int64_t took = after - before;
-    // The middle of the read, and half its length rounded up, so the interval covers both ends.
-    sample.time_ns = before + took / 2;
+    // The middle of [before - output period, after], and half its width rounded up, so that the
+    // interval covers both ends.
+    const std::int64_t earliest = before - options_.chip_output_period.count();
+    const std::int64_t width = after - earliest;
+    sample.time_ns = earliest + width / 2;
     sample.bound_ns = static_cast<std::int32_t>(
-        std::min<std::int64_t>((took + 1) / 2, std::numeric_limits<std::int32_t>::max()));
+        std::min<std::int64_t>((width + 1) / 2, std::numeric_limits<std::int32_t>::max()));
     {
       std::lock_guard lock(mutex_);
       samples_.push_back(sample);

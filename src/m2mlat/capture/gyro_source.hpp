@@ -1,10 +1,14 @@
 // The inertial motion source: a sampling thread that reads a gyroscope's rate registers at a set
 // period (absolute CLOCK_MONOTONIC deadlines, SCHED_FIFO where permitted, as the GPIO capture and
 // the pulse generator run) and stamps each reading with CLOCK_REALTIME taken just before and just
-// after the read: the stamp is the middle, the bound half the interval (core::RateSample). The chip
-// latched the values at some instant inside that interval, so the bound is a certain one; on a
-// Raspberry Pi at 400 kHz a 6-byte read is about 0.2 ms on the wire, so about 0.1 ms (see
-// docs/capture.md for why polling and not the data-ready pin).
+// after the read. The chip puts a new sample into its output registers once per output period (125 us
+// at 8 kHz) on its own clock, so the values read were sampled within one output period before the
+// read began, or during the read: the interval [before - output period, after] certainly holds the
+// sampling instant; the stamp is its middle and the bound half its width (core::RateSample). On a
+// Raspberry Pi at 400 kHz a 6-byte read is about 0.2 ms on the wire, so the bound is about 0.16 ms
+// (see docs/capture.md for the figures, and for why polling and not the data-ready pin). The chip's
+// own filter delay (0.98 ms for the gyro at DLPF_CFG 0, per its datasheet) is a constant, not in the
+// bound: it cancels between two such chips (M2M) and is stated in the docs.
 //
 // Counted: reads, I2C errors, missed periods (a deadline that passed with no read started in it,
 // because the previous read or a wake-up was late). An I2C error ends the run: the samples already
@@ -27,8 +31,11 @@ namespace m2mlat::capture {
 struct GyroSourceOptions {
   core::Duration period{1'000'000};  // between two reads, ns (the chip's output period or longer)
   core::Duration duration{0};        // stop after this long, ns; 0: until stop()
-  int rt_priority = 0;               // SCHED_FIFO 1..99 for the sampling thread; 0: leave it
-  int cpu = -1;                      // run the sampling thread on this CPU; -1: leave it
+  // How old the values may be when the read begins: the chip's output period, ns (8 kHz / (1 +
+  // SMPLRT_DIV) -> 125 us at divider 0).
+  core::Duration chip_output_period{125'000};
+  int rt_priority = 0;  // SCHED_FIFO 1..99 for the sampling thread; 0: leave it
+  int cpu = -1;         // run the sampling thread on this CPU; -1: leave it
 };
 
 struct GyroSummary {

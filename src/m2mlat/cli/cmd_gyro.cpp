@@ -39,6 +39,9 @@ int run_gyro(const GyroCommand& c) {
   options.duration = duration_flag("--duration", c.duration, true);
   options.rt_priority = c.rt_priority;
   options.cpu = c.cpu;
+  // The chip's output period: 8 kHz / (1 + SMPLRT_DIV), the age the values may have at a read.
+  options.chip_output_period =
+      core::Duration{1'000'000'000 / capture::mpu6050::kGyroRateHz * (1 + c.divider)};
   if (options.period.count() <= 0) throw core::Error(core::ErrorKind::usage, "--period: must be positive");
   if (c.divider > 255) throw core::Error(core::ErrorKind::usage, "--divider: 0..255");
   core::check_output_target(c.out);  // before the chip is touched: a bad target costs no run
