@@ -247,7 +247,7 @@ int cmd_verify(const std::map<std::string, std::string>& o) {
       fail("sample " + std::to_string(i) + " is stamped before the one before");
   }
   std::vector<std::int64_t> windows, delays, reads;
-  for (const auto& s : samples) reads.push_back(2 * s.bound);
+  for (const auto& s : samples) reads.push_back(2 * s.bound);  // the width of each stamp's interval
   for (std::size_t k = 1; k < steps.size(); ++k) {
     const auto first = std::find(index.begin(), index.end(), k);
     if (first == index.end()) {
@@ -269,7 +269,7 @@ int cmd_verify(const std::map<std::string, std::string>& o) {
   }
   std::printf(
       "steps=%zu samples=%zu failures=%d change_window_p50_us=%lld change_window_max_us=%lld "
-      "delay_p50_us=%lld delay_max_us=%lld read_p50_us=%lld read_p99_us=%lld read_max_us=%lld\n",
+      "delay_p50_us=%lld delay_max_us=%lld interval_p50_us=%lld interval_p99_us=%lld interval_max_us=%lld\n",
       steps.size(), samples.size(), failures, static_cast<long long>(percentile(windows, 0.5) / 1000),
       static_cast<long long>(percentile(windows, 1.0) / 1000),
       static_cast<long long>(percentile(delays, 0.5) / 1000),
