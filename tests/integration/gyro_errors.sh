@@ -22,6 +22,9 @@ grep -q -- "--address: '0x80' is not a 7-bit I2C address" err.txt || fail "addre
 expect_exit 2 "$M2MLAT" gyro --device not-a-bus --period 0ms --out new.csv
 grep -q -- "--period" err.txt || fail "period message: $(cat err.txt)"
 
+expect_exit 2 "$M2MLAT" gyro --device not-a-bus --json --out -
+grep -q -- "--json and --out -" err.txt || fail "json/stdout message: $(cat err.txt)"
+
 # An output target that cannot be written is refused before the bus is opened.
 mkdir adir
 expect_exit 74 "$M2MLAT" gyro --device "$WORK/i2c-none" --out adir

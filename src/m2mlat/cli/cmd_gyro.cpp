@@ -44,6 +44,8 @@ int run_gyro(const GyroCommand& c) {
       core::Duration{1'000'000'000 / capture::mpu6050::kGyroRateHz * (1 + c.divider)};
   if (options.period.count() <= 0) throw core::Error(core::ErrorKind::usage, "--period: must be positive");
   if (c.divider > 255) throw core::Error(core::ErrorKind::usage, "--divider: 0..255");
+  if (c.json && c.out == "-")
+    throw core::Error(core::ErrorKind::usage, "--json and --out - would both write to stdout: choose one");
   core::check_output_target(c.out);  // before the chip is touched: a bad target costs no run
 
   capture::StopSignal stop;  // before the thread starts, so that it inherits the blocked signals
