@@ -7,6 +7,8 @@
 #                 tree from Debian's own linux-source-6.1 against linux-headers of the same ABI
 #   e1000.ko      Debian's module for QEMU's default NIC (the two-guest test, twoguest.sh, networks
 #                 its guests with it)
+#   i2c-stub.ko, i2c-dev.ko  Debian's modules: an SMBus adapter with a register file at a chosen
+#                 address, and /dev/i2c-N for it (the gyroscope tests read an "MPU-6050" there)
 # Everything is fetched with `apt-get download` and built once into $M2MLAT_VM_CACHE/<abi>/; later runs
 # find it there and return at once. Kernel sources are unpacked in a temporary folder and deleted:
 # nothing of the kernel ever enters the clone.
@@ -18,7 +20,8 @@ source "$(dirname "$0")/lib.sh"
 ABI=$(kernel_abi)
 OUT=$CACHE/$ABI
 # Debian's own modules the guests load, as paths below the image package's /lib/modules/<abi>/kernel.
-IMAGE_MODULES=(fs/configfs/configfs.ko drivers/net/ethernet/intel/e1000/e1000.ko)
+IMAGE_MODULES=(fs/configfs/configfs.ko drivers/net/ethernet/intel/e1000/e1000.ko drivers/i2c/i2c-stub.ko
+  drivers/i2c/i2c-dev.ko)
 have_modules() {
   local m
   for m in "${IMAGE_MODULES[@]}"; do [ -s "$OUT/$(basename "$m")" ] || return 1; done

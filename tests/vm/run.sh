@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The real-kernel test suite: boots Debian's 6.1 kernel in QEMU with gpio-sim, runs the tests of
+# The real-kernel test suite: boots Debian's 6.1 kernel in QEMU with gpio-sim (and i2c-stub), runs the tests of
 # guest/tests.sh against the real GPIO character device, and prints one line per test and
 # "N passed, N failed" last. Exit 0 only if no test failed and the guest ran to the end.
 #
@@ -67,6 +67,13 @@ if [ ! -x "$DRIVER_BIN" ] || [ "$VM_DIR/driver.cpp" -nt "$DRIVER_BIN" ]; then
     -Wold-style-cast -Werror -o "$DRIVER_BIN" "$VM_DIR/driver.cpp"
 fi
 
+GYRO_BIN=$BUILD/m2mlat-vm-gyro
+if [ ! -x "$GYRO_BIN" ] || [ "$VM_DIR/gyro_driver.cpp" -nt "$GYRO_BIN" ]; then
+  log "building the gyroscope test driver"
+  g++ -std=c++20 -O2 -static -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion \
+    -Wold-style-cast -Werror -o "$GYRO_BIN" "$VM_DIR/gyro_driver.cpp"
+fi
+
 # The initramfs: an uncompressed cpio (the kernel would spend seconds decompressing under TCG).
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
@@ -87,7 +94,8 @@ install_libraries() {
 strip -o "$ROOT/bin/m2mlat" "$M2MLAT_BIN"
 install_libraries "$M2MLAT_BIN"
 cp "$DRIVER_BIN" "$ROOT/bin/m2mlat-vm-driver"
-cp "$KERNEL_DIR/configfs.ko" "$KERNEL_DIR/gpio-sim.ko" "$ROOT/lib/modules/"
+cp "$GYRO_BIN" "$ROOT/bin/m2mlat-vm-gyro"
+cp "$KERNEL_DIR/configfs.ko" "$KERNEL_DIR/gpio-sim.ko" "$KERNEL_DIR/i2c-stub.ko" "$KERNEL_DIR/i2c-dev.ko" "$ROOT/lib/modules/"
 install -m 0755 "$VM_DIR/guest/init" "$ROOT/init"
 
 # Debian's gpiomon (gpiod 1.6, dynamically linked), for the performance comparison: its packages

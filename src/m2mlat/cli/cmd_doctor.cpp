@@ -7,8 +7,11 @@
 #include <nlohmann/json.hpp>
 
 #include "m2mlat/capture/gpio_device.hpp"
+#include "m2mlat/capture/i2c_bus.hpp"
+#include "m2mlat/capture/mpu6050.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
+#include "m2mlat/core/error.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/setup/doctor.hpp"
 
@@ -27,9 +30,25 @@ std::string line_flags(const capture::LineInfo& line) {
   return out;
 }
 
-int run_doctor(bool json) {
+// The configured gyroscope: the device opens, a chip answers at the address, and it is an MPU-6050.
+// Nothing is written to it.
+setup::Finding check_gyro(const std::string& device, const std::string& address) {
+  try {
+    capture::I2cBus bus(device, capture::parse_i2c_address("--gyro-address", address));
+    capture::Mpu6050 chip(bus);
+    return {"gyro", setup::Status::ok, fmt::format("MPU-6050 at {} (WHO_AM_I 0x68)", bus.describe()), ""};
+  } catch (const core::Error& e) {
+    if (e.kind() == core::ErrorKind::usage) throw;
+    return {"gyro", setup::Status::fail, e.what(),
+            "wire and enable the gyroscope as docs/hardware.md says; `i2cdetect -y N` lists the addresses "
+            "that answer"};
+  }
+}
+
+int run_doctor(bool json, const std::string& gyro_device, const std::string& gyro_address) {
   const auto devices = capture::linux_gpio_devices();
-  const auto report = setup::run_doctor(setup::machine_inputs(*devices));
+  auto report = setup::run_doctor(setup::machine_inputs(*devices));
+  if (!gyro_device.empty()) report.findings.push_back(check_gyro(gyro_device, gyro_address));
   if (json) {
     nlohmann::json j{{"needs_fixing", report.needs_fixing()},
                      {"chips", nlohmann::json::array()},
@@ -83,8 +102,13 @@ int run_doctor(bool json) {
 
 Runner attach_doctor(CLI::App& sub) {
   auto json = std::make_shared<bool>(false);
+  auto gyro_device = std::make_shared<std::string>();
+  auto gyro_address = std::make_shared<std::string>("0x68");
   sub.add_flag("--json", *json, "Print the findings as JSON");
-  return [json] { return run_doctor(*json); };
+  sub.add_option("--gyro-device", *gyro_device,
+                 "Also check the MPU-6050 gyroscope on this I2C device (/dev/i2c-N)");
+  sub.add_option("--gyro-address", *gyro_address, "The gyroscope's address")->capture_default_str();
+  return [json, gyro_device, gyro_address] { return run_doctor(*json, *gyro_device, *gyro_address); };
 }
 
 }  // namespace m2mlat::cli

@@ -292,6 +292,106 @@ t_doctor() {
   grep -q "$LABEL" doctor.out || { info "doctor does not name the chip $CHIP ($LABEL)"; return 1; }
 }
 
+# ---- the gyroscope (MPU-6050) through Linux's I2C character device ------------------------------
+#
+# i2c-stub (chip_addr=0x68) gives a register file on a real SMBus adapter, i2c-dev its /dev/i2c-N:
+# the chip m2mlat gyro reads. m2mlat-vm-gyro (tests/vm/gyro_driver.cpp) writes the rate registers
+# at logged times and judges the recorded trace against them.
+GYRO=/bin/m2mlat-vm-gyro
+GYRO_DEV=""
+GYRO_STEPS=${GYRO_STEPS:-12}    # rate changes made while m2mlat gyro reads
+GYRO_GAP_US=${GYRO_GAP_US:-100000}
+
+have_gyro() { "$M2MLAT" help 2>/dev/null | awk '$1 == "gyro" { found = 1 } END { exit !found }'; }
+
+# load_i2c_stub: the stub at 0x68 and i2c-dev; sets GYRO_DEV to its /dev/i2c-N.
+load_i2c_stub() {
+  [ -n "$GYRO_DEV" ] && return 0
+  insmod /lib/modules/i2c-stub.ko chip_addr=0x68 || { info "insmod i2c-stub failed"; return 1; }
+  insmod /lib/modules/i2c-dev.ko || { info "insmod i2c-dev failed"; return 1; }
+  local d
+  for d in /sys/class/i2c-dev/*; do
+    grep -q 'stub' "$d/name" 2>/dev/null && GYRO_DEV=/dev/$(basename "$d")
+  done
+  [ -n "$GYRO_DEV" ] && [ -c "$GYRO_DEV" ] || { info "no /dev/i2c-N for the stub"; return 1; }
+  info "i2c-stub at 0x68 on $GYRO_DEV"
+}
+
+# Before the stub is loaded there is no bus: a clear error naming the device (exit 66).
+t_gyro_no_bus() {
+  have_gyro || { info "skipped: this m2mlat has no 'gyro' subcommand"; return 77; }
+  "$M2MLAT" gyro --device /dev/i2c-0 --duration 1s --out nobus.csv >nobus.out 2>nobus.err
+  local rc=$?
+  show nobus.err
+  [ $rc -eq 66 ] || { info "exit $rc, expected 66 (no input)"; return 1; }
+  grep -q '/dev/i2c-0: no such I2C device' nobus.err || { info "the message does not name the device"; return 1; }
+  [ ! -e nobus.csv ] || { info "a trace file was written"; return 1; }
+}
+
+# The recorded trace shows every rate change the test made, each where it was made: the last read of
+# the old rates began before the write ended, the first read of the new ones ended after it began.
+t_gyro_trace() {
+  have_gyro || { info "skipped: this m2mlat has no 'gyro' subcommand"; return 77; }
+  load_i2c_stub || return 1
+  "$GYRO" set "$GYRO_DEV" 0x68 0x75 0x68 || return 1  # WHO_AM_I
+  "$GYRO" set "$GYRO_DEV" 0x68 0x6b 0x40 || return 1  # PWR_MGMT_1 as at power-on: asleep
+  "$GYRO" steps --device "$GYRO_DEV" --address 0x68 --from 0 --count 1 --gap-us 0 --log gyro.steps || return 1
+  "$M2MLAT" gyro --device "$GYRO_DEV" --period 1ms --rt-priority 50 --out gyro.csv --json >gyro.out 2>gyro.err &
+  local pid=$! rc=0
+  # PWR_MGMT_1 0x01: m2mlat has woken and is configuring the chip; the reads follow at once.
+  "$GYRO" wait-reg "$GYRO_DEV" 0x68 0x6b 0x01 5000 || { kill -TERM $pid; wait $pid; show gyro.err; return 1; }
+  sleep 0.3
+  "$GYRO" steps --device "$GYRO_DEV" --address 0x68 --from 1 --count "$GYRO_STEPS" --gap-us "$GYRO_GAP_US" \
+    --log gyro.steps --append || rc=1
+  sleep 0.2
+  kill -INT $pid
+  wait_exit $pid 10 || { info "m2mlat gyro exited $?"; show gyro.err; return 1; }
+  info "m2mlat gyro: $(tr -d '\n' <gyro.out | tr -s ' ')"
+  grep -q "\"stop_reason\": *\"SIGINT\"" gyro.out || { info "not stopped by SIGINT"; rc=1; }
+  grep -q "\"i2c_errors\": *0," gyro.out || { info "I2C errors"; rc=1; }
+  "$GYRO" verify --log gyro.steps --trace gyro.csv >gyro.verify 2>&1 || rc=1
+  show gyro.verify
+  # The resolution: a change is placed within about one period (1 ms) plus a read.
+  local window
+  window=$(sed -n 's/.*change_window_p50_us=\([0-9]*\).*/\1/p' gyro.verify)
+  [ "${window:-99999}" -le 2000 ] || { info "changes placed within ${window:-?} us (median), not 2 ms"; rc=1; }
+  [ $rc -eq 0 ] || { show gyro.steps; show gyro.err; }
+  return $rc
+}
+
+# A chip that is not an MPU-6050, an address where nothing answers: clear errors (exit 74), no file,
+# and doctor says so; doctor finds the good chip.
+t_gyro_errors() {
+  have_gyro || { info "skipped: this m2mlat has no 'gyro' subcommand"; return 77; }
+  load_i2c_stub || return 1
+  local rc=0 code
+  "$GYRO" set "$GYRO_DEV" 0x68 0x75 0x70 || return 1  # an MPU-6500's WHO_AM_I
+  "$GYRO" set "$GYRO_DEV" 0x68 0x1b 0x18 || return 1  # GYRO_CONFIG, to see that nothing is written
+  "$M2MLAT" gyro --device "$GYRO_DEV" --duration 1s --out wrong.csv >wrong.out 2>wrong.err
+  code=$?
+  show wrong.err
+  [ $code -eq 74 ] || { info "wrong WHO_AM_I: exit $code, expected 74"; rc=1; }
+  grep -q "$GYRO_DEV address 0x68: a chip that is not an MPU-6050 (WHO_AM_I 0x70" wrong.err ||
+    { info "wrong WHO_AM_I: the message does not say what was read"; rc=1; }
+  [ ! -e wrong.csv ] || { info "wrong WHO_AM_I: a trace file was written"; rc=1; }
+  "$GYRO" wait-reg "$GYRO_DEV" 0x68 0x1b 0x18 0 || { info "the wrong chip was written to"; rc=1; }
+  "$M2MLAT" doctor --gyro-device "$GYRO_DEV" >doctor-gyro.out 2>&1
+  grep -q 'FIX.*gyro.*not an MPU-6050' doctor-gyro.out || { info "doctor does not flag the wrong chip"; show doctor-gyro.out; rc=1; }
+
+  "$M2MLAT" gyro --device "$GYRO_DEV" --address 0x69 --duration 1s --out absent.csv >absent.out 2>absent.err
+  code=$?
+  show absent.err
+  [ $code -eq 74 ] || { info "no chip at 0x69: exit $code, expected 74"; rc=1; }
+  grep -q "$GYRO_DEV address 0x69: reading register 0x75:.*no chip answered" absent.err ||
+    { info "no chip at 0x69: the message does not say so"; rc=1; }
+  [ ! -e absent.csv ] || { info "no chip: a trace file was written"; rc=1; }
+
+  "$GYRO" set "$GYRO_DEV" 0x68 0x75 0x68 || return 1
+  "$M2MLAT" doctor --gyro-device "$GYRO_DEV" >doctor-gyro.out 2>&1
+  grep -q 'ok.*gyro.*MPU-6050 at' doctor-gyro.out || { info "doctor does not find the chip"; show doctor-gyro.out; rc=1; }
+  return $rc
+}
+
 # ---- m2mlat pulse against the real kernel --------------------------------------------------------
 
 # m2mlat pulse drives an output line, toggling it on multiples of its period, and stores each
@@ -421,4 +521,7 @@ run_test record.busy-line t_record_busy
 run_test record.missing-chip t_record_missing_chip
 run_test cli.doctor t_doctor
 run_test pulse.output t_pulse
+run_test gyro.no-bus t_gyro_no_bus
+run_test gyro.trace t_gyro_trace
+run_test gyro.errors t_gyro_errors
 run_test perf.record-vs-gpiomon t_perf_gpiomon
