@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "m2mlat/report/comparison_text.hpp"
+#include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/plot_data.hpp"
 #include "m2mlat/report/scenario_text.hpp"
 #include "m2mlat/report/svg_plot.hpp"
@@ -68,12 +69,12 @@ std::string figure(const std::string& svg, const std::string& caption) {
   return "<figure>\n" + svg + "<figcaption>" + xml_escape(caption) + "</figcaption></figure>\n";
 }
 
-std::string box_chart(const Report& report) {
-  std::vector<BoxData> boxes;
+// Box plots side by side, an empty slot between groups (BoxData::group); dashed lines at `limits`.
+std::string boxes_svg(const std::vector<BoxData>& boxes, const std::string& chart, const std::string& title,
+                      const std::string& x_label, const std::vector<stats::ThresholdShare>& limits,
+                      const std::string& note) {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (const auto& s : report.scenarios) {
-    boxes.push_back(box_data(s));
-    const auto& b = boxes.back();
+  for (const auto& b : boxes) {
     if (b.n == 0) continue;
     lo = std::min(
         {lo, b.whisker_low,
@@ -92,8 +93,7 @@ std::string box_chart(const Report& report) {
     xs.push_back(x);
     x += 1;
   }
-  SvgPlot plot("box", "Latency per scenario", report.groups.empty() ? "scenario" : "scenario (grouped)",
-               "latency (ms)", -0.6, x - 0.4, lo - pad, hi + pad, 720, 360);
+  SvgPlot plot(chart, title, x_label, "latency (ms)", -0.6, x - 0.4, lo - pad, hi + pad, 720, 360);
   std::vector<std::pair<double, std::string>> cats;
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     const auto& b = boxes[i];
@@ -109,17 +109,45 @@ std::string box_chart(const Report& report) {
     plot.segment(xs[i] - w / 2, b.whisker_low, xs[i] + w / 2, b.whisker_low, colour);
     for (double o : b.outliers) plot.circle(xs[i], o, 2.2, colour);
   }
-  if (!report.scenarios.empty())
-    for (const auto& t : report.scenarios.front().result.summary.thresholds)
-      plot.hline(static_cast<double>(t.threshold.count()) / 1e6,
-                 fmt::format("{:g} ms", static_cast<double>(t.threshold.count()) / 1e6));
+  for (const auto& t : limits)
+    plot.hline(static_cast<double>(t.threshold.count()) / 1e6,
+               fmt::format("{:g} ms", static_cast<double>(t.threshold.count()) / 1e6));
   plot.set_x_categories(std::move(cats));
-  if (!report.groups.empty()) {
-    std::string g = "groups:";
-    for (const auto& name : report.groups) g += " " + name;
-    plot.note(g);
-  }
+  if (!note.empty()) plot.note(note);
   return plot.render();
+}
+
+std::string box_chart(const Report& report) {
+  std::vector<BoxData> boxes;
+  for (const auto& s : report.scenarios) boxes.push_back(box_data(s));
+  std::string note;
+  if (!report.groups.empty()) {
+    note = "groups:";
+    for (const auto& name : report.groups) note += " " + name;
+  }
+  return boxes_svg(boxes, "box", "Latency per scenario",
+                   report.groups.empty() ? "scenario" : "scenario (grouped)",
+                   report.scenarios.empty() ? std::vector<stats::ThresholdShare>{}
+                                            : report.scenarios.front().result.summary.thresholds,
+                   note);
+}
+
+// The full-loop files: their table, and M2M, G2G and E2E of each file side by side.
+std::string full_loop_section(const Report& report) {
+  if (report.full_loops.empty()) return {};
+  std::string h = "<h2>Full loop</h2>\n";
+  h += html_table(full_loop_header(report.full_loops), full_loop_rows(report.full_loops), "full-loop");
+  h += "<p class=\"note-text\">Per event: M2M = VEHICLE_GY_ON - STATION_GY_ON, G2G = PHOTOTRANSISTOR - LED_ON, "
+       "E2E = M2M + G2G, motion = GY_OFF - GY_ON, each in integer ns before any statistic. Events without "
+       "a value of a quantity are counted by reason: missing (an empty field), impossible (an OFF before "
+       "its ON, a negative G2G), overflow.</p>\n";
+  std::string files = "files:";
+  for (const auto& r : report.full_loops) files += " " + r.scenario;
+  h += figure(boxes_svg(full_loop_boxes(report.full_loops), "full-loop", "M2M, G2G and E2E per file",
+                        "quantity (grouped by file)", {}, files),
+              "Box: quartiles; line: median; whiskers: the most extreme samples within 1.5 IQR; dots: "
+              "samples beyond (at most 100 per side drawn).");
+  return h;
 }
 
 std::string ecdf_chart(const Report& report) {
@@ -292,6 +320,8 @@ std::string report_html(const Report& report) {
   h += html_table(header, rows, "scenarios");
   h += "<p class=\"note-text\">Latencies in ms; type-7 quantiles; shares are of samples strictly above the "
        "limit. Ambiguous pairs are left out unless asked for.</p>\n";
+
+  h += full_loop_section(report);
 
   if (!report.comparisons.empty()) {
     h += "<h2>Comparisons</h2>\n<ul class=\"sentences\">\n";

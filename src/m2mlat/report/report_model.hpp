@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "m2mlat/analysis/full_loop.hpp"
 #include "m2mlat/analysis/scenario_result.hpp"
 #include "m2mlat/stats/compare.hpp"
 
@@ -50,6 +51,8 @@ struct Report {
   std::vector<ScenarioReport> scenarios;
   std::vector<std::string> groups;  // in order of first appearance; empty: no grouping
   std::vector<ComparisonReport> comparisons;
+  // The full-loop rig's files (analysis/full_loop.hpp): M2M, G2G, E2E and motion durations per file.
+  std::vector<analysis::FullLoopResult> full_loops;
   std::string command;                                        // the exact command line
   std::vector<std::pair<std::string, std::string>> versions;  // ("m2mlat", "0.1.0"), ...
   std::optional<double> assumed_uncertainty_ms;  // given by the user for scenarios without clock data

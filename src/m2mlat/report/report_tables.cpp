@@ -8,6 +8,7 @@
 
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/report/comparison_text.hpp"
+#include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/scenario_text.hpp"
 #include "m2mlat/report/table.hpp"
 
@@ -53,7 +54,10 @@ std::string md_escape(const std::string& s) {
 
 std::string report_text(const Report& report) {
   const auto results = results_of(report);
-  std::string out = pairing_table(results) + "\n" + scenario_table(results);
+  std::string out;
+  if (!report.scenarios.empty() || report.full_loops.empty())
+    out = pairing_table(results) + "\n" + scenario_table(results);
+  if (!report.full_loops.empty()) out += (out.empty() ? "" : "\n") + full_loop_table(report.full_loops);
   if (const auto steps = clock_step_table(results); !steps.empty()) out += "\n" + steps;
   bool any_uncertainty = false;
   for (const auto& s : report.scenarios) any_uncertainty |= s.median_uncertainty_ms().has_value();
@@ -103,6 +107,21 @@ std::string report_markdown(const Report& report) {
                     md_cell(m.p95_ms));
     for (const auto& t : m.thresholds) out += fmt::format(" | {} %", md_cell(t.fraction_above * 100));
     out += " |\n";
+  }
+  if (!report.full_loops.empty()) {
+    // M2M, G2G, E2E and the motion durations of the full-loop files (report/full_loop_view.hpp).
+    const auto header = full_loop_header(report.full_loops);
+    out += "\n## Full loop\n\n|";
+    for (const auto& h : header) out += " " + md_escape(h) + " |";
+    out += "\n|";
+    for (std::size_t k = 0; k < header.size(); ++k) out += k < 2 ? "---|" : "---:|";
+    out += "\n";
+    for (auto& row : full_loop_rows(report.full_loops)) {
+      row.resize(header.size(), "–");
+      out += "|";
+      for (const auto& cell : row) out += " " + md_escape(cell) + " |";
+      out += "\n";
+    }
   }
   if (!report.comparisons.empty()) {
     out += "\n## Comparisons\n\n";
