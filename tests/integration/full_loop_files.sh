@@ -140,6 +140,27 @@ for b, key in zip(boxes, ["m2m", "g2g", "e2e"]):
     assert abs(float(b[5]) - np.median(np.array(q[key][0]) / 1e6)) < 1e-6, b
 PY
 
+# Two files compare quantity by quantity, like scenarios: the same events in another layout differ by
+# nothing; the camera's G2G against the loop's G2G by the difference of their medians.
+"$M2MLAT" report "$LOOP" "$REORDERED" "$CAMERA" --bootstrap 0 --print json > compare.json
+$PY - compare.json <<'PY'
+import json, sys
+import numpy as np
+doc = json.load(open(sys.argv[1]))
+got = {(c["subject"], c["baseline"]): c for c in doc["comparisons"]}
+want = [("full_loop_reordered " + q, "full_loop_small " + q) for q in ("M2M", "G2G", "E2E")] + [
+    ("camera_latency_small G2G", "full_loop_small G2G"), ("camera_latency_small G2G", "full_loop_reordered G2G")]
+assert list(got) == want, list(got)
+for q in ("M2M", "G2G", "E2E"):
+    c = got[("full_loop_reordered " + q, "full_loop_small " + q)]
+    assert c["median_difference_ms"] == 0 and c["mann_whitney"]["p"] == 1, c
+loop = {r["scenario"]: r for r in doc["full_loop"]}
+c = got[("camera_latency_small G2G", "full_loop_small G2G")]
+medians = [loop[n]["quantities"]["g2g"]["summary"]["median_ms"] for n in ("camera_latency_small", "full_loop_small")]
+assert abs(c["median_difference_ms"] - (medians[0] - medians[1])) < 1e-9, (c["median_difference_ms"], medians)
+assert (c["n_subject"], c["n_baseline"]) == (8, 9), c
+PY
+
 # Bad files: refused with file and line, exit 65 (data), no output.
 HEADER=VEHICLE_GY_ON,VEHICLE_GY_OFF,LED_ON,STATION_GY_ON,STATION_GY_OFF,PHOTOTRANSISTOR
 { echo "$HEADER"; echo 10,20,30,0,40,50; printf '11,21,31,1,41,5'; } > cut.csv

@@ -146,8 +146,16 @@ report::Report build(const ReportCommand& c) {
   options.resamples = c.stats.bootstrap;
   options.seed = c.stats.seed;
   options.level = c.stats.level;
+  // The full-loop files compare among themselves, quantity by quantity (report_model.hpp).
+  if (c.compares.empty() && !c.no_compare)
+    for (auto& p : report::default_full_loop_comparisons(r)) pairs.push_back(std::move(p));
   for (const auto& [subject, baseline] : pairs) {
     progress(fmt::format("comparing {} with {}", subject, baseline));
+    if (r.find_full_loop(subject) != nullptr && r.find_full_loop(baseline) != nullptr) {
+      for (auto& one : report::compare_full_loops(r, subject, baseline, options))
+        r.comparisons.push_back(std::move(one));
+      continue;
+    }
     r.comparisons.push_back(report::compare_scenarios(r, subject, baseline, options));
   }
   progress_done();
