@@ -70,9 +70,10 @@ std::string figure(const std::string& svg, const std::string& caption) {
 }
 
 // Box plots side by side, an empty slot between groups (BoxData::group); dashed lines at `limits`.
+// `colours`: a palette index per box; empty = one colour per box in turn.
 std::string boxes_svg(const std::vector<BoxData>& boxes, const std::string& chart, const std::string& title,
                       const std::string& x_label, const std::vector<stats::ThresholdShare>& limits,
-                      const std::string& note) {
+                      const std::string& note, const std::vector<std::size_t>& colours = {}) {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const auto& b : boxes) {
     if (b.n == 0) continue;
@@ -97,7 +98,7 @@ std::string boxes_svg(const std::vector<BoxData>& boxes, const std::string& char
   std::vector<std::pair<double, std::string>> cats;
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     const auto& b = boxes[i];
-    const auto colour = palette(i);
+    const auto colour = palette(colours.empty() ? i : colours.at(i));
     cats.emplace_back(xs[i], b.scenario);
     if (b.n == 0) continue;
     const double w = 0.32;
@@ -141,10 +142,15 @@ std::string full_loop_section(const Report& report) {
        "E2E = M2M + G2G, motion = GY_OFF - GY_ON, each in integer ns before any statistic. Events without "
        "a value of a quantity are counted by reason: missing (an empty field), impossible (an OFF before "
        "its ON, a negative G2G), overflow.</p>\n";
-  std::string files = "files:";
-  for (const auto& r : report.full_loops) files += " " + r.scenario;
-  h += figure(boxes_svg(full_loop_boxes(report.full_loops), "full-loop", "M2M, G2G and E2E per file",
-                        "quantity (grouped by file)", {}, files),
+  std::string files = "files, left to right:";
+  for (std::size_t i = 0; i < report.full_loops.size(); ++i)
+    files += (i == 0 ? " " : " | ") + report.full_loops[i].scenario;
+  // One colour per quantity, the same in every file.
+  const auto boxes = full_loop_boxes(report.full_loops);
+  std::vector<std::size_t> colours;
+  for (const auto& b : boxes) colours.push_back(b.scenario == "M2M" ? 0 : b.scenario == "G2G" ? 1 : 2);
+  h += figure(boxes_svg(boxes, "full-loop", "M2M, G2G and E2E per file", "quantity (grouped by file)", {}, files,
+                        colours),
               "Box: quartiles; line: median; whiskers: the most extreme samples within 1.5 IQR; dots: "
               "samples beyond (at most 100 per side drawn).");
   return h;
@@ -286,21 +292,8 @@ std::string ms_or_dash(const std::optional<double>& x, int d = 3) {
   return x ? fmt::format("{:.{}f}", *x, d) : "-";
 }
 
-}  // namespace
-
-std::string report_html(const Report& report) {
-  std::string h =
-      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-      "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
-      "<title>m2mlat latency report</title>\n<style>" +
-      std::string(kCss) + "</style>\n</head>\n<body>\n<main>\n<h1>Latency report</h1>\n";
-  h += "<p class=\"meta\">Produced by <code>" + xml_escape(report.command) + "</code>";
-  for (const auto& [name, version] : report.versions)
-    h += "; " + xml_escape(name) + " " + xml_escape(version);
-  h += ".</p>\n";
-
-  // Summary table.
-  h += "<h2>Scenarios</h2>\n";
+std::string scenario_section(const Report& report) {
+  std::string h = "<h2>Scenarios</h2>\n";
   std::vector<std::string> header{"scenario", "group", "pairs", "median", "IQR",
                                   "mean",     "SD",    "min",   "max",    "P95"};
   if (!report.scenarios.empty())
@@ -320,9 +313,11 @@ std::string report_html(const Report& report) {
   h += html_table(header, rows, "scenarios");
   h += "<p class=\"note-text\">Latencies in ms; type-7 quantiles; shares are of samples strictly above the "
        "limit. Ambiguous pairs are left out unless asked for.</p>\n";
+  return h;
+}
 
-  h += full_loop_section(report);
-
+std::string comparison_section(const Report& report) {
+  std::string h;
   if (!report.comparisons.empty()) {
     h += "<h2>Comparisons</h2>\n<ul class=\"sentences\">\n";
     for (const auto& c : report.comparisons) h += "<li>" + xml_escape(comparison_sentence(c)) + "</li>\n";
@@ -345,7 +340,11 @@ std::string report_html(const Report& report) {
                     crows, "comparisons");
   }
 
-  h += "<h2>Distributions</h2>\n";
+  return h;
+}
+
+std::string distribution_sections(const Report& report) {
+  std::string h = "<h2>Distributions</h2>\n";
   h += figure(box_chart(report),
               "Box: quartiles; line: median; whiskers: the most extreme samples within 1.5 IQR; "
               "dots: samples beyond (at most 100 per side drawn); dashed: latency limits.");
@@ -426,6 +425,28 @@ std::string report_html(const Report& report) {
                      "pairs after a step of unknown size (left out)"},
                     srows, "clock-steps");
   }
+  return h;
+}
+
+}  // namespace
+
+std::string report_html(const Report& report) {
+  std::string h =
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+      "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+      "<title>m2mlat latency report</title>\n<style>" +
+      std::string(kCss) + "</style>\n</head>\n<body>\n<main>\n<h1>Latency report</h1>\n";
+  h += "<p class=\"meta\">Produced by <code>" + xml_escape(report.command) + "</code>";
+  for (const auto& [name, version] : report.versions)
+    h += "; " + xml_escape(name) + " " + xml_escape(version);
+  h += ".</p>\n";
+
+  // The matcher's scenarios: their sections are left out when only full-loop files were given.
+  const bool scenarios = !report.scenarios.empty() || report.full_loops.empty();
+  if (scenarios) h += scenario_section(report);
+  h += full_loop_section(report);
+  h += comparison_section(report);
+  if (scenarios) h += distribution_sections(report);
   h += "<p class=\"meta\">Every number and chart is recomputed from the raw events by the command above; "
        "re-run it "
        "with other matcher windows, thresholds or groups to change them.</p>\n";

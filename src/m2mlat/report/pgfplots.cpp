@@ -77,8 +77,11 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
   Writer w(directory);
   std::vector<std::string> figures;
 
+  // The matcher's scenarios' figures are left out when only full-loop files were given.
+  const bool scenarios = !report.scenarios.empty() || report.full_loops.empty();
+
   // Box plots, one per scenario, grouped with a gap between groups.
-  {
+  if (scenarios) {
     std::string dat = "scenario group n lower_whisker q1 median q3 upper_whisker outliers\n";
     std::string tex =
         header("Box plot of latency per scenario") +
@@ -152,7 +155,7 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
   }
 
   // ECDF.
-  {
+  if (scenarios) {
     std::string tex =
         header("Empirical distribution functions") +
         "\\begin{tikzpicture}\n\\begin{axis}[width=0.95\\linewidth, height=6cm, xlabel={latency (ms)},\n"

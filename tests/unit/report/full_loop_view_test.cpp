@@ -105,12 +105,16 @@ TEST(FullLoopView, TheFigureHasM2MG2GE2EPerFile) {
   const auto html = report_html(r);
   EXPECT_NE(html.find("data-chart=\"full-loop\""), std::string::npos);
   EXPECT_NE(html.find("data-table=\"full-loop\""), std::string::npos);
+  // Only full-loop files: the matcher's empty sections are left out.
+  EXPECT_EQ(html.find("data-chart=\"box\""), std::string::npos);
+  EXPECT_EQ(html.find("data-table=\"scenarios\""), std::string::npos);
   EXPECT_NE(report_markdown(r).find("## Full loop"), std::string::npos);
   EXPECT_EQ(report_text(r).find("pairs"), std::string::npos);  // no empty table of scenarios
 
   m2mlat::testing::TempDir dir;
   const auto names = write_pgfplots(r, dir.path());
   EXPECT_NE(std::find(names.begin(), names.end(), "full-loop.tex"), names.end());
+  EXPECT_EQ(std::find(names.begin(), names.end(), "box.tex"), names.end());
   std::ifstream dat(dir.path() / "full-loop.dat");
   std::stringstream all;
   all << dat.rdbuf();
