@@ -71,8 +71,11 @@ Runner attach_stats(CLI::App& sub) {
   sub.add_flag("--json", c->json, "Print m2mlat-stats/1 JSON instead of tables");
   sub.add_flag("--detail", c->detail, "Print every statistic of each scenario");
   return [c] {
-    // Synchronisation-test files (offsets between two boards) are summarised on their own.
     auto inputs = c->inputs;
+    // The full-loop rig's files (M2M, G2G, E2E per event) are summarised on their own, as are
+    // synchronisation-test files (offsets between two boards).
+    const auto loops = analysis::take_full_loop_files(inputs.inputs, inputs.pipeline_inputs().format,
+                                                      c->stats.options());
     std::vector<std::pair<std::string, formats::SyncImport>> sync_files;
     std::erase_if(inputs.inputs, [&](const std::string& path) {
       if (is_sqlite_file(path)) return false;
@@ -83,9 +86,6 @@ Runner attach_stats(CLI::App& sub) {
       }
       return false;
     });
-    // The full-loop rig's files (M2M, G2G, E2E per event) are summarised on their own too.
-    const auto loops = analysis::take_full_loop_files(inputs.inputs, inputs.pipeline_inputs().format,
-                                                      c->stats.options());
     std::vector<analysis::ScenarioResult> results;
     if (!inputs.inputs.empty() || !inputs.cause_file.empty() || (sync_files.empty() && loops.empty())) {
       const auto pipeline = pipeline_options(c->selection, c->match, c->stats);
