@@ -41,8 +41,8 @@ void summarise(LoopSeries& series, const stats::SummaryOptions& options) {
 }  // namespace
 
 std::string_view label(LoopQuantity quantity) {
-  constexpr std::array<std::string_view, kLoopQuantities.size()> kLabels{"M2M", "G2G", "E2E", "vehicle motion",
-                                                                         "station motion"};
+  constexpr std::array<std::string_view, kLoopQuantities.size()> kLabels{"M2M", "G2G", "E2E",
+                                                                         "vehicle motion", "station motion"};
   return kLabels.at(static_cast<std::size_t>(quantity));
 }
 
@@ -72,10 +72,12 @@ std::array<LoopValue, kLoopQuantities.size()> loop_values(const FullLoopRow& row
   } else {
     std::int64_t sum = 0;
     e2e = __builtin_add_overflow(*m2m.ns, *g2g.ns, &sum) ? excluded(LoopExclusion::overflow)
-                                                          : LoopValue{sum, LoopExclusion::missing};
+                                                         : LoopValue{sum, LoopExclusion::missing};
   }
-  v[static_cast<std::size_t>(LoopQuantity::vehicle_motion)] = difference(row, kVehicleGyOff, kVehicleGyOn, true);
-  v[static_cast<std::size_t>(LoopQuantity::station_motion)] = difference(row, kStationGyOff, kStationGyOn, true);
+  v[static_cast<std::size_t>(LoopQuantity::vehicle_motion)] =
+      difference(row, kVehicleGyOff, kVehicleGyOn, true);
+  v[static_cast<std::size_t>(LoopQuantity::station_motion)] =
+      difference(row, kStationGyOff, kStationGyOn, true);
   return v;
 }
 
@@ -127,7 +129,8 @@ std::vector<FullLoopResult> take_full_loop_files(std::vector<std::string>& input
     // else is then safe too (docs/store.md).
     const bool take = format ? true
                              : path != "-" && std::filesystem::is_regular_file(path) &&
-                                   !store::is_sqlite_database(path) && is_loop(formats::detect_file_format(path));
+                                   !store::is_sqlite_database(path) &&
+                                   is_loop(formats::detect_file_format(path));
     if (!take) {
       rest.push_back(std::move(path));
       continue;
@@ -137,8 +140,8 @@ std::vector<FullLoopResult> take_full_loop_files(std::vector<std::string>& input
     if (const auto* rows = std::get_if<formats::FullLoopImport>(&file.content))
       results.push_back(analyse_full_loop(std::move(scenario), path, *rows, options));
     else
-      results.push_back(analyse_camera_latency(std::move(scenario), path,
-                                               std::get<formats::CameraLatencyImport>(file.content), options));
+      results.push_back(analyse_camera_latency(
+          std::move(scenario), path, std::get<formats::CameraLatencyImport>(file.content), options));
   }
   inputs = std::move(rest);
   return results;

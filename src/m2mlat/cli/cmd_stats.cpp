@@ -74,8 +74,8 @@ Runner attach_stats(CLI::App& sub) {
     auto inputs = c->inputs;
     // The full-loop rig's files (M2M, G2G, E2E per event) are summarised on their own, as are
     // synchronisation-test files (offsets between two boards).
-    const auto loops = analysis::take_full_loop_files(inputs.inputs, inputs.pipeline_inputs().format,
-                                                      c->stats.options());
+    const auto loops =
+        analysis::take_full_loop_files(inputs.inputs, inputs.pipeline_inputs().format, c->stats.options());
     std::vector<std::pair<std::string, formats::SyncImport>> sync_files;
     std::erase_if(inputs.inputs, [&](const std::string& path) {
       if (is_sqlite_file(path)) return false;

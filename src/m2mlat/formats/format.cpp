@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "m2mlat/core/error.hpp"
-#include "m2mlat/formats/event_fields.hpp"
 #include "m2mlat/formats/camera_latency.hpp"
+#include "m2mlat/formats/event_fields.hpp"
 #include "m2mlat/formats/fields.hpp"
 #include "m2mlat/formats/full_loop_csv.hpp"
 #include "m2mlat/formats/input_text.hpp"
@@ -24,9 +24,8 @@ namespace m2mlat::formats {
 namespace {
 
 constexpr std::array<std::string_view, kAllFormats.size()> kNames{
-    "kernel-log", "rig-export-csv", "rig-paired-csv", "rig-sync-csv",
-    "events-csv", "events-jsonl",   "pairs-csv",      "pairs-jsonl",
-    "full-loop-csv", "camera-latency"};
+    "kernel-log",   "rig-export-csv", "rig-paired-csv", "rig-sync-csv",  "events-csv",
+    "events-jsonl", "pairs-csv",      "pairs-jsonl",    "full-loop-csv", "camera-latency"};
 
 constexpr std::string_view kPairsFamily = "m2mlat-pairs/";
 

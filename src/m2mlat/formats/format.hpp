@@ -27,8 +27,8 @@ enum class Format : std::uint8_t {
 };
 
 inline constexpr std::array<Format, 10> kAllFormats{
-    Format::kernel_log,  Format::rig_export_csv, Format::rig_paired_csv, Format::rig_sync_csv,
-    Format::events_csv,  Format::events_jsonl,   Format::pairs_csv,      Format::pairs_jsonl,
+    Format::kernel_log,    Format::rig_export_csv, Format::rig_paired_csv, Format::rig_sync_csv,
+    Format::events_csv,    Format::events_jsonl,   Format::pairs_csv,      Format::pairs_jsonl,
     Format::full_loop_csv, Format::camera_latency};
 
 // "kernel-log", "rig-export-csv", "rig-paired-csv", "rig-sync-csv", "events-csv", "events-jsonl",

@@ -40,7 +40,8 @@ FullLoopImport import_full_loop_csv(std::string_view text, std::string_view name
   std::string_view line;
   std::vector<std::string_view> fields;
   do {
-    if (!reader.next(line)) throw_line_error(name, 0, fmt::format("is empty (expected the header '{}')", header_text));
+    if (!reader.next(line))
+      throw_line_error(name, 0, fmt::format("is empty (expected the header '{}')", header_text));
   } while (is_blank(line));
 
   // The header: each file column -> its FullLoopColumn.
@@ -85,9 +86,8 @@ FullLoopImport import_full_loop_csv(std::string_view text, std::string_view name
       std::int64_t value = 0;
       if (!core::parse_integer(field, value))
         throw_field_error(name, number, kFullLoopColumns[file_to_column[i]], field,
-                          is_integer_text(field)
-                              ? "is out of range (outside signed 64-bit nanoseconds)"
-                              : "is not an integer (nanoseconds since the Unix epoch)");
+                          is_integer_text(field) ? "is out of range (outside signed 64-bit nanoseconds)"
+                                                 : "is not an integer (nanoseconds since the Unix epoch)");
       row.ns[file_to_column[i]] = value;
     }
     result.rows.push_back(row);

@@ -18,31 +18,20 @@ using analysis::FullLoopResult;
 using analysis::LoopExclusion;
 using analysis::LoopQuantity;
 
-std::string f6(double x) { return std::isnan(x) ? "" : fmt::format("{:.6f}", x); }
-std::string g6(double x) { return std::isnan(x) ? "" : fmt::format("{:.6g}", x); }
+}  // namespace
 
-// A file name or scenario as a CSV field: quoted when it holds a comma, a quote or a line end.
-std::string csv_text(const std::string& s) {
-  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char ch : s) out += ch == '"' ? std::string("\"\"") : std::string(1, ch);
-  return out + "\"";
-}
-
-const std::vector<stats::ThresholdShare>* first_thresholds(std::span<const FullLoopResult> results) {
+const std::vector<stats::ThresholdShare>* full_loop_thresholds(std::span<const FullLoopResult> results) {
   for (const auto& r : results)
     for (const auto q : analysis::kLoopQuantities)
       if (const auto* s = r.find(q)) return &s->summary.thresholds;
   return nullptr;
 }
 
-}  // namespace
-
 std::vector<std::string> full_loop_header(std::span<const FullLoopResult> results) {
   std::vector<std::string> header{"scenario", "quantity", "events", "excluded (missing/impossible/overflow)",
                                   "n",        "median",   "IQR",    "mean",
                                   "sd",       "min",      "max",    "P95"};
-  if (const auto* t = first_thresholds(results))
+  if (const auto* t = full_loop_thresholds(results))
     for (const auto& share : *t)
       header.push_back(fmt::format("> {:g} ms", static_cast<double>(share.threshold.count()) / 1e6));
   return header;
@@ -54,8 +43,9 @@ std::vector<std::vector<std::string>> full_loop_rows(std::span<const FullLoopRes
     for (const auto q : analysis::kLoopQuantities) {
       const auto* s = r.find(q);
       if (s == nullptr) continue;
-      std::vector<std::string> row{r.scenario, std::string(analysis::label(q)), std::to_string(r.events),
-                                   fmt::format("{} / {} / {}", s->excluded[0], s->excluded[1], s->excluded[2])};
+      std::vector<std::string> row{
+          r.scenario, std::string(analysis::label(q)), std::to_string(r.events),
+          fmt::format("{} / {} / {}", s->excluded[0], s->excluded[1], s->excluded[2])};
       for (auto& cell : summary_cells(s->summary)) row.push_back(std::move(cell));
       rows.push_back(std::move(row));
     }
@@ -84,7 +74,8 @@ nlohmann::json full_loop_json(std::span<const FullLoopResult> results) {
       nlohmann::json excluded = nlohmann::json::object();
       for (std::size_t k = 0; k < analysis::kLoopExclusions; ++k)
         excluded[std::string(analysis::key(static_cast<LoopExclusion>(k)))] = s->excluded[k];
-      quantities[std::string(analysis::key(q))] = {{"summary", summary_json(s->summary)}, {"excluded", excluded}};
+      quantities[std::string(analysis::key(q))] = {{"summary", summary_json(s->summary)},
+                                                   {"excluded", excluded}};
     }
     out.push_back({{"scenario", r.scenario},
                    {"file", r.file},
@@ -92,30 +83,6 @@ nlohmann::json full_loop_json(std::span<const FullLoopResult> results) {
                    {"events", r.events},
                    {"quantities", quantities}});
   }
-  return out;
-}
-
-std::string full_loop_csv(std::span<const FullLoopResult> results) {
-  std::string out =
-      "scenario,file,quantity,events,n,excluded_missing,excluded_impossible,excluded_overflow,mean_ms,sd_ms,"
-      "min_ms,p5_ms,q1_ms,median_ms,q3_ms,p90_ms,p95_ms,p99_ms,iqr_ms,max_ms";
-  if (const auto* t = first_thresholds(results))
-    for (const auto& share : *t)
-      out += fmt::format(",above_{:g}ms_fraction", static_cast<double>(share.threshold.count()) / 1e6);
-  out += "\n";
-  for (const auto& r : results)
-    for (const auto q : analysis::kLoopQuantities) {
-      const auto* s = r.find(q);
-      if (s == nullptr) continue;
-      const auto& m = s->summary;
-      out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_text(r.scenario),
-                         csv_text(r.file), analysis::key(q), r.events, m.n, s->excluded[0], s->excluded[1],
-                         s->excluded[2], f6(m.mean_ms), f6(m.sd_ms), m.min ? f6(m.min->ms()) : "", f6(m.p5_ms),
-                         f6(m.q1_ms), f6(m.median_ms), f6(m.q3_ms), f6(m.p90_ms), f6(m.p95_ms), f6(m.p99_ms),
-                         f6(m.iqr_ms), m.max ? f6(m.max->ms()) : "");
-      for (const auto& share : m.thresholds) out += "," + g6(share.fraction_above);
-      out += "\n";
-    }
   return out;
 }
 

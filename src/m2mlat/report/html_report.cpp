@@ -138,7 +138,8 @@ std::string full_loop_section(const Report& report) {
   if (report.full_loops.empty()) return {};
   std::string h = "<h2>Full loop</h2>\n";
   h += html_table(full_loop_header(report.full_loops), full_loop_rows(report.full_loops), "full-loop");
-  h += "<p class=\"note-text\">Per event: M2M = VEHICLE_GY_ON - STATION_GY_ON, G2G = PHOTOTRANSISTOR - LED_ON, "
+  h += "<p class=\"note-text\">Per event: M2M = VEHICLE_GY_ON - STATION_GY_ON, G2G = PHOTOTRANSISTOR - "
+       "LED_ON, "
        "E2E = M2M + G2G, motion = GY_OFF - GY_ON, each in integer ns before any statistic. Events without "
        "a value of a quantity are counted by reason: missing (an empty field), impossible (an OFF before "
        "its ON, a negative G2G), overflow.</p>\n";
@@ -149,8 +150,8 @@ std::string full_loop_section(const Report& report) {
   const auto boxes = full_loop_boxes(report.full_loops);
   std::vector<std::size_t> colours;
   for (const auto& b : boxes) colours.push_back(b.scenario == "M2M" ? 0 : b.scenario == "G2G" ? 1 : 2);
-  h += figure(boxes_svg(boxes, "full-loop", "M2M, G2G and E2E per file", "quantity (grouped by file)", {}, files,
-                        colours),
+  h += figure(boxes_svg(boxes, "full-loop", "M2M, G2G and E2E per file", "quantity (grouped by file)", {},
+                        files, colours),
               "Box: quartiles; line: median; whiskers: the most extreme samples within 1.5 IQR; dots: "
               "samples beyond (at most 100 per side drawn).");
   return h;

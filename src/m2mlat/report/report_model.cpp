@@ -144,16 +144,19 @@ std::vector<ComparisonReport> compare_full_loops(const Report& report, const std
   const auto* s = report.find_full_loop(subject);
   const auto* b = report.find_full_loop(baseline);
   for (const auto& [name, found] : {std::pair{subject, s}, std::pair{baseline, b}})
-    if (!found) throw core::Error(core::ErrorKind::usage, fmt::format("--compare: no full-loop file '{}'", name));
+    if (!found)
+      throw core::Error(core::ErrorKind::usage, fmt::format("--compare: no full-loop file '{}'", name));
   options.uncertainty_ms = report.assumed_uncertainty_ms;
   options.alpha = report.alpha;
   std::vector<ComparisonReport> out;
-  for (const auto q : {analysis::LoopQuantity::m2m, analysis::LoopQuantity::g2g, analysis::LoopQuantity::e2e}) {
+  for (const auto q :
+       {analysis::LoopQuantity::m2m, analysis::LoopQuantity::g2g, analysis::LoopQuantity::e2e}) {
     const auto* sq = s->find(q);
     const auto* bq = b->find(q);
     if (sq == nullptr || bq == nullptr || sq->ns.size() < 2 || bq->ns.size() < 2) continue;
     ComparisonReport r{fmt::format("{} {}", subject, analysis::label(q)),
-                       fmt::format("{} {}", baseline, analysis::label(q)), {}};
+                       fmt::format("{} {}", baseline, analysis::label(q)),
+                       {}};
     try {
       r.comparison = stats::compare(sq->ns, bq->ns, options);
     } catch (const core::Error& e) {

@@ -212,4 +212,27 @@ std::string comparisons_csv(const Report& report) {
   return out;
 }
 
+std::string full_loop_csv(std::span<const analysis::FullLoopResult> results) {
+  std::string out =
+      "scenario,file,quantity,events,n,excluded_missing,excluded_impossible,excluded_overflow,mean_ms,sd_ms,"
+      "min_ms,p5_ms,q1_ms,median_ms,q3_ms,p90_ms,p95_ms,p99_ms,iqr_ms,max_ms";
+  if (const auto* t = full_loop_thresholds(results))
+    for (const auto& share : *t) out += fmt::format(",above_{}_fraction", threshold_name(share.threshold));
+  out += "\n";
+  for (const auto& r : results)
+    for (const auto q : analysis::kLoopQuantities) {
+      const auto* s = r.find(q);
+      if (s == nullptr) continue;
+      const auto& m = s->summary;
+      out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_field(r.scenario),
+                         csv_field(r.file), analysis::key(q), r.events, m.n, s->excluded[0], s->excluded[1],
+                         s->excluded[2], f6(m.mean_ms), f6(m.sd_ms), m.min ? f6(m.min->ms()) : "",
+                         f6(m.p5_ms), f6(m.q1_ms), f6(m.median_ms), f6(m.q3_ms), f6(m.p90_ms), f6(m.p95_ms),
+                         f6(m.p99_ms), f6(m.iqr_ms), m.max ? f6(m.max->ms()) : "");
+      for (const auto& share : m.thresholds) out += "," + g6(share.fraction_above);
+      out += "\n";
+    }
+  return out;
+}
+
 }  // namespace m2mlat::report

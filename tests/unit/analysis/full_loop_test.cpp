@@ -4,12 +4,11 @@
 #include "m2mlat/analysis/full_loop.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
-
-#include <unistd.h>
 
 #include "m2mlat/core/error.hpp"
 
@@ -34,7 +33,9 @@ FullLoopRow row(long line, std::optional<std::int64_t> vehicle_on, std::optional
   return r;
 }
 
-const LoopValue& at(const std::array<LoopValue, 5>& v, LoopQuantity q) { return v[static_cast<std::size_t>(q)]; }
+const LoopValue& at(const std::array<LoopValue, 5>& v, LoopQuantity q) {
+  return v[static_cast<std::size_t>(q)];
+}
 
 TEST(FullLoop, OneEventsChainInIntegerNanoseconds) {
   // Station onset at 0, vehicle onset 48.123457 ms later, LED 77 us after that, photo edge 104.2 ms
@@ -62,7 +63,8 @@ TEST(FullLoop, ANegativeM2MIsKeptANegativeG2GIsImpossible) {
 }
 
 TEST(FullLoop, OffBeforeOnMakesOnlyThatSidesDurationImpossible) {
-  const auto v = loop_values(row(2, 50 * kMs, 30 * kMs, 50 * kMs, 0, -1, 150 * kMs));  // station OFF 1 ns before its ON
+  const auto v =
+      loop_values(row(2, 50 * kMs, 30 * kMs, 50 * kMs, 0, -1, 150 * kMs));  // station OFF 1 ns before its ON
   EXPECT_EQ(at(v, LoopQuantity::vehicle_motion).why, LoopExclusion::impossible);
   EXPECT_FALSE(at(v, LoopQuantity::vehicle_motion).ns);
   EXPECT_EQ(at(v, LoopQuantity::station_motion).why, LoopExclusion::impossible);
@@ -125,7 +127,7 @@ TEST(FullLoop, AFileIsSummarisedPerQuantityWithTheExclusionsCounted) {
   EXPECT_DOUBLE_EQ(e2e->summary.iqr_ms, 20.0);
   ASSERT_EQ(e2e->summary.thresholds.size(), 1u);
   EXPECT_EQ(e2e->summary.thresholds[0].count_above, 2u);  // 160 and 180 ms; strictly above
-  EXPECT_EQ(e2e->summary.max->id, 4);                      // the line of the largest
+  EXPECT_EQ(e2e->summary.max->id, 4);                     // the line of the largest
 
   EXPECT_EQ(r.find(LoopQuantity::vehicle_motion)->summary.n, 5u);
   EXPECT_EQ(r.find(LoopQuantity::station_motion)->summary.n, 4u);

@@ -71,18 +71,28 @@ TEST(FullLoopCsv, RefusalsNameFileLineAndField) {
                     {"r.csv:2:", "expected 6 fields", "found 5"});
   expect_data_error([] { import_full_loop_csv(with_header("1,2,3,4,5,6,7\n"), "r.csv"); },
                     {"r.csv:2:", "found 7"});
-  expect_data_error([] { import_full_loop_csv(with_header("1,2,3,4,5,6\n") + std::string(kHeader), "r.csv"); },
-                    {"r.csv:3:", "header appears again"});
+  expect_data_error(
+      [] { import_full_loop_csv(with_header("1,2,3,4,5,6\n") + std::string(kHeader), "r.csv"); },
+      {"r.csv:3:", "header appears again"});
 }
 
 TEST(FullLoopCsv, AWrongHeaderIsNamed) {
   expect_data_error(
-      [] { import_full_loop_csv("VEHICLE_GY_ON,VEHICLE_GY_OFF,LED,STATION_GY_ON,STATION_GY_OFF,PHOTOTRANSISTOR\n", "r.csv"); },
+      [] {
+        import_full_loop_csv(
+            "VEHICLE_GY_ON,VEHICLE_GY_OFF,LED,STATION_GY_ON,STATION_GY_OFF,PHOTOTRANSISTOR\n", "r.csv");
+      },
       {"r.csv:1:", "header column 3", "'LED'"});
-  expect_data_error([] { import_full_loop_csv("VEHICLE_GY_ON,VEHICLE_GY_OFF,LED_ON,STATION_GY_ON,STATION_GY_OFF\n", "r.csv"); },
-                    {"r.csv:1:", "lacks the column PHOTOTRANSISTOR"});
   expect_data_error(
-      [] { import_full_loop_csv("LED_ON,LED_ON,VEHICLE_GY_ON,VEHICLE_GY_OFF,STATION_GY_ON,STATION_GY_OFF\n", "r.csv"); },
+      [] {
+        import_full_loop_csv("VEHICLE_GY_ON,VEHICLE_GY_OFF,LED_ON,STATION_GY_ON,STATION_GY_OFF\n", "r.csv");
+      },
+      {"r.csv:1:", "lacks the column PHOTOTRANSISTOR"});
+  expect_data_error(
+      [] {
+        import_full_loop_csv("LED_ON,LED_ON,VEHICLE_GY_ON,VEHICLE_GY_OFF,STATION_GY_ON,STATION_GY_OFF\n",
+                             "r.csv");
+      },
       {"r.csv:1:", "header column 2 repeats LED_ON"});
   expect_data_error([] { import_full_loop_csv("\n \n", "r.csv"); }, {"r.csv:", "is empty"});
 }
@@ -93,8 +103,10 @@ TEST(FullLoopCsv, ATruncatedLastLineIsRefusedByTheImport) {
 }
 
 TEST(CameraLatency, ParsesDecimalMillisecondsExactly) {
-  const auto imported = import_camera_latency("LATENCY (ms)\r\n45.123456\r\n 47.2 \r\n\r\n52\r\n-1.5\r\n0.000001\r\n", "c.txt");
-  EXPECT_EQ(imported.latency_ns, (std::vector<std::int64_t>{45'123'456, 47'200'000, 52'000'000, -1'500'000, 1}));
+  const auto imported =
+      import_camera_latency("LATENCY (ms)\r\n45.123456\r\n 47.2 \r\n\r\n52\r\n-1.5\r\n0.000001\r\n", "c.txt");
+  EXPECT_EQ(imported.latency_ns,
+            (std::vector<std::int64_t>{45'123'456, 47'200'000, 52'000'000, -1'500'000, 1}));
   EXPECT_EQ(imported.lines, (std::vector<long>{2, 3, 5, 6, 7}));
 }
 
@@ -110,8 +122,9 @@ TEST(CameraLatency, RefusesWhatIsNotAWholeNanosecondOrNotANumber) {
 
 TEST(FullLoopFiles, DetectedByTheirHeader) {
   EXPECT_EQ(detect_format(with_header("")), Format::full_loop_csv);
-  EXPECT_EQ(detect_format("PHOTOTRANSISTOR,LED_ON,VEHICLE_GY_ON,STATION_GY_ON,VEHICLE_GY_OFF,STATION_GY_OFF\n"),
-            Format::full_loop_csv);
+  EXPECT_EQ(
+      detect_format("PHOTOTRANSISTOR,LED_ON,VEHICLE_GY_ON,STATION_GY_ON,VEHICLE_GY_OFF,STATION_GY_OFF\n"),
+      Format::full_loop_csv);
   // A misspelt column still goes to this reader, which names it.
   EXPECT_EQ(detect_format("VEHICLE_GY_ON,VEHICLE_GY_OFF,LED,STATION_GY_ON,STATION_GY_OFF,PHOTO\n"),
             Format::full_loop_csv);

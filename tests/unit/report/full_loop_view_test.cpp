@@ -87,8 +87,8 @@ TEST(FullLoopView, JsonAndCsvCarryEveryQuantity) {
 
 TEST(FullLoopView, TheFigureHasM2MG2GE2EPerFile) {
   formats::CameraLatencyImport camera{{45 * kMs, 47 * kMs, 50 * kMs}, {2, 3, 4}};
-  const std::vector<analysis::FullLoopResult> results{file("a", 5, 0),
-                                                      analysis::analyse_camera_latency("cam", "cam.txt", camera, {})};
+  const std::vector<analysis::FullLoopResult> results{
+      file("a", 5, 0), analysis::analyse_camera_latency("cam", "cam.txt", camera, {})};
   const auto boxes = full_loop_boxes(results);
   ASSERT_EQ(boxes.size(), 4u);
   EXPECT_EQ(boxes[0].scenario, "M2M");
