@@ -127,8 +127,9 @@ std::vector<FullLoopResult> take_full_loop_files(std::vector<std::string>& input
   for (auto& path : inputs) {
     // Stores are recognised through SQLite (safe beside open connections); a raw read of anything
     // else is then safe too (docs/store.md).
+    std::error_code ec;  // unreadable: not taken here, the pipeline names the problem
     const bool take = format ? true
-                             : path != "-" && std::filesystem::is_regular_file(path) &&
+                             : path != "-" && std::filesystem::is_regular_file(path, ec) &&
                                    !store::is_sqlite_database(path) &&
                                    is_loop(formats::detect_file_format(path));
     if (!take) {

@@ -45,7 +45,7 @@ FullLoopImport import_full_loop_csv(std::string_view text, std::string_view name
   } while (is_blank(line));
 
   // The header: each file column -> its FullLoopColumn.
-  split_csv(line, fields);
+  if (!split_csv(line, fields)) throw_line_error(name, reader.line_number(), "unterminated quote");
   std::vector<std::size_t> file_to_column(fields.size(), kNoColumn);
   std::array<bool, kFullLoopColumns.size()> seen{};
   for (std::size_t i = 0; i < fields.size(); ++i) {
@@ -71,7 +71,7 @@ FullLoopImport import_full_loop_csv(std::string_view text, std::string_view name
   while (reader.next(line)) {
     if (is_blank(line)) continue;
     const long number = reader.line_number();
-    split_csv(line, fields);
+    if (!split_csv(line, fields)) throw_line_error(name, number, "unterminated quote");
     if (column_of(fields.front()) != kNoColumn)
       throw_line_error(name, number, "the header appears again (were two files joined?)");
     if (fields.size() != file_to_column.size())

@@ -67,6 +67,10 @@ TEST(FullLoopCsv, RefusalsNameFileLineAndField) {
                     {"r.csv:2:", "field PHOTOTRANSISTOR", "out of range"});
   expect_data_error([] { import_full_loop_csv(with_header("1,2,3,4,5,1.5\n"), "r.csv"); },
                     {"r.csv:2:", "field PHOTOTRANSISTOR", "not an integer"});
+  expect_data_error([] { import_full_loop_csv(with_header("1,2,\"3,4,5,6\n"), "r.csv"); },
+                    {"r.csv:2:", "unterminated quote"});
+  expect_data_error([] { import_full_loop_csv(with_header("1,2,\"3\",4,5,6\n"), "r.csv"); },
+                    {"r.csv:2:", "field LED_ON", "not an integer"});
   expect_data_error([] { import_full_loop_csv(with_header("1,2,3,4,5\n"), "r.csv"); },
                     {"r.csv:2:", "expected 6 fields", "found 5"});
   expect_data_error([] { import_full_loop_csv(with_header("1,2,3,4,5,6,7\n"), "r.csv"); },
