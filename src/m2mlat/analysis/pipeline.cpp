@@ -5,7 +5,6 @@
 #include <fmt/ranges.h>
 
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <future>
 #include <set>
@@ -57,8 +56,13 @@ std::vector<core::Event> events_of(formats::ImportedFile&& file, const std::stri
     all.insert(all.end(), paired->effects.begin(), paired->effects.end());
     return all;
   }
+  if (std::holds_alternative<formats::SyncImport>(file.content))
+    throw core::Error(core::ErrorKind::data,
+                      fmt::format("{}: a synchronisation-test file holds offsets, not edge events", path));
   throw core::Error(core::ErrorKind::data,
-                    fmt::format("{}: a synchronisation-test file holds offsets, not edge events", path));
+                    fmt::format("{}: a {} file holds the full-loop rig's results, not edge events to pair: "
+                                "summarise it with `m2mlat stats` or `m2mlat report`",
+                                path, formats::to_string(file.format)));
 }
 
 // A paired-results CSV analysed with its own rows as the pairs (what the rig itself reported).
@@ -95,15 +99,9 @@ struct LeanSide {
 };
 std::optional<LeanSide> lean_side(const std::string& path, std::optional<formats::Format> format,
                                   const std::string& node, const std::optional<core::ChannelRef>& want) {
-  if (!format) {
-    // A raw read of a data file: safe here, before this process opens any store (see docs/store.md
-    // on why a process must never open and close a store file it holds SQLite connections to).
-    std::ifstream in(path, std::ios::binary);
-    std::string head(64 * 1024, '\0');
-    in.read(head.data(), static_cast<std::streamsize>(head.size()));
-    head.resize(static_cast<std::size_t>(in.gcount()));
-    format = formats::detect_format(head);
-  }
+  // A raw read of a data file: safe here, before this process opens any store (see docs/store.md
+  // on why a process must never open and close a store file it holds SQLite connections to).
+  if (!format) format = formats::detect_file_format(path);
   if (format != formats::Format::kernel_log && format != formats::Format::rig_export_csv) return std::nullopt;
   auto series = formats::read_timestamps(path, format);
   if (series.size() != 1) return std::nullopt;

@@ -159,11 +159,16 @@ int run_import(const ImportCommand& c) {
       events = std::move(p->causes);
       events.insert(events.end(), std::make_move_iterator(p->effects.begin()),
                     std::make_move_iterator(p->effects.end()));
-    } else {
+    } else if (std::holds_alternative<formats::SyncImport>(file.content)) {
       throw core::Error(core::ErrorKind::usage,
                         fmt::format("{}: a synchronisation-test file holds clock offsets, not edge events: "
                                     "summarise it with `m2mlat stats {}`",
                                     path, path));
+    } else {
+      throw core::Error(core::ErrorKind::usage,
+                        fmt::format("{}: a {} file holds the full-loop rig's results, not one board's edges: "
+                                    "summarise it with `m2mlat stats {}`",
+                                    path, formats::to_string(file.format), path));
     }
     if (events.empty()) throw core::Error(core::ErrorKind::data, fmt::format("{}: no events", path));
     for (const auto& [node, samples] : clock) analysis::flag_events_after_steps(events, node, samples);

@@ -11,6 +11,7 @@
 #include <memory>
 #include <sstream>
 
+#include "m2mlat/analysis/full_loop.hpp"
 #include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
@@ -19,6 +20,7 @@
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/output_file.hpp"
 #include "m2mlat/core/version.hpp"
+#include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/html_report.hpp"
 #include "m2mlat/report/pgfplots.hpp"
 #include "m2mlat/report/report_json.hpp"
@@ -112,8 +114,11 @@ report::Report build(const ReportCommand& c) {
   // Everything shown (pairs, statistics, per-pair bounds, clock series, losses) comes back from the
   // pipeline: no store is opened here.
   const auto pipeline = pipeline_options(c.selection, c.match, c.stats);
-  for (auto& res : analysis::analyse_inputs(c.inputs.pipeline_inputs(), pipeline))
-    r.scenarios.push_back(report::scenario_report(std::move(res)));
+  auto inputs = c.inputs.pipeline_inputs();
+  r.full_loops = analysis::take_full_loop_files(inputs.inputs, inputs.format, pipeline.summary);
+  if (!inputs.inputs.empty() || !inputs.cause_file.empty() || r.full_loops.empty())
+    for (auto& res : analysis::analyse_inputs(inputs, pipeline))
+      r.scenarios.push_back(report::scenario_report(std::move(res)));
 
   report::assign_groups(r, parse_groups(c.groups), !c.no_groups);
 
@@ -141,8 +146,16 @@ report::Report build(const ReportCommand& c) {
   options.resamples = c.stats.bootstrap;
   options.seed = c.stats.seed;
   options.level = c.stats.level;
+  // The full-loop files compare among themselves, quantity by quantity (report_model.hpp).
+  if (c.compares.empty() && !c.no_compare)
+    for (auto& p : report::default_full_loop_comparisons(r)) pairs.push_back(std::move(p));
   for (const auto& [subject, baseline] : pairs) {
     progress(fmt::format("comparing {} with {}", subject, baseline));
+    if (r.find_full_loop(subject) != nullptr && r.find_full_loop(baseline) != nullptr) {
+      for (auto& one : report::compare_full_loops(r, subject, baseline, options))
+        r.comparisons.push_back(std::move(one));
+      continue;
+    }
     r.comparisons.push_back(report::compare_scenarios(r, subject, baseline, options));
   }
   progress_done();
@@ -171,12 +184,13 @@ Runner attach_report(CLI::App& sub) {
                 "Measurement uncertainty per latency (e.g. 1ms) for scenarios without clock samples");
   g->add_option("--alpha", c->alpha, "Significance level of the tests")->capture_default_str();
   g->add_option("--print", c->format,
-                "What to print: text, markdown, csv (scenarios), csv-comparisons or json")
-      ->check(CLI::IsMember({"text", "markdown", "csv", "csv-comparisons", "json"}))
+                "What to print: text, markdown, csv (scenarios), csv-comparisons, csv-full-loop or json")
+      ->check(CLI::IsMember({"text", "markdown", "csv", "csv-comparisons", "csv-full-loop", "json"}))
       ->capture_default_str();
   g->add_option(
       "--out", c->out_dir,
-      "Write report.html, report.md, report.json, scenarios.csv, comparisons.csv and pgfplots/ here");
+      "Write report.html, report.md, report.json, scenarios.csv, comparisons.csv, full_loop.csv (full-loop "
+      "files) and pgfplots/ here");
   g->add_option("--html", c->html, "Write the HTML report to this file");
   g->add_option("--pgfplots", c->pgfplots_dir, "Write pgfplots figures and their data into this folder");
   return [c] {
@@ -193,6 +207,8 @@ Runner attach_report(CLI::App& sub) {
       core::write_output_file((dir / "report.json").string(), json_text(report::report_document(r)) + "\n");
       core::write_output_file((dir / "scenarios.csv").string(), report::scenarios_csv(r));
       core::write_output_file((dir / "comparisons.csv").string(), report::comparisons_csv(r));
+      if (!r.full_loops.empty())
+        core::write_output_file((dir / "full_loop.csv").string(), report::full_loop_csv(r.full_loops));
       report::write_pgfplots(r, dir / "pgfplots");
     }
     if (!c->html.empty()) core::write_output_file(c->html, report::report_html(r));
@@ -205,6 +221,8 @@ Runner attach_report(CLI::App& sub) {
       fmt::print("{}", report::scenarios_csv(r));
     else if (c->format == "csv-comparisons")
       fmt::print("{}", report::comparisons_csv(r));
+    else if (c->format == "csv-full-loop")
+      fmt::print("{}", report::full_loop_csv(r.full_loops));
     else
       fmt::print("{}", report::report_text(r));
     return 0;

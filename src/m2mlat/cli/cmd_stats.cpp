@@ -3,6 +3,7 @@
 
 #include <memory>
 
+#include "m2mlat/analysis/full_loop.hpp"
 #include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
@@ -10,6 +11,7 @@
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/formats/import_file.hpp"
+#include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/scenario_json.hpp"
 #include "m2mlat/report/scenario_text.hpp"
 #include "m2mlat/report/table.hpp"
@@ -69,8 +71,11 @@ Runner attach_stats(CLI::App& sub) {
   sub.add_flag("--json", c->json, "Print m2mlat-stats/1 JSON instead of tables");
   sub.add_flag("--detail", c->detail, "Print every statistic of each scenario");
   return [c] {
-    // Synchronisation-test files (offsets between two boards) are summarised on their own.
     auto inputs = c->inputs;
+    // The full-loop rig's files (M2M, G2G, E2E per event) are summarised on their own, as are
+    // synchronisation-test files (offsets between two boards).
+    const auto loops =
+        analysis::take_full_loop_files(inputs.inputs, inputs.pipeline_inputs().format, c->stats.options());
     std::vector<std::pair<std::string, formats::SyncImport>> sync_files;
     std::erase_if(inputs.inputs, [&](const std::string& path) {
       if (is_sqlite_file(path)) return false;
@@ -82,7 +87,7 @@ Runner attach_stats(CLI::App& sub) {
       return false;
     });
     std::vector<analysis::ScenarioResult> results;
-    if (!inputs.inputs.empty() || !inputs.cause_file.empty() || sync_files.empty()) {
+    if (!inputs.inputs.empty() || !inputs.cause_file.empty() || (sync_files.empty() && loops.empty())) {
       const auto pipeline = pipeline_options(c->selection, c->match, c->stats);
       results = analysis::analyse_inputs(inputs.pipeline_inputs(), pipeline);
     }
@@ -90,10 +95,12 @@ Runner attach_stats(CLI::App& sub) {
       auto doc = report::stats_document(results);
       for (const auto& [path, sync] : sync_files)
         doc["sync_tests"].push_back(sync_json(path, sync, c->stats.options()));
+      if (!loops.empty()) doc["full_loop"] = report::full_loop_json(loops);
       print_json(doc);
       return 0;
     }
     for (const auto& [path, sync] : sync_files) fmt::print("{}\n", sync_text(path, sync, c->stats.options()));
+    if (!loops.empty()) fmt::print("{}{}", report::full_loop_table(loops), results.empty() ? "" : "\n");
     if (results.empty()) return 0;
     fmt::print("{}\n{}", report::pairing_table(results), report::scenario_table(results));
     if (const auto u = report::uncertainty_table(results); !u.empty()) fmt::print("\n{}", u);

@@ -9,8 +9,10 @@
 #include <vector>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/formats/camera_latency.hpp"
 #include "m2mlat/formats/event_fields.hpp"
 #include "m2mlat/formats/fields.hpp"
+#include "m2mlat/formats/full_loop_csv.hpp"
 #include "m2mlat/formats/input_text.hpp"
 #include "m2mlat/formats/kernel_log.hpp"
 #include "m2mlat/formats/rig_export.hpp"
@@ -22,8 +24,8 @@ namespace m2mlat::formats {
 namespace {
 
 constexpr std::array<std::string_view, kAllFormats.size()> kNames{
-    "kernel-log", "rig-export-csv", "rig-paired-csv", "rig-sync-csv",
-    "events-csv", "events-jsonl",   "pairs-csv",      "pairs-jsonl"};
+    "kernel-log",   "rig-export-csv", "rig-paired-csv", "rig-sync-csv",  "events-csv",
+    "events-jsonl", "pairs-csv",      "pairs-jsonl",    "full-loop-csv", "camera-latency"};
 
 constexpr std::string_view kPairsFamily = "m2mlat-pairs/";
 
@@ -47,6 +49,8 @@ std::optional<Format> from_header(std::string_view line) {
   if (same_columns(fields, kRigExportColumns)) return Format::rig_export_csv;
   if (same_columns(fields, kRigPairedColumns)) return Format::rig_paired_csv;
   if (same_columns(fields, kRigSyncColumns)) return Format::rig_sync_csv;
+  if (looks_like_full_loop_header(fields)) return Format::full_loop_csv;
+  if (fields.size() == 1 && fields[0] == kCameraLatencyHeader) return Format::camera_latency;
   if (!fields.empty() && fields[0] == "cause_node") return Format::pairs_csv;
   bool node = false;
   bool time = false;
@@ -93,11 +97,16 @@ Content content_of(Format format) {
     case Format::pairs_csv:
     case Format::pairs_jsonl: return Content::pairs;
     case Format::rig_sync_csv: return Content::sync_samples;
+    case Format::full_loop_csv: return Content::full_loop;
+    case Format::camera_latency: return Content::latencies;
     default: return Content::events;
   }
 }
 
-bool is_importable(Format format) { return format != Format::pairs_csv && format != Format::pairs_jsonl; }
+bool is_importable(Format format) {
+  return format != Format::pairs_csv && format != Format::pairs_jsonl && format != Format::full_loop_csv &&
+         format != Format::camera_latency;
+}
 
 std::optional<Format> detect_format(std::string_view text) {
   LineReader reader(text);
@@ -140,7 +149,8 @@ Format require_format(std::string_view text, std::string_view name) {
     throw_line_error(
         name, reader.line_number(),
         fmt::format("cannot tell the format from {}: expected a kernel log (GPIO_<pin>_IRQ:<ns> "
-                    "lines), a CSV header of the reference rig or of m2mlat, or m2mlat JSON Lines; "
+                    "lines), a CSV header of the reference rig, of the full-loop rig or of m2mlat, "
+                    "a 'LATENCY (ms)' header, or m2mlat JSON Lines; "
                     "name the format (one of: {})",
                     quote_for_message(line), fmt::join(kNames, ", ")));
   }

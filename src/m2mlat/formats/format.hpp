@@ -22,22 +22,27 @@ enum class Format : std::uint8_t {
   events_jsonl,    // m2mlat-events/1 as JSON Lines                              (import, export)
   pairs_csv,       // m2mlat-pairs/2 as CSV                                      (export)
   pairs_jsonl,     // m2mlat-pairs/2 as JSON Lines                               (export)
+  full_loop_csv,   // full-loop rig: VEHICLE_GY_ON,...,PHOTOTRANSISTOR           (stats, report)
+  camera_latency,  // full-loop rig's camera-to-monitor file: LATENCY (ms)      (stats, report)
 };
 
-inline constexpr std::array<Format, 8> kAllFormats{
-    Format::kernel_log, Format::rig_export_csv, Format::rig_paired_csv, Format::rig_sync_csv,
-    Format::events_csv, Format::events_jsonl,   Format::pairs_csv,      Format::pairs_jsonl};
+inline constexpr std::array<Format, 10> kAllFormats{
+    Format::kernel_log,    Format::rig_export_csv, Format::rig_paired_csv, Format::rig_sync_csv,
+    Format::events_csv,    Format::events_jsonl,   Format::pairs_csv,      Format::pairs_jsonl,
+    Format::full_loop_csv, Format::camera_latency};
 
 // "kernel-log", "rig-export-csv", "rig-paired-csv", "rig-sync-csv", "events-csv", "events-jsonl",
-// "pairs-csv", "pairs-jsonl".
+// "pairs-csv", "pairs-jsonl", "full-loop-csv", "camera-latency".
 std::string_view to_string(Format format);
 // Parses those names; throws core::Error(usage) listing them otherwise.
 Format parse_format(std::string_view name);
 
-// What an import yields for a format: events, pairs (with their events), or sync-test samples.
-enum class Content : std::uint8_t { events, pairs, sync_samples };
+// What an import yields for a format: events, pairs (with their events), sync-test samples, the
+// full-loop rig's per-event timestamps, or glass-to-glass latencies.
+enum class Content : std::uint8_t { events, pairs, sync_samples, full_loop, latencies };
 Content content_of(Format format);
-// True for the formats m2mlat can import (the pairs exports are for other programs).
+// True for the formats m2mlat can import into a store (the pairs exports are for other programs;
+// the full-loop files are read by `stats` and `report` only).
 bool is_importable(Format format);
 
 // The format of `text` by its content, or nullopt if it is none of them.

@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <fstream>
+
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/output_file.hpp"
 #include "m2mlat/formats/events_csv.hpp"
@@ -59,6 +61,8 @@ ImportedFile import_text(std::string_view text, std::string_view name, std::opti
     case Format::rig_sync_csv: result.content = import_rig_sync_csv(text, name); break;
     case Format::events_csv: result.content = import_events_csv(text, name, options); break;
     case Format::events_jsonl: result.content = import_events_jsonl(text, name, options); break;
+    case Format::full_loop_csv: result.content = import_full_loop_csv(text, name); break;
+    case Format::camera_latency: result.content = import_camera_latency(text, name); break;
     case Format::pairs_csv:
     case Format::pairs_jsonl: throw_not_importable(name, chosen);
   }
@@ -69,6 +73,14 @@ ImportedFile import_file(const std::string& path, std::optional<Format> format,
                          const ImportOptions& options) {
   const InputText input = InputText::read_file(path);
   return import_text(input.text(), input.name(), format, options);
+}
+
+std::optional<Format> detect_file_format(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(64 * 1024, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  return detect_format(head);
 }
 
 std::vector<TimestampSeries> read_timestamps(const std::string& path, std::optional<Format> format,
@@ -102,6 +114,12 @@ std::vector<TimestampSeries> read_timestamps(const std::string& path, std::optio
     case Format::rig_sync_csv:
       throw core::Error(core::ErrorKind::usage,
                         fmt::format("{}: a sync-test CSV holds offsets, not event timestamps", input.name()));
+    case Format::full_loop_csv:
+    case Format::camera_latency:
+      throw core::Error(core::ErrorKind::usage,
+                        fmt::format("{}: a {} file is summarised by `m2mlat stats` and `m2mlat report`, "
+                                    "not paired from its timestamps",
+                                    input.name(), to_string(chosen)));
     case Format::pairs_csv:
     case Format::pairs_jsonl: throw_not_importable(input.name(), chosen);
   }

@@ -10,7 +10,9 @@
 #include <vector>
 
 #include "m2mlat/core/event.hpp"
+#include "m2mlat/formats/camera_latency.hpp"
 #include "m2mlat/formats/format.hpp"
+#include "m2mlat/formats/full_loop_csv.hpp"
 #include "m2mlat/formats/imported.hpp"
 #include "m2mlat/formats/pair_row.hpp"
 #include "m2mlat/formats/pairs_export.hpp"
@@ -21,9 +23,9 @@ namespace m2mlat::formats {
 
 struct ImportedFile {
   Format format = Format::events_csv;
-  // EventImport for the event formats, PairedImport for rig_paired_csv, SyncImport for rig_sync_csv
-  // (see content_of(format)).
-  std::variant<EventImport, PairedImport, SyncImport> content;
+  // EventImport for the event formats, PairedImport for rig_paired_csv, SyncImport for rig_sync_csv,
+  // FullLoopImport for full_loop_csv, CameraLatencyImport for camera_latency (see content_of(format)).
+  std::variant<EventImport, PairedImport, SyncImport, FullLoopImport, CameraLatencyImport> content;
 };
 
 // Imports `text` (named `name` in messages) as `format`, or as the detected format if none is
@@ -35,6 +37,11 @@ ImportedFile import_text(std::string_view text, std::string_view name, std::opti
 // The same for a file ("-" = standard input), read whole first. Also throws core::Error(no_input)
 // if it does not exist and core::Error(io) if it cannot be read.
 ImportedFile import_file(const std::string& path, std::optional<Format> format, const ImportOptions& options);
+
+// The format of a file by the content of its first 64 KiB (detect_format), without reading it all;
+// nullopt when unrecognised or unreadable (the import that follows names the problem). Not for
+// standard input, which cannot be read twice.
+std::optional<Format> detect_file_format(const std::string& path);
 
 // The lean import of a file: timestamps only (CLOCK_REALTIME ns), per pin or label for the kernel
 // log and the rig's export CSV (without building events), per "node/channel" for the other event

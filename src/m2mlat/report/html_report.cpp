@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "m2mlat/report/comparison_text.hpp"
+#include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/plot_data.hpp"
 #include "m2mlat/report/scenario_text.hpp"
 #include "m2mlat/report/svg_plot.hpp"
@@ -68,12 +69,13 @@ std::string figure(const std::string& svg, const std::string& caption) {
   return "<figure>\n" + svg + "<figcaption>" + xml_escape(caption) + "</figcaption></figure>\n";
 }
 
-std::string box_chart(const Report& report) {
-  std::vector<BoxData> boxes;
+// Box plots side by side, an empty slot between groups (BoxData::group); dashed lines at `limits`.
+// `colours`: a palette index per box; empty = one colour per box in turn.
+std::string boxes_svg(const std::vector<BoxData>& boxes, const std::string& chart, const std::string& title,
+                      const std::string& x_label, const std::vector<stats::ThresholdShare>& limits,
+                      const std::string& note, const std::vector<std::size_t>& colours = {}) {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (const auto& s : report.scenarios) {
-    boxes.push_back(box_data(s));
-    const auto& b = boxes.back();
+  for (const auto& b : boxes) {
     if (b.n == 0) continue;
     lo = std::min(
         {lo, b.whisker_low,
@@ -92,12 +94,11 @@ std::string box_chart(const Report& report) {
     xs.push_back(x);
     x += 1;
   }
-  SvgPlot plot("box", "Latency per scenario", report.groups.empty() ? "scenario" : "scenario (grouped)",
-               "latency (ms)", -0.6, x - 0.4, lo - pad, hi + pad, 720, 360);
+  SvgPlot plot(chart, title, x_label, "latency (ms)", -0.6, x - 0.4, lo - pad, hi + pad, 720, 360);
   std::vector<std::pair<double, std::string>> cats;
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     const auto& b = boxes[i];
-    const auto colour = palette(i);
+    const auto colour = palette(colours.empty() ? i : colours.at(i));
     cats.emplace_back(xs[i], b.scenario);
     if (b.n == 0) continue;
     const double w = 0.32;
@@ -109,17 +110,51 @@ std::string box_chart(const Report& report) {
     plot.segment(xs[i] - w / 2, b.whisker_low, xs[i] + w / 2, b.whisker_low, colour);
     for (double o : b.outliers) plot.circle(xs[i], o, 2.2, colour);
   }
-  if (!report.scenarios.empty())
-    for (const auto& t : report.scenarios.front().result.summary.thresholds)
-      plot.hline(static_cast<double>(t.threshold.count()) / 1e6,
-                 fmt::format("{:g} ms", static_cast<double>(t.threshold.count()) / 1e6));
+  for (const auto& t : limits)
+    plot.hline(static_cast<double>(t.threshold.count()) / 1e6,
+               fmt::format("{:g} ms", static_cast<double>(t.threshold.count()) / 1e6));
   plot.set_x_categories(std::move(cats));
-  if (!report.groups.empty()) {
-    std::string g = "groups:";
-    for (const auto& name : report.groups) g += " " + name;
-    plot.note(g);
-  }
+  if (!note.empty()) plot.note(note);
   return plot.render();
+}
+
+std::string box_chart(const Report& report) {
+  std::vector<BoxData> boxes;
+  for (const auto& s : report.scenarios) boxes.push_back(box_data(s));
+  std::string note;
+  if (!report.groups.empty()) {
+    note = "groups:";
+    for (const auto& name : report.groups) note += " " + name;
+  }
+  return boxes_svg(boxes, "box", "Latency per scenario",
+                   report.groups.empty() ? "scenario" : "scenario (grouped)",
+                   report.scenarios.empty() ? std::vector<stats::ThresholdShare>{}
+                                            : report.scenarios.front().result.summary.thresholds,
+                   note);
+}
+
+// The full-loop files: their table, and M2M, G2G and E2E of each file side by side.
+std::string full_loop_section(const Report& report) {
+  if (report.full_loops.empty()) return {};
+  std::string h = "<h2>Full loop</h2>\n";
+  h += html_table(full_loop_header(report.full_loops), full_loop_rows(report.full_loops), "full-loop");
+  h += "<p class=\"note-text\">Per event: M2M = VEHICLE_GY_ON - STATION_GY_ON, G2G = PHOTOTRANSISTOR - "
+       "LED_ON, "
+       "E2E = M2M + G2G, motion = GY_OFF - GY_ON, each in integer ns before any statistic. Events without "
+       "a value of a quantity are counted by reason: missing (an empty field), impossible (an OFF before "
+       "its ON, a negative G2G), overflow.</p>\n";
+  std::string files = "files, left to right:";
+  for (std::size_t i = 0; i < report.full_loops.size(); ++i)
+    files += (i == 0 ? " " : " | ") + report.full_loops[i].scenario;
+  // One colour per quantity, the same in every file.
+  const auto boxes = full_loop_boxes(report.full_loops);
+  std::vector<std::size_t> colours;
+  for (const auto& b : boxes) colours.push_back(b.scenario == "M2M" ? 0 : b.scenario == "G2G" ? 1 : 2);
+  h += figure(boxes_svg(boxes, "full-loop", "M2M, G2G and E2E per file", "quantity (grouped by file)", {},
+                        files, colours),
+              "Box: quartiles; line: median; whiskers: the most extreme samples within 1.5 IQR; dots: "
+              "samples beyond (at most 100 per side drawn).");
+  return h;
 }
 
 std::string ecdf_chart(const Report& report) {
@@ -258,21 +293,8 @@ std::string ms_or_dash(const std::optional<double>& x, int d = 3) {
   return x ? fmt::format("{:.{}f}", *x, d) : "-";
 }
 
-}  // namespace
-
-std::string report_html(const Report& report) {
-  std::string h =
-      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-      "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
-      "<title>m2mlat latency report</title>\n<style>" +
-      std::string(kCss) + "</style>\n</head>\n<body>\n<main>\n<h1>Latency report</h1>\n";
-  h += "<p class=\"meta\">Produced by <code>" + xml_escape(report.command) + "</code>";
-  for (const auto& [name, version] : report.versions)
-    h += "; " + xml_escape(name) + " " + xml_escape(version);
-  h += ".</p>\n";
-
-  // Summary table.
-  h += "<h2>Scenarios</h2>\n";
+std::string scenario_section(const Report& report) {
+  std::string h = "<h2>Scenarios</h2>\n";
   std::vector<std::string> header{"scenario", "group", "pairs", "median", "IQR",
                                   "mean",     "SD",    "min",   "max",    "P95"};
   if (!report.scenarios.empty())
@@ -292,7 +314,11 @@ std::string report_html(const Report& report) {
   h += html_table(header, rows, "scenarios");
   h += "<p class=\"note-text\">Latencies in ms; type-7 quantiles; shares are of samples strictly above the "
        "limit. Ambiguous pairs are left out unless asked for.</p>\n";
+  return h;
+}
 
+std::string comparison_section(const Report& report) {
+  std::string h;
   if (!report.comparisons.empty()) {
     h += "<h2>Comparisons</h2>\n<ul class=\"sentences\">\n";
     for (const auto& c : report.comparisons) h += "<li>" + xml_escape(comparison_sentence(c)) + "</li>\n";
@@ -315,7 +341,11 @@ std::string report_html(const Report& report) {
                     crows, "comparisons");
   }
 
-  h += "<h2>Distributions</h2>\n";
+  return h;
+}
+
+std::string distribution_sections(const Report& report) {
+  std::string h = "<h2>Distributions</h2>\n";
   h += figure(box_chart(report),
               "Box: quartiles; line: median; whiskers: the most extreme samples within 1.5 IQR; "
               "dots: samples beyond (at most 100 per side drawn); dashed: latency limits.");
@@ -396,6 +426,28 @@ std::string report_html(const Report& report) {
                      "pairs after a step of unknown size (left out)"},
                     srows, "clock-steps");
   }
+  return h;
+}
+
+}  // namespace
+
+std::string report_html(const Report& report) {
+  std::string h =
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+      "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+      "<title>m2mlat latency report</title>\n<style>" +
+      std::string(kCss) + "</style>\n</head>\n<body>\n<main>\n<h1>Latency report</h1>\n";
+  h += "<p class=\"meta\">Produced by <code>" + xml_escape(report.command) + "</code>";
+  for (const auto& [name, version] : report.versions)
+    h += "; " + xml_escape(name) + " " + xml_escape(version);
+  h += ".</p>\n";
+
+  // The matcher's scenarios: their sections are left out when only full-loop files were given.
+  const bool scenarios = !report.scenarios.empty() || report.full_loops.empty();
+  if (scenarios) h += scenario_section(report);
+  h += full_loop_section(report);
+  h += comparison_section(report);
+  if (scenarios) h += distribution_sections(report);
   h += "<p class=\"meta\">Every number and chart is recomputed from the raw events by the command above; "
        "re-run it "
        "with other matcher windows, thresholds or groups to change them.</p>\n";

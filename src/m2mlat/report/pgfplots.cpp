@@ -9,6 +9,7 @@
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/output_file.hpp"
+#include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/plot_data.hpp"
 
 namespace m2mlat::report {
@@ -76,8 +77,11 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
   Writer w(directory);
   std::vector<std::string> figures;
 
+  // The matcher's scenarios' figures are left out when only full-loop files were given.
+  const bool scenarios = !report.scenarios.empty() || report.full_loops.empty();
+
   // Box plots, one per scenario, grouped with a gap between groups.
-  {
+  if (scenarios) {
     std::string dat = "scenario group n lower_whisker q1 median q3 upper_whisker outliers\n";
     std::string tex =
         header("Box plot of latency per scenario") +
@@ -113,8 +117,45 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
     figures.push_back("box.tex");
   }
 
+  // The full-loop files: M2M, G2G and E2E of each file side by side, a gap between files.
+  if (!report.full_loops.empty()) {
+    std::string dat = "file quantity n lower_whisker q1 median q3 upper_whisker outliers\n";
+    std::string tex =
+        header("Box plot of M2M, G2G and E2E per full-loop file") +
+        "\\begin{tikzpicture}\n\\begin{axis}[width=0.95\\linewidth, height=6cm, ylabel={latency (ms)},\n"
+        "  boxplot/draw direction=y, xtick={";
+    std::string ticks, labels, plots;
+    double x = 1;
+    const auto boxes = full_loop_boxes(report.full_loops);
+    for (std::size_t i = 0; i < boxes.size(); ++i) {
+      const auto& b = boxes[i];
+      if (i > 0 && b.group != boxes[i - 1].group) x += 0.6;
+      const auto name = file_part(b.group) + "-" + file_part(b.scenario);
+      dat += fmt::format("{} {} {} {} {} {} {} {} {}\n", file_part(b.group), file_part(b.scenario), b.n,
+                         num(b.whisker_low), num(b.q1), num(b.median), num(b.q3), num(b.whisker_high),
+                         b.outlier_count);
+      std::string out = "outlier_ms\n";
+      for (double o : b.outliers) out += num(o) + "\n";
+      w.file(fmt::format("full-loop-outliers-{}.dat", name), out);
+      ticks += fmt::format("{}{:g}", i ? "," : "", x);
+      labels += fmt::format("{}{{{} {}}}", i ? "," : "", tex_escape(b.scenario), tex_escape(b.group));
+      if (b.n > 0)
+        plots += fmt::format(
+            "\\addplot+[{}, solid, mark=o, mark size=1pt, boxplot prepared={{draw position={:g}, lower "
+            "whisker={}, lower quartile={}, median={}, upper quartile={}, upper whisker={}}}] "
+            "table[y=outlier_ms] {{\\mtwomlatdir full-loop-outliers-{}.dat}};\n",
+            colour(i), x, num(b.whisker_low), num(b.q1), num(b.median), num(b.q3), num(b.whisker_high), name);
+      x += 1;
+    }
+    tex += ticks + "}, xticklabels={" + labels + "}, x tick label style={rotate=20, anchor=north east}]\n" +
+           plots + "\\end{axis}\n\\end{tikzpicture}\n";
+    w.file("full-loop.dat", dat);
+    w.file("full-loop.tex", tex);
+    figures.push_back("full-loop.tex");
+  }
+
   // ECDF.
-  {
+  if (scenarios) {
     std::string tex =
         header("Empirical distribution functions") +
         "\\begin{tikzpicture}\n\\begin{axis}[width=0.95\\linewidth, height=6cm, xlabel={latency (ms)},\n"

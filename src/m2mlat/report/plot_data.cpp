@@ -38,16 +38,19 @@ std::int64_t origin_ns(const ScenarioReport& s) {
 }  // namespace
 
 BoxData box_data(const ScenarioReport& s) {
-  BoxData b;
-  b.scenario = s.result.input.scenario;
-  b.group = s.group;
   const auto v = sorted_latencies(s);
+  return box_of(v, s.result.input.scenario, s.group);
+}
+
+BoxData box_of(std::span<const std::int64_t> v, std::string name, std::string group) {
+  BoxData b;
+  b.scenario = std::move(name);
+  b.group = std::move(group);
   b.n = v.size();
   if (v.empty()) return b;
-  const std::span<const std::int64_t> sv(v);
-  b.q1 = stats::quantile(sv, 0.25) / 1e6;
-  b.median = stats::quantile(sv, 0.5) / 1e6;
-  b.q3 = stats::quantile(sv, 0.75) / 1e6;
+  b.q1 = stats::quantile(v, 0.25) / 1e6;
+  b.median = stats::quantile(v, 0.5) / 1e6;
+  b.q3 = stats::quantile(v, 0.75) / 1e6;
   const double lo_fence = b.q1 - 1.5 * (b.q3 - b.q1), hi_fence = b.q3 + 1.5 * (b.q3 - b.q1);
   std::size_t first = 0, last = v.size() - 1;
   while (first < last && ms(v[first]) < lo_fence) ++first;

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,8 @@ struct BoxData {
   std::size_t outlier_count = 0;  // all of them
 };
 BoxData box_data(const ScenarioReport& scenario);
+// The same of any sample (ns, sorted ascending), named `name` in group `group`.
+BoxData box_of(std::span<const std::int64_t> sorted_ns, std::string name, std::string group);
 
 // ECDF steps: (latency ms, fraction of samples <= it), at most kEcdfPoints of them, the first and
 // last sample included.

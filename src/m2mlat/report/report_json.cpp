@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "m2mlat/report/comparison_text.hpp"
+#include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/json_number.hpp"
 #include "m2mlat/report/scenario_json.hpp"
 
@@ -95,6 +96,7 @@ nlohmann::json report_document(const Report& report) {
     doc["scenarios"].push_back(std::move(j));
   }
   for (const auto& c : report.comparisons) doc["comparisons"].push_back(comparison_json(c));
+  if (!report.full_loops.empty()) doc["full_loop"] = full_loop_json(report.full_loops);
   return doc;
 }
 

@@ -133,4 +133,46 @@ ComparisonReport compare_scenarios(const Report& report, const std::string& subj
   return r;
 }
 
+const analysis::FullLoopResult* Report::find_full_loop(const std::string& scenario) const {
+  for (const auto& r : full_loops)
+    if (r.scenario == scenario) return &r;
+  return nullptr;
+}
+
+std::vector<ComparisonReport> compare_full_loops(const Report& report, const std::string& subject,
+                                                 const std::string& baseline, stats::CompareOptions options) {
+  const auto* s = report.find_full_loop(subject);
+  const auto* b = report.find_full_loop(baseline);
+  for (const auto& [name, found] : {std::pair{subject, s}, std::pair{baseline, b}})
+    if (!found)
+      throw core::Error(core::ErrorKind::usage, fmt::format("--compare: no full-loop file '{}'", name));
+  options.uncertainty_ms = report.assumed_uncertainty_ms;
+  options.alpha = report.alpha;
+  std::vector<ComparisonReport> out;
+  for (const auto q :
+       {analysis::LoopQuantity::m2m, analysis::LoopQuantity::g2g, analysis::LoopQuantity::e2e}) {
+    const auto* sq = s->find(q);
+    const auto* bq = b->find(q);
+    if (sq == nullptr || bq == nullptr || sq->ns.size() < 2 || bq->ns.size() < 2) continue;
+    ComparisonReport r{fmt::format("{} {}", subject, analysis::label(q)),
+                       fmt::format("{} {}", baseline, analysis::label(q)),
+                       {}};
+    try {
+      r.comparison = stats::compare(sq->ns, bq->ns, options);
+    } catch (const core::Error& e) {
+      throw core::Error(e.kind(), fmt::format("{} vs {}: {}", r.subject, r.baseline, e.what()));
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+std::vector<std::pair<std::string, std::string>> default_full_loop_comparisons(const Report& report) {
+  std::vector<std::pair<std::string, std::string>> out;
+  const auto& f = report.full_loops;
+  for (std::size_t j = 0; j < f.size(); ++j)
+    for (std::size_t i = 0; i < j; ++i) out.emplace_back(f[j].scenario, f[i].scenario);
+  return out;
+}
+
 }  // namespace m2mlat::report

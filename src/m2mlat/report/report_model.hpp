@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "m2mlat/analysis/full_loop.hpp"
 #include "m2mlat/analysis/scenario_result.hpp"
 #include "m2mlat/stats/compare.hpp"
 
@@ -50,12 +51,15 @@ struct Report {
   std::vector<ScenarioReport> scenarios;
   std::vector<std::string> groups;  // in order of first appearance; empty: no grouping
   std::vector<ComparisonReport> comparisons;
+  // The full-loop rig's files (analysis/full_loop.hpp): M2M, G2G, E2E and motion durations per file.
+  std::vector<analysis::FullLoopResult> full_loops;
   std::string command;                                        // the exact command line
   std::vector<std::pair<std::string, std::string>> versions;  // ("m2mlat", "0.1.0"), ...
   std::optional<double> assumed_uncertainty_ms;  // given by the user for scenarios without clock data
   double alpha = 0.05;
 
   const ScenarioReport* find(const std::string& scenario) const;
+  const analysis::FullLoopResult* find_full_loop(const std::string& scenario) const;
 };
 
 // Groups: `explicit_groups` (name -> scenarios) if given; otherwise, when `by_prefix`, the part of
@@ -74,5 +78,14 @@ std::vector<std::pair<std::string, std::string>> default_comparisons(const Repor
 // report's assumed uncertainty when neither has clock data.
 ComparisonReport compare_scenarios(const Report& report, const std::string& subject,
                                    const std::string& baseline, stats::CompareOptions options);
+
+// Two full-loop files compared (by their scenario names): one comparison per quantity of M2M, G2G
+// and E2E that both files have with at least 2 values each, named "<file> <quantity>" ("b E2E" vs
+// "a E2E"); the camera file's G2G is compared with a result CSV's G2G. The uncertainty is the
+// report's assumed one (the files carry no clock data). core::Error(usage) for an unknown name.
+std::vector<ComparisonReport> compare_full_loops(const Report& report, const std::string& subject,
+                                                 const std::string& baseline, stats::CompareOptions options);
+// The default: every later full-loop file against every earlier one.
+std::vector<std::pair<std::string, std::string>> default_full_loop_comparisons(const Report& report);
 
 }  // namespace m2mlat::report

@@ -8,6 +8,7 @@
 
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/report/comparison_text.hpp"
+#include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/scenario_text.hpp"
 #include "m2mlat/report/table.hpp"
 
@@ -53,7 +54,10 @@ std::string md_escape(const std::string& s) {
 
 std::string report_text(const Report& report) {
   const auto results = results_of(report);
-  std::string out = pairing_table(results) + "\n" + scenario_table(results);
+  std::string out;
+  if (!report.scenarios.empty() || report.full_loops.empty())
+    out = pairing_table(results) + "\n" + scenario_table(results);
+  if (!report.full_loops.empty()) out += (out.empty() ? "" : "\n") + full_loop_table(report.full_loops);
   if (const auto steps = clock_step_table(results); !steps.empty()) out += "\n" + steps;
   bool any_uncertainty = false;
   for (const auto& s : report.scenarios) any_uncertainty |= s.median_uncertainty_ms().has_value();
@@ -103,6 +107,21 @@ std::string report_markdown(const Report& report) {
                     md_cell(m.p95_ms));
     for (const auto& t : m.thresholds) out += fmt::format(" | {} %", md_cell(t.fraction_above * 100));
     out += " |\n";
+  }
+  if (!report.full_loops.empty()) {
+    // M2M, G2G, E2E and the motion durations of the full-loop files (report/full_loop_view.hpp).
+    const auto header = full_loop_header(report.full_loops);
+    out += "\n## Full loop\n\n|";
+    for (const auto& h : header) out += " " + md_escape(h) + " |";
+    out += "\n|";
+    for (std::size_t k = 0; k < header.size(); ++k) out += k < 2 ? "---|" : "---:|";
+    out += "\n";
+    for (auto& row : full_loop_rows(report.full_loops)) {
+      row.resize(header.size(), "–");
+      out += "|";
+      for (const auto& cell : row) out += " " + md_escape(cell) + " |";
+      out += "\n";
+    }
   }
   if (!report.comparisons.empty()) {
     out += "\n## Comparisons\n\n";
@@ -190,6 +209,29 @@ std::string comparisons_csv(const Report& report) {
                          g6(d.ci.lower), g6(d.ci.upper));
     out += "\n";
   }
+  return out;
+}
+
+std::string full_loop_csv(std::span<const analysis::FullLoopResult> results) {
+  std::string out =
+      "scenario,file,quantity,events,n,excluded_missing,excluded_impossible,excluded_overflow,mean_ms,sd_ms,"
+      "min_ms,p5_ms,q1_ms,median_ms,q3_ms,p90_ms,p95_ms,p99_ms,iqr_ms,max_ms";
+  if (const auto* t = full_loop_thresholds(results))
+    for (const auto& share : *t) out += fmt::format(",above_{}_fraction", threshold_name(share.threshold));
+  out += "\n";
+  for (const auto& r : results)
+    for (const auto q : analysis::kLoopQuantities) {
+      const auto* s = r.find(q);
+      if (s == nullptr) continue;
+      const auto& m = s->summary;
+      out += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}", csv_field(r.scenario),
+                         csv_field(r.file), analysis::key(q), r.events, m.n, s->excluded[0], s->excluded[1],
+                         s->excluded[2], f6(m.mean_ms), f6(m.sd_ms), m.min ? f6(m.min->ms()) : "",
+                         f6(m.p5_ms), f6(m.q1_ms), f6(m.median_ms), f6(m.q3_ms), f6(m.p90_ms), f6(m.p95_ms),
+                         f6(m.p99_ms), f6(m.iqr_ms), m.max ? f6(m.max->ms()) : "");
+      for (const auto& share : m.thresholds) out += "," + g6(share.fraction_above);
+      out += "\n";
+    }
   return out;
 }
 
