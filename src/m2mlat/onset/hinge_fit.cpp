@@ -94,6 +94,22 @@ class Profile {
   double total_ = 0;
 };
 
+// The lag-1 autocorrelation of the samples on the rest side of sample `best` (0 when too few),
+// clamped to [0, 0.99].
+double rest_correlation(std::span<const double> p, std::size_t best, bool rising) {
+  const auto rest = rising ? p.first(best) : p.subspan(best + 1);
+  if (rest.size() < 16) return 0;
+  double mean = 0;
+  for (const double v : rest) mean += v;
+  mean /= static_cast<double>(rest.size());
+  double lag0 = 0, lag1 = 0;
+  for (std::size_t j = 0; j < rest.size(); ++j) {
+    lag0 += (rest[j] - mean) * (rest[j] - mean);
+    if (j > 0) lag1 += (rest[j] - mean) * (rest[j - 1] - mean);
+  }
+  return lag0 > 0 ? std::clamp(lag1 / lag0, 0.0, 0.99) : 0.0;
+}
+
 }  // namespace
 
 HingeFit fit_hinge(std::span<const std::int64_t> times_ns, std::span<const double> p, bool rising) {
@@ -146,7 +162,12 @@ HingeFit fit_hinge(std::span<const std::int64_t> times_ns, std::span<const doubl
   const std::size_t left = edge(-1), right = edge(+1);
   const double spacing = static_cast<double>(times_ns[n - 1] - times_ns[0]) / static_cast<double>(n - 1);
   const double half = static_cast<double>(times_ns[right] - times_ns[left]) / 2;
-  fit.sd_ns = std::max(half, spacing / std::sqrt(12.0));
+  // That interval assumes independent samples; a chip's filter makes neighbours alike, which the rest
+  // side of the window shows: with its lag-1 correlation rho, the interval widens by
+  // sqrt((1 + rho) / (1 - rho)) (the variance of a mean of AR(1) noise).
+  const double rho = rest_correlation(p.first(n), best, rising);
+  const double widen = std::sqrt((1 + rho) / (1 - rho));
+  fit.sd_ns = std::max(half * widen, spacing / std::sqrt(12.0));
   fit.valid = true;
   return fit;
 }
