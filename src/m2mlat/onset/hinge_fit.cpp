@@ -118,19 +118,24 @@ HingeFit fit_hinge(std::span<const std::int64_t> times_ns, std::span<const doubl
   if (n < 8) return fit;
   const Profile profile(times_ns.first(n), p.first(n), rising);
 
-  // Coarse scan, then every sample around the best coarse point.
-  const std::size_t stride = std::max<std::size_t>(1, n / 128);
+  // A coarse scan, then finer ones (each an eighth of the last step) around the best point, down to
+  // every sample: about 100 evaluations for any window.
+  std::size_t stride = std::max<std::size_t>(1, n / 64);
   std::size_t best = 0;
   double best_sse = std::numeric_limits<double>::infinity();
   for (std::size_t c = 0; c < n; c += stride) {
     const double v = profile.sse(c);
     if (v < best_sse) best_sse = v, best = c;
   }
-  const std::size_t lo = best > 2 * stride ? best - 2 * stride : 0;
-  const std::size_t hi = std::min(n - 1, best + 2 * stride);
-  for (std::size_t c = lo; c <= hi; ++c) {
-    const double v = profile.sse(c);
-    if (v < best_sse) best_sse = v, best = c;
+  for (std::size_t step = stride; step > 1;) {
+    const std::size_t finer = std::max<std::size_t>(1, step / 8);
+    const std::size_t lo = best > 2 * step ? best - 2 * step : 0;
+    const std::size_t hi = std::min(n - 1, best + 2 * step);
+    for (std::size_t c = lo; c <= hi; c += finer) {
+      const double v = profile.sse(c);
+      if (v < best_sse) best_sse = v, best = c;
+    }
+    step = finer;
   }
 
   // Between samples: the vertex of the parabola through the best point and its neighbours.
