@@ -14,11 +14,16 @@ Runner attach_onsettest(CLI::App& sub) {
   auto c = std::make_shared<selftest::OnsetTestOptions>();
   auto json = std::make_shared<bool>(false);
   sub.add_option("--seed", c->seed, "Seed of the simulated motions and chips")->capture_default_str();
-  sub.add_option("--motions", c->motions, "Simulated motions per speed class")->capture_default_str()->check(CLI::Range(1, 100000));
-  sub.add_option("--detector", c->detectors, "Detectors to measure (reference, flank)")->capture_default_str();
-  sub.add_option("--noise-density", c->gyro.noise_density_deg_s_rthz, "Gyro rate noise density, deg/s/sqrt(Hz)")
+  sub.add_option("--motions", c->motions, "Simulated motions per speed class")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  sub.add_option("--detector", c->detectors, "Detectors to measure (reference, flank)")
       ->capture_default_str();
-  sub.add_option("--bias-sd", c->gyro.bias_sd_deg_s, "Per-axis bias drawn per chip, sd, deg/s")->capture_default_str();
+  sub.add_option("--noise-density", c->gyro.noise_density_deg_s_rthz,
+                 "Gyro rate noise density, deg/s/sqrt(Hz)")
+      ->capture_default_str();
+  sub.add_option("--bias-sd", c->gyro.bias_sd_deg_s, "Per-axis bias drawn per chip, sd, deg/s")
+      ->capture_default_str();
   sub.add_option("--period-ns", c->gyro.period_ns, "Gyro sample period, ns")->capture_default_str();
   sub.add_flag("--json", *json, "Print m2mlat-onsettest/1 JSON");
   return [c, json] {

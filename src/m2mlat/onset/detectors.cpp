@@ -15,8 +15,10 @@ Detection run_reference(const core::RateTrace& trace) { return detect_reference(
 Detection run_flank(const core::RateTrace& trace) { return detect_flank(trace); }
 
 constexpr std::array kDetectors{
-    Detector{"reference", "the reference rig's: EMA alpha 0.05 per axis, magnitude above 25 deg/s", &run_reference},
-    Detector{"flank", "rest level and noise learned, threshold k x noise, hinge fit of the flank to the rest level",
+    Detector{"reference", "the reference rig's: EMA alpha 0.05 per axis, magnitude above 25 deg/s",
+             &run_reference},
+    Detector{"flank",
+             "rest level and noise learned, threshold k x noise, hinge fit of the flank to the rest level",
              &run_flank},
 };
 }  // namespace

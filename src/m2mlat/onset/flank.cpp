@@ -19,7 +19,8 @@ using Vec3 = std::array<double, 3>;
 
 void check_options(const FlankOptions& o) {
   auto bad = [](const char* field, double value) {
-    throw core::Error(core::ErrorKind::usage, fmt::format("flank detector: {} = {} is out of range", field, value));
+    throw core::Error(core::ErrorKind::usage,
+                      fmt::format("flank detector: {} = {} is out of range", field, value));
   };
   if (o.learn_ns <= 0) bad("learn_ns", static_cast<double>(o.learn_ns));
   if (!(o.max_rest_sd_deg_s > 0)) bad("max_rest_sd_deg_s", o.max_rest_sd_deg_s);
@@ -36,7 +37,9 @@ void check_options(const FlankOptions& o) {
 class FlankPass {
  public:
   FlankPass(const core::RateTrace& trace, const FlankOptions& o)
-      : s_(trace.samples), o_(o), scale_(1.0 / trace.counts_per_deg_s),
+      : s_(trace.samples),
+        o_(o),
+        scale_(1.0 / trace.counts_per_deg_s),
         // A rate is known to a count at best: the noise floor of a still chip (rounding and drift).
         min_var_(scale_ * scale_) {}
 
@@ -147,7 +150,8 @@ class FlankPass {
 
   std::size_t index_at(std::int64_t t) const {  // the first sample at or after t
     return static_cast<std::size_t>(
-        std::lower_bound(s_.begin(), s_.end(), t, [](const core::RateSample& a, std::int64_t v) { return a.time_ns < v; }) -
+        std::lower_bound(s_.begin(), s_.end(), t,
+                         [](const core::RateSample& a, std::int64_t v) { return a.time_ns < v; }) -
         s_.begin());
   }
 
@@ -182,7 +186,8 @@ class FlankPass {
       std::size_t back = last;
       while (back > peak_index_ && along(back, u) < level) --back;
       const std::int64_t tail = s_[last].time_ns - s_[back].time_ns;
-      const std::size_t to = std::min(s_.size() - 1, std::max(now, index_at(s_[last].time_ns + std::max(o_.lookback_ns, 3 * tail))));
+      const std::size_t to = std::min(
+          s_.size() - 1, std::max(now, index_at(s_[last].time_ns + std::max(o_.lookback_ns, 3 * tail))));
       project(back, to, u);
       const auto end = fit_hinge(t_, p_, false);
       m.end_ns = end.valid ? end.t0_ns : s_[last].time_ns;
@@ -217,7 +222,7 @@ class FlankPass {
   std::size_t detect_ = 0, last_above_ = 0, peak_index_ = 0;
   double peak2_ = 0;
   Vec3 peak_dir_{};
-  std::size_t floor_ = 0;  // no fit window reaches before this sample (the last motion's window)
+  std::size_t floor_ = 0;        // no fit window reaches before this sample (the last motion's window)
   std::vector<std::int64_t> t_;  // the fit window, reused from motion to motion
   std::vector<double> p_;
 };

@@ -28,16 +28,16 @@
 namespace m2mlat::onset {
 
 struct FlankOptions {
-  std::int64_t learn_ns = 100'000'000;     // still time learned before the first detection, ns
-  double max_rest_sd_deg_s = 1.0;          // a learning window noisier than this (any axis) is not rest
-  double max_bias_deg_s = 20.0;            // nor one whose mean is further from 0 (MPU-6050 zero-rate spec)
-  double rest_alpha = 1.0 / 1024;          // weight of a still sample in the rest level and noise
-  double smooth_alpha = 1.0 / 16;          // weight of a sample in the detection average (2 ms at 8 kHz)
-  double k = 8;                            // threshold, in noise standard deviations of the smoothed magnitude
-  std::int64_t quiet_ns = 20'000'000;      // below the threshold this long ends a motion, ns
-  double min_peak_deg_s = 5;               // a smaller excursion is a bump, not a motion, deg/s
-  double fit_fraction = 0.5;               // the fitted flank ends at this fraction of the peak rate
-  std::int64_t lookback_ns = 20'000'000;   // the fit starts at least this long before the detection, ns
+  std::int64_t learn_ns = 100'000'000;    // still time learned before the first detection, ns
+  double max_rest_sd_deg_s = 1.0;         // a learning window noisier than this (any axis) is not rest
+  double max_bias_deg_s = 20.0;           // nor one whose mean is further from 0 (MPU-6050 zero-rate spec)
+  double rest_alpha = 1.0 / 1024;         // weight of a still sample in the rest level and noise
+  double smooth_alpha = 1.0 / 16;         // weight of a sample in the detection average (2 ms at 8 kHz)
+  double k = 8;                           // threshold, in noise standard deviations of the smoothed magnitude
+  std::int64_t quiet_ns = 20'000'000;     // below the threshold this long ends a motion, ns
+  double min_peak_deg_s = 5;              // a smaller excursion is a bump, not a motion, deg/s
+  double fit_fraction = 0.5;              // the fitted flank ends at this fraction of the peak rate
+  std::int64_t lookback_ns = 20'000'000;  // the fit starts at least this long before the detection, ns
 };
 
 // Checks the trace (check_trace) and the options (core::Error(usage) naming the field).

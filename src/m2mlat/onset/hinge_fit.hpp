@@ -11,9 +11,9 @@
 namespace m2mlat::onset {
 
 struct HingeFit {
-  std::int64_t t0_ns = 0;    // the hinge, ns (on the samples' clock)
-  double sd_ns = 0;          // standard uncertainty of t0 from the fit, ns
-  bool valid = false;        // false: too few samples to fit
+  std::int64_t t0_ns = 0;  // the hinge, ns (on the samples' clock)
+  double sd_ns = 0;        // standard uncertainty of t0 from the fit, ns
+  bool valid = false;      // false: too few samples to fit
 };
 
 // times_ns (increasing) and p (same length): the window. rising = true: p = 0 before t0 and rises

@@ -12,10 +12,12 @@ namespace m2mlat::onset {
 Detection detect_reference(const core::RateTrace& trace, const ReferenceOptions& options) {
   check_trace(trace);
   if (!(options.alpha > 0 && options.alpha <= 1))
-    throw core::Error(core::ErrorKind::usage, fmt::format("reference detector: alpha {} is not in (0, 1]", options.alpha));
-  if (!(options.threshold_deg_s > 0))
     throw core::Error(core::ErrorKind::usage,
-                      fmt::format("reference detector: threshold_deg_s {} is not positive", options.threshold_deg_s));
+                      fmt::format("reference detector: alpha {} is not in (0, 1]", options.alpha));
+  if (!(options.threshold_deg_s > 0))
+    throw core::Error(
+        core::ErrorKind::usage,
+        fmt::format("reference detector: threshold_deg_s {} is not positive", options.threshold_deg_s));
   if (options.rearm_samples < 0)
     throw core::Error(core::ErrorKind::usage, "reference detector: rearm_samples is negative");
 
@@ -63,9 +65,7 @@ Detection detect_reference(const core::RateTrace& trace, const ReferenceOptions&
           still = 1;
         }
         break;
-      case State::still:
-        still = above ? 0 : still + 1;
-        break;
+      case State::still: still = above ? 0 : still + 1; break;
     }
     if (state == State::still && still >= options.rearm_samples) state = State::armed;
   }

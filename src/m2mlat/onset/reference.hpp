@@ -21,8 +21,8 @@
 namespace m2mlat::onset {
 
 struct ReferenceOptions {
-  double alpha = 0.05;                // weight of the new sample in each axis' average (0 < alpha <= 1)
-  double threshold_deg_s = 25;        // on the magnitude of the smoothed rates, deg/s
+  double alpha = 0.05;                  // weight of the new sample in each axis' average (0 < alpha <= 1)
+  double threshold_deg_s = 25;          // on the magnitude of the smoothed rates, deg/s
   std::int64_t rearm_samples = 10'000;  // consecutive still samples after an end, before a new onset
 };
 

@@ -52,7 +52,8 @@ const onset::Motion* match(const onset::Detection& d, const sim::RateMotion& tru
   const onset::Motion* best = nullptr;
   for (const auto& m : d.motions) {
     if (m.onset_ns < truth.onset_ns - truth.duration_ns / 2 || m.onset_ns > truth.end_ns()) continue;
-    if (!best || std::llabs(m.onset_ns - truth.onset_ns) < std::llabs(best->onset_ns - truth.onset_ns)) best = &m;
+    if (!best || std::llabs(m.onset_ns - truth.onset_ns) < std::llabs(best->onset_ns - truth.onset_ns))
+      best = &m;
   }
   return best;
 }
@@ -71,8 +72,15 @@ struct Tally {
     if (m->ended) end.push_back(static_cast<double>(m->end_ns - truth.end_ns()));
   }
   OnsetRow row(std::string detector, std::string profile, std::string speed) && {
-    OnsetRow r{std::move(detector), std::move(profile), std::move(speed), motions, found, extra,
-               error_spread(onset), error_spread(end), kNaN};
+    OnsetRow r{std::move(detector),
+               std::move(profile),
+               std::move(speed),
+               motions,
+               found,
+               extra,
+               error_spread(onset),
+               error_spread(end),
+               kNaN};
     if (!stated.empty()) {
       std::sort(stated.begin(), stated.end());
       r.median_stated_sd_ns = stats::quantile(std::span<const double>(stated), 0.5);
@@ -84,8 +92,11 @@ struct Tally {
 nlohmann::json number(double x) { return std::isnan(x) ? nlohmann::json(nullptr) : nlohmann::json(x); }
 
 nlohmann::json spread_json(const ErrorSpread& s) {
-  return {{"n", s.n}, {"median_ns", number(s.median_ns)}, {"p5_ns", number(s.p5_ns)},
-          {"p95_ns", number(s.p95_ns)}, {"abs_p95_ns", number(s.abs_p95_ns)}};
+  return {{"n", s.n},
+          {"median_ns", number(s.median_ns)},
+          {"p5_ns", number(s.p5_ns)},
+          {"p95_ns", number(s.p95_ns)},
+          {"abs_p95_ns", number(s.abs_p95_ns)}};
 }
 
 std::string ms(double ns) { return std::isnan(ns) ? "-" : fmt::format("{:+.3f}", ns / 1e6); }
@@ -115,7 +126,8 @@ ErrorSpread error_spread(std::vector<double> errors_ns) {
 
 OnsetTestResult run_onsettest(const OnsetTestOptions& options) {
   if (options.motions < 1)
-    throw core::Error(core::ErrorKind::usage, fmt::format("onset test: {} motions per class (at least 1)", options.motions));
+    throw core::Error(core::ErrorKind::usage,
+                      fmt::format("onset test: {} motions per class (at least 1)", options.motions));
   std::vector<const onset::Detector*> detectors;
   for (const auto& name : options.detectors) detectors.push_back(&onset::detector(name));
   sim::check(options.gyro);
@@ -153,8 +165,9 @@ OnsetTestResult run_onsettest(const OnsetTestOptions& options) {
     }
   }
   for (std::size_t d = 0; d < detectors.size(); ++d)
-    result.samples_per_s.emplace_back(std::string(detectors[d]->name),
-                                      seconds[d] > 0 ? static_cast<double>(result.samples) / seconds[d] : kNaN);
+    result.samples_per_s.emplace_back(
+        std::string(detectors[d]->name),
+        seconds[d] > 0 ? static_cast<double>(result.samples) / seconds[d] : kNaN);
   // Rows grouped by detector, then profile, then speed.
   std::stable_sort(result.rows.begin(), result.rows.end(), [](const OnsetRow& x, const OnsetRow& y) {
     return std::tie(x.detector, x.profile) < std::tie(y.detector, y.profile);
@@ -191,7 +204,8 @@ nlohmann::json onsettest_json(const OnsetTestResult& r) {
                     {"median_stated_sd_ns", number(row.median_stated_sd_ns)}});
   auto& base = j["baseline"] = nlohmann::json::array();
   for (const auto& b : r.baseline)
-    base.push_back({{"detector", b.detector}, {"speed", b.speed}, {"pairs", b.pairs}, {"m2m", spread_json(b.m2m)}});
+    base.push_back(
+        {{"detector", b.detector}, {"speed", b.speed}, {"pairs", b.pairs}, {"m2m", spread_json(b.m2m)}});
   auto& speed = j["samples_per_s"] = nlohmann::json::object();
   for (const auto& [name, rate] : r.samples_per_s) speed[name] = number(rate);
   return j;
@@ -203,21 +217,24 @@ std::string onsettest_text(const OnsetTestResult& r) {
       "errors are detected - true, ms (positive: late); |p95| = 95th percentile of |error|\n\n",
       r.options.seed, r.options.motions, r.samples, r.options.gyro.noise_sd_deg_s(),
       1e6 / static_cast<double>(r.options.gyro.period_ns));
-  out += fmt::format("{:<10} {:<9} {:<7} {:>8} {:>6} {:>9} {:>17} {:>8} {:>9} {:>17} {:>8} {:>8}\n", "detector",
-                     "profile", "speed", "found", "extra", "onset med", "onset p5..p95", "|p95|", "end med",
-                     "end p5..p95", "|p95|", "sd med");
+  out += fmt::format("{:<10} {:<9} {:<7} {:>8} {:>6} {:>9} {:>17} {:>8} {:>9} {:>17} {:>8} {:>8}\n",
+                     "detector", "profile", "speed", "found", "extra", "onset med", "onset p5..p95", "|p95|",
+                     "end med", "end p5..p95", "|p95|", "sd med");
   for (const auto& row : r.rows)
-    out += fmt::format("{:<10} {:<9} {:<7} {:>8} {:>6} {:>9} {:>17} {:>8} {:>9} {:>17} {:>8} {:>8}\n", row.detector,
-                       row.profile, row.speed, fmt::format("{}/{}", row.found, row.motions), row.extra,
-                       ms(row.onset.median_ns), range(row.onset), ms(row.onset.abs_p95_ns), ms(row.end.median_ns),
-                       range(row.end), ms(row.end.abs_p95_ns), ms(row.median_stated_sd_ns));
-  out += fmt::format("\nbaseline (two chips on one body, true M2M = 0), ms\n{:<10} {:<7} {:>6} {:>9} {:>17} {:>8}\n",
-                     "detector", "speed", "pairs", "median", "p5..p95", "|p95|");
+    out += fmt::format("{:<10} {:<9} {:<7} {:>8} {:>6} {:>9} {:>17} {:>8} {:>9} {:>17} {:>8} {:>8}\n",
+                       row.detector, row.profile, row.speed, fmt::format("{}/{}", row.found, row.motions),
+                       row.extra, ms(row.onset.median_ns), range(row.onset), ms(row.onset.abs_p95_ns),
+                       ms(row.end.median_ns), range(row.end), ms(row.end.abs_p95_ns),
+                       ms(row.median_stated_sd_ns));
+  out += fmt::format(
+      "\nbaseline (two chips on one body, true M2M = 0), ms\n{:<10} {:<7} {:>6} {:>9} {:>17} {:>8}\n",
+      "detector", "speed", "pairs", "median", "p5..p95", "|p95|");
   for (const auto& b : r.baseline)
-    out += fmt::format("{:<10} {:<7} {:>6} {:>9} {:>17} {:>8}\n", b.detector, b.speed, b.pairs, ms(b.m2m.median_ns),
-                       range(b.m2m), ms(b.m2m.abs_p95_ns));
+    out += fmt::format("{:<10} {:<7} {:>6} {:>9} {:>17} {:>8}\n", b.detector, b.speed, b.pairs,
+                       ms(b.m2m.median_ns), range(b.m2m), ms(b.m2m.abs_p95_ns));
   out += "\nthroughput on this machine:";
-  for (const auto& [name, rate] : r.samples_per_s) out += fmt::format(" {} {:.1f} M samples/s;", name, rate / 1e6);
+  for (const auto& [name, rate] : r.samples_per_s)
+    out += fmt::format(" {} {:.1f} M samples/s;", name, rate / 1e6);
   out += "\n";
   return out;
 }

@@ -49,7 +49,7 @@ struct OnsetRow {
   std::size_t found = 0;                 // matched by a detected motion
   std::size_t extra = 0;                 // detected motions matching no true one
   ErrorSpread onset, end;
-  double median_stated_sd_ns = 0;        // the detector's own onset uncertainty, median
+  double median_stated_sd_ns = 0;  // the detector's own onset uncertainty, median
 };
 
 struct BaselineRow {
@@ -62,7 +62,7 @@ struct OnsetTestResult {
   OnsetTestOptions options;
   std::vector<OnsetRow> rows;
   std::vector<BaselineRow> baseline;
-  std::uint64_t samples = 0;                   // samples simulated (every trace)
+  std::uint64_t samples = 0;                                  // samples simulated (every trace)
   std::vector<std::pair<std::string, double>> samples_per_s;  // per detector, this machine
 };
 

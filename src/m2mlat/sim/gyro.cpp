@@ -42,8 +42,9 @@ void check(const GyroConfig& c) {
   if (c.jitter_ns < 0) bad("jitter_ns");
 }
 
-core::RateTrace simulate_gyro(const GyroConfig& config, std::span<const RateMotion> motions, std::int64_t from_ns,
-                              std::int64_t to_ns, std::uint64_t seed, std::uint64_t chip) {
+core::RateTrace simulate_gyro(const GyroConfig& config, std::span<const RateMotion> motions,
+                              std::int64_t from_ns, std::int64_t to_ns, std::uint64_t seed,
+                              std::uint64_t chip) {
   check(config);
   core::RateTrace trace;
   trace.clock = core::Clock::simulated;
@@ -82,7 +83,9 @@ core::RateTrace simulate_gyro(const GyroConfig& config, std::span<const RateMoti
   std::array<std::int16_t, 3> latest{};
   std::int64_t scheduled = from_ns + std::llround(reader.uniform() * static_cast<double>(config.period_ns));
   std::int64_t previous_after = std::numeric_limits<std::int64_t>::min();
-  auto jitter = [&]() -> std::int64_t { return std::llround(static_cast<double>(config.jitter_ns) * reader.exponential()); };
+  auto jitter = [&]() -> std::int64_t {
+    return std::llround(static_cast<double>(config.jitter_ns) * reader.exponential());
+  };
   for (;; scheduled += config.period_ns) {
     // The poll: woken late by the scheduler, it stamps `before`; the bus read latches the registers a
     // little later and is done at `after`. A poll never starts before the previous one ended.

@@ -3,8 +3,8 @@
 //
 // The chip: rate noise of a given density over its bandwidth (the MPU-6050 datasheet's
 // 0.005 deg/s/sqrt(Hz) over the 256 Hz band of DLPF_CFG = 0: about 0.1 deg/s rms), coloured as by the
-// chip's filter (first order: samples at 8 kHz are not independent, which limits any detector), a bias per axis
-// drawn per chip (what is left after an offset calibration) drifting as a random walk, a sample clock
+// chip's filter (first order: samples at 8 kHz are not independent, which limits any detector), a bias per
+// axis drawn per chip (what is left after an offset calibration) drifting as a random walk, a sample clock
 // off by a drawn fraction (the internal oscillator), the sensor mounted with a small tilt from the
 // steering axis, and each reading quantised to 1/131 deg/s and clipped to int16 (+-250 deg/s range).
 // Its internal low-pass filter (0.98 ms group delay at DLPF_CFG = 0) is not modelled: it delays both
@@ -39,7 +39,7 @@ struct GyroConfig {
   std::int64_t read_ns = 60'000;            // one I2C burst read of the rate registers, ns
   std::int64_t jitter_ns = 3'000;           // mean delay from the reader's first stamp to the read, ns
 
-  double noise_sd_deg_s() const;            // per-sample noise, deg/s
+  double noise_sd_deg_s() const;  // per-sample noise, deg/s
 };
 
 // Throws core::Error(usage) naming the field out of range.
@@ -49,7 +49,8 @@ void check(const GyroConfig& config);
 // rotation axis. `seed` and `chip` choose the random streams: two chips of one seed differ in noise,
 // bias, tilt and sample phase. Deterministic: the same arguments give the same trace everywhere.
 // The trace's clock is Clock::simulated (the true time: clock synchronisation is sync's concern).
-core::RateTrace simulate_gyro(const GyroConfig& config, std::span<const RateMotion> motions, std::int64_t from_ns,
-                              std::int64_t to_ns, std::uint64_t seed, std::uint64_t chip);
+core::RateTrace simulate_gyro(const GyroConfig& config, std::span<const RateMotion> motions,
+                              std::int64_t from_ns, std::int64_t to_ns, std::uint64_t seed,
+                              std::uint64_t chip);
 
 }  // namespace m2mlat::sim

@@ -9,7 +9,7 @@
 namespace m2mlat::sim {
 
 namespace {
-constexpr double kMinJerkPeak = 1.875;          // peak rate of a minimum-jerk rotation, in A/T
+constexpr double kMinJerkPeak = 1.875;         // peak rate of a minimum-jerk rotation, in A/T
 constexpr double kMinJerkAccel = 5.773502692;  // its peak acceleration, in A/T^2 (10/sqrt(3))
 }  // namespace
 
@@ -36,25 +36,28 @@ RateMotion hand_motion(std::int64_t onset_ns, double peak_deg_s, std::int64_t du
   m.shape = RateMotion::Shape::minimum_jerk;
   m.onset_ns = onset_ns;
   m.duration_ns = duration_ns;
-  m.amplitude_deg = (direction < 0 ? -1.0 : 1.0) * peak_deg_s * (static_cast<double>(duration_ns) * 1e-9) / kMinJerkPeak;
+  m.amplitude_deg =
+      (direction < 0 ? -1.0 : 1.0) * peak_deg_s * (static_cast<double>(duration_ns) * 1e-9) / kMinJerkPeak;
   m.peak_deg_s = peak_deg_s;
   return m;
 }
 
 RateMotion actuator_motion(const RateMotion& command, std::int64_t delay_ns, const ActuatorLimits& limits) {
   if (!(limits.max_rate_deg_s > 0) || !(limits.max_accel_deg_s2 > 0) || delay_ns < 0)
-    throw core::Error(core::ErrorKind::usage, "actuator motion: limits must be positive and the delay not negative");
+    throw core::Error(core::ErrorKind::usage,
+                      "actuator motion: limits must be positive and the delay not negative");
   RateMotion m = command;
   m.onset_ns = command.onset_ns + delay_ns;
   const double T = static_cast<double>(command.duration_ns) * 1e-9;
   const double angle = std::fabs(command.amplitude_deg);
   const double accel = command.shape == RateMotion::Shape::minimum_jerk ? kMinJerkAccel * angle / (T * T)
-                                                                         : command.accel_deg_s2;
+                                                                        : command.accel_deg_s2;
   if (command.peak_deg_s <= limits.max_rate_deg_s && accel <= limits.max_accel_deg_s2) return m;
   // At the limits: accelerate to the rate limit, or to the peak the angle allows.
   m.shape = RateMotion::Shape::trapezoid;
   m.accel_deg_s2 = limits.max_accel_deg_s2;
-  const double full = limits.max_rate_deg_s * limits.max_rate_deg_s / limits.max_accel_deg_s2;  // angle of ramps
+  const double full =
+      limits.max_rate_deg_s * limits.max_rate_deg_s / limits.max_accel_deg_s2;  // angle of ramps
   double duration_s = 0;
   if (angle >= full) {
     m.peak_deg_s = limits.max_rate_deg_s;

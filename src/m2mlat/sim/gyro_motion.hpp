@@ -36,7 +36,7 @@ double rate_deg_s(const RateMotion& m, std::int64_t t_ns);
 RateMotion hand_motion(std::int64_t onset_ns, double peak_deg_s, std::int64_t duration_ns, int direction);
 
 struct ActuatorLimits {
-  double max_rate_deg_s = 360;    // the actuator's rate limit, deg/s
+  double max_rate_deg_s = 360;     // the actuator's rate limit, deg/s
   double max_accel_deg_s2 = 1500;  // its acceleration limit, deg/s^2
 };
 // The vehicle's rotation answering `command` after `delay_ns`: the same shape when within `limits`,

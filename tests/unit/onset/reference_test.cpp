@@ -31,7 +31,8 @@ TEST(Reference, StepOnsetAndEndAtTheSamplesTheAverageCrosses) {
   EXPECT_TRUE(d.motions[0].ended);
   EXPECT_FALSE(d.began_in_motion);
   // Uncertainty: the spacing over sqrt(12) and the 60 us bound over sqrt(3).
-  EXPECT_EQ(d.motions[0].onset_sd_ns, std::llround(std::sqrt(125'000.0 * 125'000 / 12 + 60'000.0 * 60'000 / 3)));
+  EXPECT_EQ(d.motions[0].onset_sd_ns,
+            std::llround(std::sqrt(125'000.0 * 125'000 / 12 + 60'000.0 * 60'000 / 3)));
 }
 
 TEST(Reference, LagsASlowRampByTheTimeItTakesToReach25) {
@@ -45,7 +46,8 @@ TEST(Reference, LagsASlowRampByTheTimeItTakesToReach25) {
 }
 
 TEST(Reference, NoiseAloneIsNoMotion) {
-  EXPECT_TRUE(detect_reference(test::make_trace(10'000 * kMs, [](std::int64_t) { return 0.0; }, 0.5))
+  EXPECT_TRUE(detect_reference(test::make_trace(
+                                   10'000 * kMs, [](std::int64_t) { return 0.0; }, 0.5))
                   .motions.empty());
 }
 

@@ -35,7 +35,8 @@ inline core::RateTrace make_trace(std::int64_t duration_ns, const std::function<
 }
 
 // 0 before t0, then `slope` deg/s per s up to `peak`, held for `hold_ns`, then back down alike.
-inline std::function<double(std::int64_t)> ramp(std::int64_t t0, double slope, double peak, std::int64_t hold_ns) {
+inline std::function<double(std::int64_t)> ramp(std::int64_t t0, double slope, double peak,
+                                                std::int64_t hold_ns) {
   return [=](std::int64_t t) {
     const double rise_s = peak / slope;
     const double tau = static_cast<double>(t - t0) * 1e-9;

@@ -83,7 +83,8 @@ TEST(OnsetTestRun, DeterministicAndChecked) {
   o.detectors = {"flank"};
   const auto a = run_onsettest(o), b = run_onsettest(o);
   ASSERT_EQ(a.rows.size(), b.rows.size());
-  for (std::size_t i = 0; i < a.rows.size(); ++i) EXPECT_EQ(a.rows[i].onset.median_ns, b.rows[i].onset.median_ns);
+  for (std::size_t i = 0; i < a.rows.size(); ++i)
+    EXPECT_EQ(a.rows[i].onset.median_ns, b.rows[i].onset.median_ns);
   o.detectors = {"nope"};
   EXPECT_THROW(run_onsettest(o), core::Error);
   o.detectors = {"flank"};

@@ -26,9 +26,9 @@ TEST(GyroMotion, HandStartsAtRestPeaksMidwayAndTurnsItsAngle) {
   EXPECT_EQ(m.onset_ns, 100 * kMs);
   EXPECT_EQ(m.end_ns(), 700 * kMs);
   EXPECT_EQ(rate_deg_s(m, 100 * kMs - 1), 0);
-  EXPECT_EQ(rate_deg_s(m, 100 * kMs), 0);                      // zero rate at the onset
-  EXPECT_LT(std::fabs(rate_deg_s(m, 101 * kMs)), 0.01);        // and zero acceleration: ~t^2
-  EXPECT_NEAR(rate_deg_s(m, 400 * kMs), -200, 1e-9);           // the peak, mid-way
+  EXPECT_EQ(rate_deg_s(m, 100 * kMs), 0);                // zero rate at the onset
+  EXPECT_LT(std::fabs(rate_deg_s(m, 101 * kMs)), 0.01);  // and zero acceleration: ~t^2
+  EXPECT_NEAR(rate_deg_s(m, 400 * kMs), -200, 1e-9);     // the peak, mid-way
   EXPECT_NEAR(angle(m), m.amplitude_deg, 0.01);
   EXPECT_NEAR(m.amplitude_deg, -200 * 0.6 / 1.875, 1e-9);
   EXPECT_THROW(hand_motion(0, 0, kMs, 1), core::Error);
@@ -132,7 +132,7 @@ TEST(Gyro, DeterministicPerSeedAndChip) {
     ASSERT_EQ(a.samples[i].time_ns, b.samples[i].time_ns);
     ASSERT_EQ(a.samples[i].raw, b.samples[i].raw);
   }
-  EXPECT_NE(a.samples[100].raw, c.samples[100].raw);  // another chip: its own noise and bias
+  EXPECT_NE(a.samples[100].raw, c.samples[100].raw);      // another chip: its own noise and bias
   EXPECT_NE(a.samples[0].time_ns, c.samples[0].time_ns);  // and its own sample phase
 }
 
