@@ -1,7 +1,7 @@
 // The onset test: each onset detector's error measured against the simulator's truth, over motions
 // from slow to fast (an operator's hand, the vehicle's actuator) and in the baseline setting (two
 // gyroscopes on one rigid body, true M2M = 0). The figures `m2mlat onsettest` prints and
-// docs/onset.md tabulates; the error budget's onset term comes from here.
+// docs/onset.md tabulates: the measured onset term an inertial source brings to the error budget.
 //
 // Each motion is simulated on its own trace: still for 0.3..0.6 s, the motion, still for 0.3 s. Hand
 // motions peak at a rate drawn uniformly within the speed class and last 0.4..1.2 s; the actuator
