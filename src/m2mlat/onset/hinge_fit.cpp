@@ -140,6 +140,7 @@ HingeFit fit_hinge(std::span<const std::int64_t> times_ns, std::span<const doubl
 
   // Between samples: the vertex of the parabola through the best point and its neighbours.
   double t0 = static_cast<double>(times_ns[best] - times_ns[0]);
+  double curvature = 0;  // of the residual sum of squares at its minimum, per ns^2 (0: unknown)
   if (best > 0 && best + 1 < n) {
     const double xa = static_cast<double>(times_ns[best - 1] - times_ns[0]);
     const double xc = static_cast<double>(times_ns[best + 1] - times_ns[0]);
@@ -148,12 +149,15 @@ HingeFit fit_hinge(std::span<const std::int64_t> times_ns, std::span<const doubl
     const double den = (xa - xb) * (xa - xc) * (xb - xc);
     const double a = (xc * (yb - ya) + xb * (ya - yc) + xa * (yc - yb)) / den;
     const double b = (xc * xc * (ya - yb) + xb * xb * (yc - ya) + xa * xa * (yb - yc)) / den;
-    if (a > 0) t0 = std::clamp(-b / (2 * a), xa, xc);
+    if (a > 0) t0 = std::clamp(-b / (2 * a), xa, xc), curvature = a;
   }
   fit.t0_ns = times_ns[0] + std::llround(t0);
 
-  // The interval where the residual sum of squares stays within one residual variance of the best.
-  const double limit = best_sse + best_sse / static_cast<double>(n - 3);
+  // The interval where the residual sum of squares stays within one residual variance of the best:
+  // scanned sample by sample, and from the parabola's curvature (for an interval narrower than a
+  // sample); the wider is taken.
+  const double variance = best_sse / static_cast<double>(n - 3);
+  const double limit = best_sse + variance;
   auto edge = [&](int step_sign) {
     std::size_t c = best;
     for (int steps = 0;; ++steps) {
@@ -166,7 +170,8 @@ HingeFit fit_hinge(std::span<const std::int64_t> times_ns, std::span<const doubl
   };
   const std::size_t left = edge(-1), right = edge(+1);
   const double spacing = static_cast<double>(times_ns[n - 1] - times_ns[0]) / static_cast<double>(n - 1);
-  const double half = static_cast<double>(times_ns[right] - times_ns[left]) / 2;
+  const double half = std::max(static_cast<double>(times_ns[right] - times_ns[left]) / 2,
+                               curvature > 0 ? std::sqrt(variance / curvature) : 0.0);
   // That interval assumes independent samples; a chip's filter makes neighbours alike, which the rest
   // side of the window shows: with its lag-1 correlation rho, the interval widens by
   // sqrt((1 + rho) / (1 - rho)) (the variance of a mean of AR(1) noise).

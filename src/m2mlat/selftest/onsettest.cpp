@@ -60,6 +60,7 @@ const onset::Motion* match(const onset::Detection& d, const sim::RateMotion& tru
 
 struct Tally {
   std::size_t motions = 0, found = 0, extra = 0;
+  std::size_t covered = 0;  // |onset error| <= 2 x the stated sd
   std::vector<double> onset, end, stated;
   void add(const onset::Detection& d, const sim::RateMotion& truth) {
     ++motions;
@@ -69,6 +70,7 @@ struct Tally {
     ++found;
     onset.push_back(static_cast<double>(m->onset_ns - truth.onset_ns));
     stated.push_back(static_cast<double>(m->onset_sd_ns));
+    if (std::llabs(m->onset_ns - truth.onset_ns) <= 2 * m->onset_sd_ns) ++covered;
     if (m->ended) end.push_back(static_cast<double>(m->end_ns - truth.end_ns()));
   }
   OnsetRow row(std::string detector, std::string profile, std::string speed) && {
@@ -80,7 +82,8 @@ struct Tally {
                extra,
                error_spread(onset),
                error_spread(end),
-               kNaN};
+               kNaN,
+               found > 0 ? static_cast<double>(covered) / static_cast<double>(found) : kNaN};
     if (!stated.empty()) {
       std::sort(stated.begin(), stated.end());
       r.median_stated_sd_ns = stats::quantile(std::span<const double>(stated), 0.5);
@@ -201,7 +204,8 @@ nlohmann::json onsettest_json(const OnsetTestResult& r) {
                     {"extra", row.extra},
                     {"onset_error", spread_json(row.onset)},
                     {"end_error", spread_json(row.end)},
-                    {"median_stated_sd_ns", number(row.median_stated_sd_ns)}});
+                    {"median_stated_sd_ns", number(row.median_stated_sd_ns)},
+                    {"within_2sd_share", number(row.within_2sd_share)}});
   auto& base = j["baseline"] = nlohmann::json::array();
   for (const auto& b : r.baseline)
     base.push_back(
@@ -214,18 +218,21 @@ nlohmann::json onsettest_json(const OnsetTestResult& r) {
 std::string onsettest_text(const OnsetTestResult& r) {
   std::string out = fmt::format(
       "onset test: seed {}, {} motions per speed class, {} samples; gyro noise {:.3f} deg/s rms, {} kHz\n"
-      "errors are detected - true, ms (positive: late); |p95| = 95th percentile of |error|\n\n",
+      "errors are detected - true, ms (positive: late); |p95| = 95th percentile of |error|;\n"
+      "sd med = the detector's stated onset sd (median); <=2sd = share of onsets within 2 stated sd\n\n",
       r.options.seed, r.options.motions, r.samples, r.options.gyro.noise_sd_deg_s(),
       1e6 / static_cast<double>(r.options.gyro.period_ns));
-  out += fmt::format("{:<10} {:<9} {:<7} {:>8} {:>6} {:>9} {:>17} {:>8} {:>9} {:>17} {:>8} {:>8}\n",
+  out += fmt::format("{:<10} {:<9} {:<7} {:>8} {:>6} {:>9} {:>17} {:>8} {:>9} {:>17} {:>8} {:>8} {:>6}\n",
                      "detector", "profile", "speed", "found", "extra", "onset med", "onset p5..p95", "|p95|",
-                     "end med", "end p5..p95", "|p95|", "sd med");
+                     "end med", "end p5..p95", "|p95|", "sd med", "<=2sd");
   for (const auto& row : r.rows)
-    out += fmt::format("{:<10} {:<9} {:<7} {:>8} {:>6} {:>9} {:>17} {:>8} {:>9} {:>17} {:>8} {:>8}\n",
+    out += fmt::format("{:<10} {:<9} {:<7} {:>8} {:>6} {:>9} {:>17} {:>8} {:>9} {:>17} {:>8} {:>8} {:>6}\n",
                        row.detector, row.profile, row.speed, fmt::format("{}/{}", row.found, row.motions),
                        row.extra, ms(row.onset.median_ns), range(row.onset), ms(row.onset.abs_p95_ns),
                        ms(row.end.median_ns), range(row.end), ms(row.end.abs_p95_ns),
-                       ms(row.median_stated_sd_ns));
+                       ms(row.median_stated_sd_ns),
+                       std::isnan(row.within_2sd_share) ? std::string("-")
+                                                        : fmt::format("{:.0f}%", 100 * row.within_2sd_share));
   out += fmt::format(
       "\nbaseline (two chips on one body, true M2M = 0), ms\n{:<10} {:<7} {:>6} {:>9} {:>17} {:>8}\n",
       "detector", "speed", "pairs", "median", "p5..p95", "|p95|");

@@ -50,6 +50,7 @@ struct OnsetRow {
   std::size_t extra = 0;                 // detected motions matching no true one
   ErrorSpread onset, end;
   double median_stated_sd_ns = 0;  // the detector's own onset uncertainty, median
+  double within_2sd_share = 0;     // share of found onsets within 2 stated sd of the truth
 };
 
 struct BaselineRow {
