@@ -10,9 +10,9 @@
 //   motion is under way while their magnitude is above k times its noise at rest; it ends after
 //   quiet_ns below; one whose peak stays under min_peak_deg_s is a bump and is dropped;
 // - onset: the rate along the motion's direction (the axis of the peak) is fitted, from well before
-//   the detection up to where it first reaches fit_fraction of the peak, by a hinge: 0 before t0, then
-//   either c1 tau (a torque step: an actuator) or c2 tau^2 + c3 tau^3 + c4 tau^4 (a smooth start: a
-//   hand, whose rate and acceleration are both 0 at t0), tau = t - t0, the better fit kept
+//   the detection up to where it first reaches fit_fraction of the peak, by a hinge: a rest level before t0
+//   (fitted too), then that plus either c1 tau (a torque step: an actuator) or c2 tau^2 + c3 tau^3 + c4 tau^4
+//   (a smooth start: a hand, whose rate and acceleration are both 0 at t0), tau = t - t0, the better fit kept
 //   (hinge_fit.hpp). t0, the least-squares best (to a fraction of a sample), is the onset; its standard
 //   uncertainty is the half-width of the t0 interval whose residual sum of squares stays within one residual
 //   variance of the best (the profile-likelihood rule), widened for correlated noise, combined with the

@@ -11,7 +11,7 @@ namespace {
 
 // Solves the m x m system in `a` (column 3 the right-hand side) by Gaussian elimination with partial
 // pivoting; false when singular.
-bool solve(std::array<std::array<double, 4>, 3>& a, std::size_t m, std::array<double, 3>& x) {
+bool solve(std::array<std::array<double, 5>, 4>& a, std::size_t m, std::array<double, 4>& x) {
   for (std::size_t c = 0; c < m; ++c) {
     std::size_t pivot = c;
     for (std::size_t r = c + 1; r < m; ++r)
@@ -20,11 +20,11 @@ bool solve(std::array<std::array<double, 4>, 3>& a, std::size_t m, std::array<do
     std::swap(a[c], a[pivot]);
     for (std::size_t r = c + 1; r < m; ++r) {
       const double f = a[r][c] / a[c][c];
-      for (std::size_t q = c; q < 4; ++q) a[r][q] -= f * a[c][q];
+      for (std::size_t q = c; q < 5; ++q) a[r][q] -= f * a[c][q];
     }
   }
   for (std::size_t c = m; c-- > 0;) {
-    double v = a[c][3];
+    double v = a[c][4];
     for (std::size_t q = c + 1; q < m; ++q) v -= a[c][q] * x[q];
     x[c] = v / a[c][c];
   }
@@ -36,22 +36,24 @@ class Profile {
  public:
   Profile(std::span<const std::int64_t> t, std::span<const double> p, bool rising)
       : t_(t), p_(p), dir_(rising ? 1 : -1) {
-    for (const double v : p_) total_ += v * v;
+    for (const double v : p_) total_ += v * v, sum_ += v;
   }
 
   double sse(std::size_t c) const {
     const std::int64_t t0 = t_[c];
     // Sums over the samples on the moving side of t0 (tau in ms keeps them modest): s[k] = sum tau^k
-    // (k = 2..8), b[k] = sum p tau^k (k = 1..4).
+    // (k = 1..8), b[k] = sum p tau^k (k = 1..4); s[0] and b[0] over the whole window (the rest level).
     std::array<double, 9> s{};
     std::array<double, 5> b{};
+    s[0] = static_cast<double>(t_.size());
+    b[0] = sum_;
     const std::size_t from = dir_ > 0 ? c + 1 : 0;
     const std::size_t to = dir_ > 0 ? t_.size() : c;
     for (std::size_t j = from; j < to; ++j) {
       const double tau = static_cast<double>(dir_ * (t_[j] - t0)) * 1e-6;
       double power = tau;
       for (std::size_t k = 1; k <= 8; ++k) {
-        if (k >= 2) s[k] += power;
+        s[k] += power;
         if (k <= 4) b[k] += p_[j] * power;
         power *= tau;
       }
@@ -63,22 +65,24 @@ class Profile {
     // and the better kept, with c1, c2 >= 0 (the rate leaves rest upwards). gain = the sum of squares
     // the model explains.
     double gain = 0;
-    // (The smooth start also as its sub-models, for when a larger one is not admissible.)
-    for (const unsigned mask : {0b0001u, 0b0010u, 0b0110u, 0b1110u}) {  // bit k - 1: the term tau^k
-      std::array<std::size_t, 3> powers{};
+    // (The smooth start also as its sub-models, for when a larger one is not admissible.) Every model
+    // has a rest level c0 of its own, fitted over the whole window: the detector's running estimate
+    // has taken in a little of the motion's first, sub-threshold part.
+    for (const unsigned mask : {0b00011u, 0b00101u, 0b01101u, 0b11101u}) {  // bit k: the term tau^k
+      std::array<std::size_t, 4> powers{};
       std::size_t m = 0;
-      for (std::size_t k = 1; k <= 4; ++k)
-        if (mask & (1u << (k - 1))) powers[m++] = k;
-      std::array<std::array<double, 4>, 3> a{};  // the normal equations, augmented
+      for (std::size_t k = 0; k <= 4; ++k)
+        if (mask & (1u << k)) powers[m++] = k;
+      std::array<std::array<double, 5>, 4> a{};  // the normal equations, augmented
       for (std::size_t r = 0; r < m; ++r) {
         for (std::size_t q = 0; q < m; ++q) a[r][q] = s[powers[r] + powers[q]];
-        a[r][3] = b[powers[r]];
+        a[r][4] = b[powers[r]];
       }
-      std::array<double, 3> coef{};
+      std::array<double, 4> coef{};
       if (!solve(a, m, coef)) continue;
       bool admissible = true;
       for (std::size_t r = 0; r < m; ++r)
-        if (powers[r] <= 2 && coef[r] < 0) admissible = false;
+        if ((powers[r] == 1 || powers[r] == 2) && coef[r] < 0) admissible = false;
       if (!admissible) continue;
       double g = 0;
       for (std::size_t r = 0; r < m; ++r) g += coef[r] * b[powers[r]];
@@ -91,7 +95,7 @@ class Profile {
   std::span<const std::int64_t> t_;
   std::span<const double> p_;
   std::int64_t dir_;
-  double total_ = 0;
+  double total_ = 0, sum_ = 0;
 };
 
 // The lag-1 autocorrelation of the samples on the rest side of sample `best` (0 when too few),
@@ -156,7 +160,7 @@ HingeFit fit_hinge(std::span<const std::int64_t> times_ns, std::span<const doubl
   // The interval where the residual sum of squares stays within one residual variance of the best:
   // scanned sample by sample, and from the parabola's curvature (for an interval narrower than a
   // sample); the wider is taken.
-  const double variance = best_sse / static_cast<double>(n - 3);
+  const double variance = best_sse / static_cast<double>(n - 5);  // t0, the rest level, up to 3 terms
   const double limit = best_sse + variance;
   auto edge = [&](int step_sign) {
     std::size_t c = best;

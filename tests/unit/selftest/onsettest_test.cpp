@@ -35,6 +35,8 @@ TEST(OnsetTest, ThirtyMotionsPerClass) {
       if (x.detector == "flank") {
         EXPECT_EQ(x.found, x.motions) << x.profile << " " << x.speed;
         EXPECT_EQ(x.extra, 0u) << x.profile << " " << x.speed;
+        // Its stated sd is about right: ~95% of the errors within two (87-100% on this run).
+        EXPECT_GE(x.within_2sd_share, 0.8) << x.profile << " " << x.speed;
       }
   }
 
@@ -51,9 +53,9 @@ TEST(OnsetTest, ThirtyMotionsPerClass) {
 
   {  // FlankHasNoRateDependentLagAndTheBaselineMedianIsNearZero
     for (const auto* speed : {"slow", "medium", "fast"}) {
-      EXPECT_LT(std::fabs(row(result, "flank", "hand", speed).onset.median_ns), 1e6) << speed;
-      // The median of 30 slow pairs scatters by about 0.25 ms (their spread is +-2 ms); the full run
-      // of docs/onset.md (100 a class) gives -0.02 ms.
+      EXPECT_LT(std::fabs(row(result, "flank", "hand", speed).onset.median_ns), 0.5e6) << speed;
+      // The median of 30 slow pairs scatters by about 0.3 ms (their spread is +-2 ms): -0.39 ms here;
+      // the full run of docs/onset.md (100 a class) gives -0.06 ms.
       const double limit = std::string_view(speed) == "slow" ? 0.6e6 : 0.2e6;
       EXPECT_LT(std::fabs(baseline(result, "flank", speed).m2m.median_ns), limit) << speed;
     }
