@@ -25,6 +25,7 @@ Runner attach_clock(CLI::App& sub);
 Runner attach_setup(CLI::App& sub);
 Runner attach_schedtest(CLI::App& sub);
 Runner attach_synctest(CLI::App& sub);
+Runner attach_onsettest(CLI::App& sub);
 Runner attach_budget(CLI::App& sub);
 
 namespace {
@@ -46,6 +47,7 @@ constexpr std::array kCommands{
     Command{"setup", "Prepare this board (gpio, irq, chrony, agent, board); --dry-run", &attach_setup},
     Command{"schedtest", "Scheduling test: cyclictest wake-up latency on the capture core", &attach_schedtest},
     Command{"synctest", "Measure the boards' clock offset from a pulse both recorded (stats, ADEV/TDEV/MTIE)", &attach_synctest},
+    Command{"onsettest", "Measure the onset detectors' bias and spread on simulated gyroscope motions", &attach_onsettest},
     Command{"budget", "The error budget of a latency sample: sync, kernel, circuit and calibration terms", &attach_budget},
     Command{"agent", "Record one node and serve its events over the agent HTTP API (docs/api.md)", &attach_agent},
     Command{"report", "Statistics, comparisons and figures (text, Markdown, CSV, JSON, HTML, pgfplots)", &attach_report},
