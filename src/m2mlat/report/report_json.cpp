@@ -5,10 +5,12 @@
 
 #include "m2mlat/report/comparison_text.hpp"
 #include "m2mlat/report/full_loop_view.hpp"
-#include "m2mlat/report/json_number.hpp"
+#include "m2mlat/formats/json_number.hpp"
 #include "m2mlat/report/scenario_json.hpp"
 
 namespace m2mlat::report {
+
+using formats::number;
 
 namespace {
 // An undefined interval (NaN bounds) as null, not [null, null].

@@ -2,9 +2,11 @@
 #include "m2mlat/report/scenario_json.hpp"
 
 #include "m2mlat/core/time.hpp"
-#include "m2mlat/report/json_number.hpp"
+#include "m2mlat/formats/json_number.hpp"
 
 namespace m2mlat::report {
+
+using formats::number;
 
 namespace {
 nlohmann::json extreme(const std::optional<stats::Extreme>& e) {

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/formats/json_number.hpp"
 #include "m2mlat/onset/detectors.hpp"
 #include "m2mlat/sim/random.hpp"
 #include "m2mlat/stats/quantile.hpp"
@@ -17,7 +18,8 @@ namespace m2mlat::selftest {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kUndefined = std::numeric_limits<double>::quiet_NaN();  // a figure of no sample
+using formats::number;
 constexpr std::int64_t kMs = 1'000'000;
 constexpr std::uint64_t kPlanStream = 0x6f6e'7365;  // "onse": the motions' parameters
 
@@ -82,8 +84,8 @@ struct Tally {
                extra,
                error_spread(onset),
                error_spread(end),
-               kNaN,
-               found > 0 ? static_cast<double>(covered) / static_cast<double>(found) : kNaN};
+               kUndefined,
+               found > 0 ? static_cast<double>(covered) / static_cast<double>(found) : kUndefined};
     if (!stated.empty()) {
       std::sort(stated.begin(), stated.end());
       r.median_stated_sd_ns = stats::quantile(std::span<const double>(stated), 0.5);
@@ -92,7 +94,6 @@ struct Tally {
   }
 };
 
-nlohmann::json number(double x) { return std::isnan(x) ? nlohmann::json(nullptr) : nlohmann::json(x); }
 
 nlohmann::json spread_json(const ErrorSpread& s) {
   return {{"n", s.n},
@@ -113,7 +114,7 @@ ErrorSpread error_spread(std::vector<double> errors_ns) {
   ErrorSpread s;
   s.n = errors_ns.size();
   if (errors_ns.empty()) {
-    s.median_ns = s.p5_ns = s.p95_ns = s.abs_p95_ns = kNaN;
+    s.median_ns = s.p5_ns = s.p95_ns = s.abs_p95_ns = kUndefined;
     return s;
   }
   std::sort(errors_ns.begin(), errors_ns.end());
@@ -170,7 +171,7 @@ OnsetTestResult run_onsettest(const OnsetTestOptions& options) {
   for (std::size_t d = 0; d < detectors.size(); ++d)
     result.samples_per_s.emplace_back(
         std::string(detectors[d]->name),
-        seconds[d] > 0 ? static_cast<double>(result.samples) / seconds[d] : kNaN);
+        seconds[d] > 0 ? static_cast<double>(result.samples) / seconds[d] : kUndefined);
   // Rows grouped by detector, then profile, then speed.
   std::stable_sort(result.rows.begin(), result.rows.end(), [](const OnsetRow& x, const OnsetRow& y) {
     return std::tie(x.detector, x.profile) < std::tie(y.detector, y.profile);

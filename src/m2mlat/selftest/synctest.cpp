@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "m2mlat/formats/json_number.hpp"
 #include "m2mlat/stats/quantile.hpp"
 
 namespace m2mlat::selftest {
@@ -11,8 +12,8 @@ namespace m2mlat::selftest {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using formats::number;
 
-nlohmann::json number(double x) { return std::isnan(x) ? nlohmann::json(nullptr) : nlohmann::json(x); }
 
 nlohmann::json stats_json(const ValueStats& s) {
   nlohmann::json j{{"n", s.n},
