@@ -6,7 +6,7 @@
 //
 // The check passes when at least kMinCompletePercent of the manoeuvres give a complete chain, every
 // complete chain stands for a distinct manoeuvre (a wrong join would show as a second chain on one),
-// and the median E2E error is within kMaxMedianErrorNs.
+// and the median E2E error (G2G's on one board, where there is no E2E) is within kMaxMedianErrorNs.
 #pragma once
 
 #include <array>

@@ -122,4 +122,18 @@ FullLoopRun simulate_full_loop(const FullLoopConfig& config) {
   return run;
 }
 
+std::optional<FullLoopConfig> full_loop_preset(std::string_view name) {
+  FullLoopConfig c;
+  if (name == "full_loop") return c;
+  if (name == "full_loop_baseline") {
+    c.baseline = true;
+    return c;
+  }
+  if (name == "full_loop_single_board") {
+    c.single_board = true;
+    return c;
+  }
+  return std::nullopt;
+}
+
 }  // namespace m2mlat::sim

@@ -24,6 +24,8 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 #include "m2mlat/core/rate_sample.hpp"
@@ -89,5 +91,9 @@ struct FullLoopRun {
 };
 
 FullLoopRun simulate_full_loop(const FullLoopConfig& config);
+
+// The demo's full-loop scenarios: "full_loop" (the defaults), "full_loop_baseline" (baseline) and
+// "full_loop_single_board" (single_board); nullopt for any other name.
+std::optional<FullLoopConfig> full_loop_preset(std::string_view name);
 
 }  // namespace m2mlat::sim
