@@ -49,8 +49,9 @@ double ChainTruthCheck::complete_percent() const {
 bool ChainTruthCheck::passes() const {
   // E2E; G2G where there is no E2E (one board, no gyroscopes).
   const auto& checked = errors[2].n > 0 ? errors[2] : errors[1];
-  return complete_percent() >= kMinCompletePercent && duplicate == 0 && checked.n > 0 &&
-         std::fabs(checked.median_ns) <= static_cast<double>(kMaxMedianErrorNs);
+  const bool unbiased =
+      checked.n < kMinChainsForBias || std::fabs(checked.median_ns) <= static_cast<double>(kMaxMedianErrorNs);
+  return complete_percent() >= kMinCompletePercent && duplicate == 0 && checked.n > 0 && unbiased;
 }
 
 ChainTruthCheck check_chains(const ChainResult& result, const sim::FullLoopRun& run) {

@@ -6,7 +6,8 @@
 //
 // The check passes when at least kMinCompletePercent of the manoeuvres give a complete chain, every
 // complete chain stands for a distinct manoeuvre (a wrong join would show as a second chain on one),
-// and the median E2E error (G2G's on one board, where there is no E2E) is within kMaxMedianErrorNs.
+// and the median E2E error (G2G's on one board, where there is no E2E) is within kMaxMedianErrorNs
+// (over kMinChainsForBias chains or more: one slow motion alone may be off by 2 ms, docs/onset.md).
 #pragma once
 
 #include <array>
@@ -19,6 +20,7 @@ namespace m2mlat::analysis {
 
 inline constexpr double kMinCompletePercent = 95;
 inline constexpr std::int64_t kMaxMedianErrorNs = 1'000'000;
+inline constexpr std::size_t kMinChainsForBias = 10;
 
 struct ErrorStats {
   std::size_t n = 0;
@@ -28,9 +30,9 @@ struct ErrorStats {
 };
 
 struct ChainTruthCheck {
-  std::size_t manoeuvres = 0;  // true manoeuvres
-  std::size_t complete = 0;    // complete chains matched to a manoeuvre
-  std::size_t duplicate = 0;   // complete chains on a manoeuvre already taken
+  std::size_t manoeuvres = 0;        // true manoeuvres
+  std::size_t complete = 0;          // complete chains matched to a manoeuvre
+  std::size_t duplicate = 0;         // complete chains on a manoeuvre already taken
   std::array<ErrorStats, 3> errors;  // M2M, G2G, E2E
   ErrorStats station_onset, vehicle_onset;
   double complete_percent() const;

@@ -69,17 +69,17 @@ void evaluate(Chain& c, const ChainInput& in, const ChainResult& r, const ChainO
   double onsets = 0;
   if (c.station) onsets += sq(static_cast<double>(r.station_onsets[*c.station].onset_sd_ns));
   if (c.vehicle) onsets += sq(static_cast<double>(r.vehicle_onsets[*c.vehicle].onset_sd_ns));
-  double circuit = sq(static_cast<double>(o.uncertainty.kernel_u.count())) +
-                   sq(static_cast<double>(o.photo_u.count()));
+  double circuit =
+      sq(static_cast<double>(o.uncertainty.kernel_u.count())) + sq(static_cast<double>(o.photo_u.count()));
   if (c.led) circuit += sq(static_cast<double>(in.led[*c.led].bound_ns)) / 3;
   if (v[kM2m].ns)
     if (const auto s = sync_u(in.station_clock, in.vehicle_clock, *c.station_onset_ns, *c.vehicle_onset_ns,
                               o.uncertainty))
       c.u_ns[0] = root(sq(*s) + onsets);
   if (v[kG2g].ns) {
-    const auto s = in.single_board ? std::optional<double>(0.0)
-                                   : sync_u(in.vehicle_clock, in.station_clock, *c.led_ns, *c.photo_ns,
-                                            o.uncertainty);
+    const auto s = in.single_board
+                       ? std::optional<double>(0.0)
+                       : sync_u(in.vehicle_clock, in.station_clock, *c.led_ns, *c.photo_ns, o.uncertainty);
     if (s) c.u_ns[1] = root(sq(*s) + circuit);
   }
   if (v[kE2e].ns) c.u_ns[2] = root(onsets + circuit);
@@ -103,8 +103,8 @@ ChainOptions::ChainOptions() {
 }
 
 std::string_view key(ChainGap gap) {
-  constexpr std::array<std::string_view, kChainGaps> kKeys{"no_vehicle_onset", "no_station_onset", "no_led",
-                                                           "no_photo",         "led_unjoined",     "photo_unmatched"};
+  constexpr std::array<std::string_view, kChainGaps> kKeys{
+      "no_vehicle_onset", "no_station_onset", "no_led", "no_photo", "led_unjoined", "photo_unmatched"};
   return kKeys.at(static_cast<std::size_t>(gap));
 }
 
@@ -209,12 +209,18 @@ ChainResult build_chains(const ChainInput& in, const ChainOptions& o, const stat
   // The first missing link of each chain; without motions (one board, LED on a schedule) the chain is
   // LED -> photo alone.
   for (auto& c : chains) {
-    if (motions && c.station && !c.vehicle) c.gap = ChainGap::no_vehicle_onset;
-    else if (motions && c.vehicle && !c.station) c.gap = ChainGap::no_station_onset;
-    else if (motions && c.vehicle && !c.led) c.gap = ChainGap::no_led;
-    else if (motions && c.led && !c.vehicle) c.gap = ChainGap::led_unjoined;
-    else if (c.led && !c.photo) c.gap = ChainGap::no_photo;
-    else if (c.photo && !c.led) c.gap = ChainGap::photo_unmatched;
+    if (motions && c.station && !c.vehicle)
+      c.gap = ChainGap::no_vehicle_onset;
+    else if (motions && c.vehicle && !c.station)
+      c.gap = ChainGap::no_station_onset;
+    else if (motions && c.vehicle && !c.led)
+      c.gap = ChainGap::no_led;
+    else if (motions && c.led && !c.vehicle)
+      c.gap = ChainGap::led_unjoined;
+    else if (c.led && !c.photo)
+      c.gap = ChainGap::no_photo;
+    else if (c.photo && !c.led)
+      c.gap = ChainGap::photo_unmatched;
     if (c.gap) ++r.incomplete[static_cast<std::size_t>(*c.gap)];
     evaluate(c, in, r, o);
   }

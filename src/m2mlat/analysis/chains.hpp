@@ -66,23 +66,29 @@ struct ChainOptions {
   // board's own online detection sets it a little after the true onset, and an offline detector's
   // onset may lag that (the reference detector's fixed threshold: hundreds of ms on slow motions).
   core::Duration join_before{1'000'000'000}, join_after{200'000'000};
-  UncertaintyOptions uncertainty;   // the sync term's model; kernel_u: the photo edge's interrupt stamp
+  UncertaintyOptions uncertainty;  // the sync term's model; kernel_u: the photo edge's interrupt stamp
   core::Duration photo_u{10'000};  // the phototransistor + comparator response, standard uncertainty, ns
-  ChainOptions();                   // the windows above: M2M in [-0.5 s, 2 s], G2G in [0, 2 s]
+  ChainOptions();                  // the windows above: M2M in [-0.5 s, 2 s], G2G in [0, 2 s]
 };
 
 // Why a chain is incomplete: its first missing link. Keys: "no_vehicle_onset", "no_station_onset",
 // "no_led", "no_photo", "led_unjoined" (an LED write near no vehicle onset), "photo_unmatched".
-enum class ChainGap : std::uint8_t { no_vehicle_onset, no_station_onset, no_led, no_photo, led_unjoined,
-                                     photo_unmatched };
+enum class ChainGap : std::uint8_t {
+  no_vehicle_onset,
+  no_station_onset,
+  no_led,
+  no_photo,
+  led_unjoined,
+  photo_unmatched
+};
 inline constexpr std::size_t kChainGaps = 6;
 std::string_view key(ChainGap gap);
 
 struct Chain {
   std::optional<std::size_t> station, vehicle, led, photo;  // indices: onsets, ChainInput::led, photo_ns
   std::optional<std::int64_t> station_onset_ns, vehicle_onset_ns, led_ns, photo_ns;  // board clocks
-  std::optional<std::int64_t> led_lag_ns;  // LED stamp - vehicle onset (not in E2E), ns
-  std::optional<ChainGap> gap;             // unset: complete
+  std::optional<std::int64_t> led_lag_ns;                // LED stamp - vehicle onset (not in E2E), ns
+  std::optional<ChainGap> gap;                           // unset: complete
   std::array<LoopValue, kLoopQuantities.size()> values;  // by LoopQuantity
   // Standard uncertainty (k = 1) of M2M, G2G, E2E, ns; unset where the value or its clock state is unknown.
   std::array<std::optional<std::int64_t>, 3> u_ns;
@@ -91,9 +97,9 @@ struct Chain {
 struct ChainResult {
   std::string detector;
   std::vector<onset::Motion> station_onsets, vehicle_onsets;
-  std::vector<Chain> chains;  // in time order
+  std::vector<Chain> chains;                         // in time order
   std::array<std::size_t, kChainGaps> incomplete{};  // by ChainGap
-  FullLoopResult loop;        // the summaries, as for the full-loop rig's files
+  FullLoopResult loop;                               // the summaries, as for the full-loop rig's files
 };
 
 // Throws core::Error(usage) for an unknown detector, core::Error(data) for a malformed trace.

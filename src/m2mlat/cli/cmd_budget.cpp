@@ -127,9 +127,10 @@ selftest::BudgetTerm calibration(const BudgetCommand& c) {
 // E_onset of an inertial source: from the onset test's file, or measured here by the same routine.
 selftest::BudgetTerm onset(const BudgetCommand& c) {
   if (c.rate_deg_s > 0 || !c.rate_store.empty())
-    throw core::Error(core::ErrorKind::usage,
-                      "budget: --rate and --rate-store measure the magnet's calibration term (--source hall); "
-                      "an inertial source's term is its onset error (--onsettest)");
+    throw core::Error(
+        core::ErrorKind::usage,
+        "budget: --rate and --rate-store measure the magnet's calibration term (--source hall); "
+        "an inertial source's term is its onset error (--onsettest)");
   nlohmann::json doc;
   std::string name = c.onsettest;
   if (c.onsettest.empty()) {

@@ -53,7 +53,8 @@ struct FullLoopDemo {
   std::vector<report::NamedChainCheck> checks;
 };
 
-FullLoopDemo run_full_loops(const DemoCommand& c, const std::vector<std::pair<std::size_t, sim::FullLoopConfig>>& configs) {
+FullLoopDemo run_full_loops(const DemoCommand& c,
+                            const std::vector<std::pair<std::size_t, sim::FullLoopConfig>>& configs) {
   FullLoopDemo demo;
   analysis::ChainOptions options;
   options.detector = c.detector;
@@ -94,7 +95,8 @@ int run_demo(const DemoCommand& c) {
         throw core::Error(core::ErrorKind::usage,
                           fmt::format("--set applies to the Hall scenarios, not to {}", c.scenarios[k]));
       loop->seed = c.seed + k;
-      if (c.manoeuvres > 0) loop->manoeuvres = static_cast<int>(std::min<std::int64_t>(c.manoeuvres, 100'000));
+      if (c.manoeuvres > 0)
+        loop->manoeuvres = static_cast<int>(std::min<std::int64_t>(c.manoeuvres, 100'000));
       sim::check(*loop);
       loops.emplace_back(k, *loop);
       continue;

@@ -86,11 +86,12 @@ nlohmann::json full_loop_json(std::span<const FullLoopResult> results) {
       quantities[std::string(analysis::key(q))] = {{"summary", summary_json(s->summary)},
                                                    {"excluded", excluded}};
     }
-    out.push_back({{"scenario", r.scenario},
-                   {"file", r.file},
-                   {"format", r.from_chains ? std::string("chains") : std::string(formats::to_string(r.format))},
-                   {"events", r.events},
-                   {"quantities", quantities}});
+    out.push_back(
+        {{"scenario", r.scenario},
+         {"file", r.file},
+         {"format", r.from_chains ? std::string("chains") : std::string(formats::to_string(r.format))},
+         {"events", r.events},
+         {"quantities", quantities}});
     if (r.from_chains) {
       nlohmann::json incomplete = nlohmann::json::object();
       for (const auto& [reason, count] : r.incomplete) incomplete[reason] = count;

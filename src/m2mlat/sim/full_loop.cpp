@@ -32,7 +32,8 @@ std::int64_t photo_edge(const FullLoopConfig& c, std::int64_t lit, std::int64_t 
   const std::int64_t start = next_tick(lit - c.exposure_ns / 2, frame_phase, c.frame_ns);
   std::int64_t t = start + c.exposure_ns;  // the frame is read out once exposed
   t += path.uniform_int(c.encode_min_ns, c.encode_max_ns);
-  t += c.network_ns + static_cast<std::int64_t>(static_cast<double>(c.network_jitter_ns) * path.exponential());
+  t +=
+      c.network_ns + static_cast<std::int64_t>(static_cast<double>(c.network_jitter_ns) * path.exponential());
   t += path.uniform_int(c.decode_min_ns, c.decode_max_ns);
   t = next_tick(t, refresh_phase, c.refresh_ns);  // shown from the next refresh
   t += static_cast<std::int64_t>(c.photo_row * static_cast<double>(c.refresh_ns));  // the scan to the row
@@ -78,7 +79,8 @@ FullLoopRun simulate_full_loop(const FullLoopConfig& config) {
   Rng plan(c.seed, kLoopStreams + kPlan), clocks(c.seed, kLoopStreams + kClocks),
       path(c.seed, kLoopStreams + kPath);
   run.station_offset_ns = clocks.uniform_int(-c.sync_max_ns, c.sync_max_ns);
-  run.vehicle_offset_ns = c.single_board ? run.station_offset_ns : clocks.uniform_int(-c.sync_max_ns, c.sync_max_ns);
+  run.vehicle_offset_ns =
+      c.single_board ? run.station_offset_ns : clocks.uniform_int(-c.sync_max_ns, c.sync_max_ns);
   const std::int64_t frame_phase = path.uniform_int(0, c.frame_ns - 1);
   const std::int64_t refresh_phase = path.uniform_int(0, c.refresh_ns - 1);
 

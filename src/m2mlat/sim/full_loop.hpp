@@ -46,7 +46,7 @@ struct FullLoopConfig {
   // Rest between manoeuvres, ns: longer than the reference detector's re-arming (10,000 still samples,
   // 1.25 s at 8 kHz), so that both detectors see every motion.
   std::int64_t gap_min_ns = 1'500'000'000, gap_max_ns = 2'500'000'000;
-  std::int64_t m2m_min_ns = 60'000'000, m2m_max_ns = 160'000'000;           // true M2M delay, uniform, ns
+  std::int64_t m2m_min_ns = 60'000'000, m2m_max_ns = 160'000'000;  // true M2M delay, uniform, ns
   // The vehicle board: from the true onset to the LED write (its online detector), uniform, ns.
   std::int64_t trigger_min_ns = 2'000'000, trigger_max_ns = 8'000'000;
   std::int64_t led_write_ns = 4'000;  // the GPIO write between the stamps before and after it, ns
@@ -71,12 +71,12 @@ void check(const FullLoopConfig& config);
 // One manoeuvre's truth and its stamps. True times on the simulator's time base; stamps on the
 // board's clock (true + that board's offset).
 struct FullLoopManoeuvre {
-  RateMotion station, vehicle;  // the true motions (empty durations in single_board)
-  std::int64_t led_true_ns = 0;             // the LED lit (the write's end), true time
-  std::int64_t led_stamp_ns = 0;            // the vehicle board's stamp: middle of [before, after]
-  std::int64_t led_bound_ns = 0;            // half-width of [before, after], ns
-  std::int64_t photo_true_ns = 0;           // the phototransistor's output crossing, true time
-  std::int64_t photo_stamp_ns = 0;          // the station board's interrupt stamp
+  RateMotion station, vehicle;      // the true motions (empty durations in single_board)
+  std::int64_t led_true_ns = 0;     // the LED lit (the write's end), true time
+  std::int64_t led_stamp_ns = 0;    // the vehicle board's stamp: middle of [before, after]
+  std::int64_t led_bound_ns = 0;    // half-width of [before, after], ns
+  std::int64_t photo_true_ns = 0;   // the phototransistor's output crossing, true time
+  std::int64_t photo_stamp_ns = 0;  // the station board's interrupt stamp
   std::int64_t true_m2m_ns() const { return vehicle.onset_ns - station.onset_ns; }
   std::int64_t true_g2g_ns() const { return photo_true_ns - led_true_ns; }
   std::int64_t true_e2e_ns() const { return true_m2m_ns() + true_g2g_ns(); }

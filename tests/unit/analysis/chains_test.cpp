@@ -64,7 +64,8 @@ TEST(Chains, TwinChainsAddUpAndRecoverTheTruth) {
   for (const auto& c : r.chains) {
     ASSERT_FALSE(c.gap) << key(*c.gap);
     // Every quantity is the difference of its links, to the ns.
-    EXPECT_EQ(*c.values[kM2m].ns, r.vehicle_onsets[*c.vehicle].onset_ns - r.station_onsets[*c.station].onset_ns);
+    EXPECT_EQ(*c.values[kM2m].ns,
+              r.vehicle_onsets[*c.vehicle].onset_ns - r.station_onsets[*c.station].onset_ns);
     EXPECT_EQ(*c.values[kG2g].ns, in.photo_ns[*c.photo] - in.led[*c.led].stamp_ns);
     EXPECT_EQ(*c.values[kE2e].ns, *c.values[kM2m].ns + *c.values[kG2g].ns);
     EXPECT_EQ(*c.values[static_cast<std::size_t>(LoopQuantity::vehicle_motion)].ns,
@@ -72,7 +73,8 @@ TEST(Chains, TwinChainsAddUpAndRecoverTheTruth) {
     EXPECT_EQ(*c.led_lag_ns, *c.led_ns - *c.vehicle_onset_ns);
     // E2E carries no sync term: its u is below M2M's and G2G's together.
     ASSERT_TRUE(c.u_ns[kM2m] && c.u_ns[kG2g] && c.u_ns[kE2e]);
-    EXPECT_LT(*c.u_ns[kE2e], std::hypot(static_cast<double>(*c.u_ns[kM2m]), static_cast<double>(*c.u_ns[kG2g])));
+    EXPECT_LT(*c.u_ns[kE2e],
+              std::hypot(static_cast<double>(*c.u_ns[kM2m]), static_cast<double>(*c.u_ns[kG2g])));
   }
   const auto check = check_chains(r, run);
   EXPECT_TRUE(check.passes());
@@ -84,6 +86,20 @@ TEST(Chains, TwinChainsAddUpAndRecoverTheTruth) {
     EXPECT_LT(std::fabs(side->p95_ns), 2'500'000);
   }
   EXPECT_LT(std::fabs(check.errors[kE2e].median_ns), 500'000);
+}
+
+TEST(Chains, TruthCheckCatchesABiasAndTooFewChains) {
+  const auto run = sim::simulate_full_loop(config(12, 21));
+  auto in = chain_input(run);
+  for (auto& t : in.photo_ns) t += 5'000'000;  // the photo edges stamped 5 ms late
+  const auto late = check_chains(build_chains(in, {}, {}, "late"), run);
+  EXPECT_NEAR(late.errors[kG2g].median_ns, 5'000'000, 300'000);
+  EXPECT_FALSE(late.passes());
+  in = chain_input(run);
+  in.led.resize(10);  // 2 of 12 chains incomplete: 83 % < 95 %
+  const auto few = check_chains(build_chains(in, {}, {}, "few"), run);
+  EXPECT_EQ(few.complete, 10u);
+  EXPECT_FALSE(few.passes());
 }
 
 TEST(Chains, IncompleteChainsCountedByTheirFirstMissingLink) {

@@ -17,7 +17,8 @@ FullLoopConfig small(std::uint64_t seed) {
 }
 
 TEST(FullLoop, SameSeedSameRunOtherSeedOtherRun) {
-  const auto a = simulate_full_loop(small(3)), b = simulate_full_loop(small(3)), d = simulate_full_loop(small(4));
+  const auto a = simulate_full_loop(small(3)), b = simulate_full_loop(small(3)),
+             d = simulate_full_loop(small(4));
   ASSERT_EQ(a.manoeuvres.size(), 6u);
   for (std::size_t k = 0; k < a.manoeuvres.size(); ++k) {
     EXPECT_EQ(a.manoeuvres[k].photo_stamp_ns, b.manoeuvres[k].photo_stamp_ns);
