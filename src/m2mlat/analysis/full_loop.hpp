@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "m2mlat/formats/camera_latency.hpp"
@@ -71,6 +72,10 @@ struct FullLoopResult {
   std::size_t events = 0;  // rows (full-loop CSV) or latencies (camera file) read
   // By LoopQuantity; the camera file has only G2G.
   std::array<std::optional<LoopSeries>, kLoopQuantities.size()> quantities;
+  // Built from raw traces and LED/photo edges as chains (analysis/chains.hpp) rather than read from a
+  // file: `format` does not apply, and the incomplete chains are counted here by reason (key, count).
+  bool from_chains = false;
+  std::vector<std::pair<std::string, std::size_t>> incomplete;
   const LoopSeries* find(LoopQuantity quantity) const {
     const auto& q = quantities.at(static_cast<std::size_t>(quantity));
     return q ? &*q : nullptr;

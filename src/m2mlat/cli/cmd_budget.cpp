@@ -13,6 +13,7 @@
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/report/table.hpp"
 #include "m2mlat/selftest/budget.hpp"
+#include "m2mlat/selftest/onsettest.hpp"
 #include "m2mlat/stats/quantile.hpp"
 #include "m2mlat/store/store.hpp"
 
@@ -33,6 +34,11 @@ struct BudgetCommand {
   double magnet_angle_deg = 0;
   std::string rate_stat = "median";
   std::string rate_min_gap = "5ms", rate_max_gap = "1s";
+  std::string source = "hall";  // hall: E_calib; inertial: the measured onset term E_onset
+  std::string onsettest;        // an m2mlat-onsettest/1 file; empty: run the onset test here
+  std::string onset_detector = "flank";
+  std::string onset_speed = "worst";
+  int onset_motions = 30;  // per speed class, when the test runs here
   bool json = false;
 };
 
@@ -118,6 +124,39 @@ selftest::BudgetTerm calibration(const BudgetCommand& c) {
                   c.rate_stat, rate->intervals, c.rate_channel, c.rate_store));
 }
 
+// E_onset of an inertial source: from the onset test's file, or measured here by the same routine.
+selftest::BudgetTerm onset(const BudgetCommand& c) {
+  if (c.rate_deg_s > 0 || !c.rate_store.empty())
+    throw core::Error(
+        core::ErrorKind::usage,
+        "budget: --rate and --rate-store measure the magnet's calibration term (--source hall); "
+        "an inertial source's term is its onset error (--onsettest)");
+  nlohmann::json doc;
+  std::string name = c.onsettest;
+  if (c.onsettest.empty()) {
+    selftest::OnsetTestOptions options;
+    options.motions = c.onset_motions;
+    options.detectors = {c.onset_detector};
+    doc = selftest::onsettest_json(selftest::run_onsettest(options));
+    name = fmt::format("(run here, seed {})", options.seed);
+  } else {
+    std::ifstream in(c.onsettest);
+    if (!in) throw core::Error(core::ErrorKind::no_input, fmt::format("{}: cannot open", c.onsettest));
+    try {
+      doc = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+      core::throw_data_error({c.onsettest, 0}, fmt::format("not JSON: {}", e.what()));
+    }
+  }
+  return selftest::onset_term_from_onsettest(doc, c.onset_detector, c.onset_speed, name);
+}
+
+selftest::BudgetTerm motion_term(const BudgetCommand& c) {
+  if (c.source == "hall") return calibration(c);
+  if (c.source == "inertial") return onset(c);
+  throw core::Error(core::ErrorKind::usage, fmt::format("--source: hall or inertial, not '{}'", c.source));
+}
+
 }  // namespace
 
 Runner attach_budget(CLI::App& sub) {
@@ -150,6 +189,19 @@ Runner attach_budget(CLI::App& sub) {
       ->capture_default_str();
   calib->add_option("--rate-max-gap", c->rate_max_gap, "Longer intervals are between manoeuvres")
       ->capture_default_str();
+  auto* motion = sub.add_option_group(
+      "onset", "E_onset: an inertial source's measured onset error, in place of E_calib (--source inertial)");
+  motion->add_option("--source", c->source, "The motion source: hall (E_calib) or inertial (E_onset)")
+      ->capture_default_str();
+  motion->add_option("--onsettest", c->onsettest,
+                     "A `m2mlat onsettest --json` result (default: run the onset test here)");
+  motion->add_option("--onset-detector", c->onset_detector, "The onset detector: flank or reference")
+      ->capture_default_str();
+  motion->add_option("--onset-speed", c->onset_speed, "Speed class: slow, medium, fast or worst")
+      ->capture_default_str();
+  motion->add_option("--onset-motions", c->onset_motions, "Motions per speed class when the test runs here")
+      ->check(CLI::Range(1, 100'000))
+      ->capture_default_str();
   sub.add_flag("--json", c->json, "Print m2mlat-budget/1 JSON");
   return [c] {
     const auto ka = duration_flag("--kernel-a", c->kernel_a);
@@ -159,7 +211,7 @@ Runner attach_budget(CLI::App& sub) {
          selftest::kernel_term(
              ka, kb, fmt::format("max(A {}, B {})", core::format_duration(ka), core::format_duration(kb))),
          {"circuit", duration_flag("--circuit", c->circuit).count(), "sensor and input circuit"},
-         calibration(*c)});
+         motion_term(*c)});
     if (c->json) {
       print_json(selftest::budget_json(budget));
       return 0;

@@ -1,12 +1,18 @@
 // `m2mlat demo`: a complete simulated campaign with no hardware. Four scenarios like the reference
 // field study's are simulated, recorded through the real store, read back, paired by the matcher and
-// summarised; the pairs are then checked against the simulator's ground truth.
+// summarised; the pairs are then checked against the simulator's ground truth. The full-loop
+// scenarios (full_loop, full_loop_baseline, full_loop_single_board; sim/full_loop.hpp) simulate the
+// gyroscopes, the LED and the camera-to-screen path instead, find the onsets in the raw traces, build
+// the chains (analysis/chains.hpp) and check M2M, G2G and E2E against the truth.
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 
+#include "m2mlat/analysis/chain_truth.hpp"
+#include "m2mlat/analysis/chains.hpp"
 #include "m2mlat/analysis/scenario_result.hpp"
 #include "m2mlat/analysis/truth_check.hpp"
 #include "m2mlat/capture/sim_to_store.hpp"
@@ -14,9 +20,13 @@
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/onset/detectors.hpp"
+#include "m2mlat/report/chain_truth_text.hpp"
+#include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/scenario_json.hpp"
 #include "m2mlat/report/scenario_text.hpp"
 #include "m2mlat/report/table.hpp"
+#include "m2mlat/sim/full_loop.hpp"
 #include "m2mlat/sim/overrides.hpp"
 #include "m2mlat/sim/presets.hpp"
 
@@ -31,10 +41,39 @@ struct DemoCommand {
   std::uint64_t seed = 1;
   std::int64_t manoeuvres = 0;         // 0: the presets' own count
   std::vector<std::string> overrides;  // simulator settings, key=value, applied to every scenario
+  std::string detector = "flank";      // the full-loop scenarios' onset detector
   MatchFlags match;
   StatsFlags stats;
   bool json = false;
 };
+
+// The full-loop scenarios: simulated, their onsets found in the raw traces, chained and checked.
+struct FullLoopDemo {
+  std::vector<analysis::FullLoopResult> results;
+  std::vector<report::NamedChainCheck> checks;
+};
+
+FullLoopDemo run_full_loops(const DemoCommand& c,
+                            const std::vector<std::pair<std::size_t, sim::FullLoopConfig>>& configs) {
+  FullLoopDemo demo;
+  analysis::ChainOptions options;
+  options.detector = c.detector;
+  options.uncertainty = c.stats.uncertainty_options();
+  // The twin's boards know their whole offset error (their clock samples' est_error): no path
+  // asymmetry is left for path_u to stand for.
+  options.uncertainty.path_u = core::Duration{0};
+  for (const auto& [k, config] : configs) {
+    const auto name = c.scenarios[k];
+    progress(fmt::format("simulating {}", name));
+    const auto run = sim::simulate_full_loop(config);
+    progress(fmt::format("chaining {}", name));
+    auto chains = analysis::build_chains(analysis::chain_input(run), options, c.stats.options(), name);
+    demo.checks.push_back({name, analysis::check_chains(chains, run)});
+    demo.results.push_back(std::move(chains.loop));
+  }
+  progress_done();
+  return demo;
+}
 
 int run_demo(const DemoCommand& c) {
   const auto match_options = c.match.options();
@@ -49,7 +88,19 @@ int run_demo(const DemoCommand& c) {
 
   // Every scenario's configuration first: a bad setting stops the demo before a store exists.
   std::vector<sim::RigConfig> configs;
+  std::vector<std::pair<std::size_t, sim::FullLoopConfig>> loops;
   for (std::size_t k = 0; k < c.scenarios.size(); ++k) {
+    if (auto loop = sim::full_loop_preset(c.scenarios[k])) {
+      if (!c.overrides.empty())
+        throw core::Error(core::ErrorKind::usage,
+                          fmt::format("--set applies to the Hall scenarios, not to {}", c.scenarios[k]));
+      loop->seed = c.seed + k;
+      if (c.manoeuvres > 0)
+        loop->manoeuvres = static_cast<int>(std::min<std::int64_t>(c.manoeuvres, 100'000));
+      sim::check(*loop);
+      loops.emplace_back(k, *loop);
+      continue;
+    }
     auto config = sim::preset(c.scenarios[k]);
     config.seed = c.seed + k;  // each scenario its own random stream
     if (c.manoeuvres > 0) config.manoeuvres = c.manoeuvres;
@@ -58,9 +109,11 @@ int run_demo(const DemoCommand& c) {
     configs.push_back(std::move(config));
   }
 
+  static_cast<void>(onset::detector(c.detector));  // an unknown name stops the demo here
+  const auto full_loop = run_full_loops(c, loops);
   std::vector<analysis::ScenarioResult> results;
   std::vector<analysis::TruthCheck> checks;
-  {
+  if (!configs.empty()) {
     auto store = store::Store::open(path);
     for (const sim::RigConfig& config : configs) {
       std::vector<sim::TruePair> truth;
@@ -78,18 +131,27 @@ int run_demo(const DemoCommand& c) {
     }
     progress_done();
   }
-  if (temporary) {
+  if (temporary && !configs.empty()) {
     std::error_code ignored;
     for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path + suffix, ignored);
   }
 
   if (c.json) {
     auto doc = report::stats_document(results, checks);
-    if (!temporary) doc["store"] = path;
+    if (!temporary && !configs.empty()) doc["store"] = path;
+    if (!loops.empty()) {
+      doc["full_loop"] = report::full_loop_json(full_loop.results);
+      doc["full_loop_truth"] = report::chain_truth_json(full_loop.checks);
+    }
     print_json(doc);
   } else {
-    fmt::print("Simulated campaign: {} scenarios, seed {}{}\n\n", results.size(), c.seed,
-               temporary ? "" : fmt::format(", store {}", path));
+    fmt::print("Simulated campaign: {} scenarios, seed {}{}\n\n", results.size() + loops.size(), c.seed,
+               temporary || configs.empty() ? "" : fmt::format(", store {}", path));
+    if (!loops.empty())
+      fmt::print("{}\n{}{}", report::full_loop_table(full_loop.results),
+                 report::chain_truth_table(full_loop.checks), configs.empty() ? "" : "\n");
+  }
+  if (!c.json && !configs.empty()) {
     fmt::print("{}\n{}\n", report::pairing_table(results), report::scenario_table(results));
     report::Table table({"scenario", "true pairs", "found", "correct", "wrong flagged", "wrong unflagged",
                          "missed", "found %", "check", "true median", "measured median", "max |error|"});
@@ -130,6 +192,8 @@ int run_demo(const DemoCommand& c) {
   // telling why, or when the matcher finds too few of the true pairs.
   for (const auto& t : checks)
     if (!t.passes()) return 1;
+  for (const auto& t : full_loop.checks)
+    if (!t.check.passes()) return 1;
   return 0;
 }
 
@@ -138,7 +202,9 @@ int run_demo(const DemoCommand& c) {
 Runner attach_demo(CLI::App& sub) {
   auto c = std::make_shared<DemoCommand>();
   sub.add_option("--store", c->store_path, "Keep the campaign in this new store file (default: temporary)");
-  sub.add_option("--scenario", c->scenarios, "Scenarios to simulate (presets; repeatable)")
+  sub.add_option("--scenario", c->scenarios,
+                 "Scenarios to simulate (presets, or full_loop, full_loop_baseline, full_loop_single_board: "
+                 "gyroscopes, LED and camera to screen; repeatable)")
       ->capture_default_str();
   sub.add_option("--seed", c->seed, "Seed of the first scenario (the next ones use seed+1, ...)")
       ->capture_default_str();
@@ -146,6 +212,8 @@ Runner attach_demo(CLI::App& sub) {
   sub.add_option("--set", c->overrides,
                  "Override a simulator setting in every scenario, key=value (repeatable; `m2mlat simulate "
                  "--list` shows the keys)");
+  sub.add_option("--detector", c->detector, "Onset detector of the full-loop scenarios (flank, reference)")
+      ->capture_default_str();
   c->match.add_to(sub);
   c->stats.add_to(sub);
   sub.add_flag("--json", c->json, "Print m2mlat-stats/1 JSON with a truth section per scenario");

@@ -59,9 +59,18 @@ std::string full_loop_table(std::span<const FullLoopResult> results) {
     row.resize(header.size(), "-");
     table.add_row(std::move(row));
   }
-  return "full loop (ms): M2M = VEHICLE_GY_ON - STATION_GY_ON, G2G = PHOTOTRANSISTOR - LED_ON, "
-         "E2E = M2M + G2G, motion = GY_OFF - GY_ON\n" +
-         table.render();
+  std::string text =
+      "full loop (ms): M2M = VEHICLE_GY_ON - STATION_GY_ON, G2G = PHOTOTRANSISTOR - LED_ON, "
+      "E2E = M2M + G2G, motion = GY_OFF - GY_ON\n" +
+      table.render();
+  for (const auto& r : results) {
+    if (!r.from_chains) continue;
+    std::string counts;
+    for (const auto& [reason, count] : r.incomplete)
+      if (count > 0) counts += fmt::format("{}{} {}", counts.empty() ? "" : ", ", count, reason);
+    text += fmt::format("{}: incomplete chains: {}\n", r.scenario, counts.empty() ? "none" : counts);
+  }
+  return text;
 }
 
 nlohmann::json full_loop_json(std::span<const FullLoopResult> results) {
@@ -77,11 +86,17 @@ nlohmann::json full_loop_json(std::span<const FullLoopResult> results) {
       quantities[std::string(analysis::key(q))] = {{"summary", summary_json(s->summary)},
                                                    {"excluded", excluded}};
     }
-    out.push_back({{"scenario", r.scenario},
-                   {"file", r.file},
-                   {"format", formats::to_string(r.format)},
-                   {"events", r.events},
-                   {"quantities", quantities}});
+    out.push_back(
+        {{"scenario", r.scenario},
+         {"file", r.file},
+         {"format", r.from_chains ? std::string("chains") : std::string(formats::to_string(r.format))},
+         {"events", r.events},
+         {"quantities", quantities}});
+    if (r.from_chains) {
+      nlohmann::json incomplete = nlohmann::json::object();
+      for (const auto& [reason, count] : r.incomplete) incomplete[reason] = count;
+      out.back()["incomplete_chains"] = incomplete;
+    }
   }
   return out;
 }

@@ -90,6 +90,47 @@ BudgetTerm sync_term_from_synctest(const nlohmann::json& doc, const std::string&
   return {"sync", std::llround(value), fmt::format("synctest {}: {}", name, what)};
 }
 
+BudgetTerm onset_term_from_onsettest(const nlohmann::json& doc, const std::string& detector,
+                                     const std::string& speed, const std::string& name) {
+  auto fail = [&](const std::string& what) { core::throw_data_error({name, 0}, what); };
+  if (!doc.is_object() || doc.value("format", "") != "m2mlat-onsettest/1")
+    fail("not an m2mlat-onsettest/1 document (write one with `m2mlat onsettest --json`)");
+  const auto rows = doc.find("onset");
+  if (rows == doc.end() || !rows->is_array()) fail("field 'onset' missing");
+  // Per speed class: |p95| of the hand + |p95| of the actuator, ns.
+  std::vector<std::pair<std::string, double>> classes;
+  for (const auto& cls : doc.value("speed_classes", nlohmann::json::array())) {
+    const auto cls_name = cls.value("name", std::string());
+    if (speed != "worst" && cls_name != speed) continue;
+    double sum = 0;
+    for (const char* profile : {"hand", "actuator"}) {
+      const nlohmann::json* row = nullptr;
+      for (const auto& r : *rows)
+        if (r.value("detector", "") == detector && r.value("profile", "") == profile &&
+            r.value("speed", "") == cls_name)
+          row = &r;
+      if (row == nullptr)
+        fail(fmt::format("no '{}' row of detector '{}' in speed class '{}'", profile, detector, cls_name));
+      const auto& e = (*row).value("onset_error", nlohmann::json::object());
+      if (!e.contains("abs_p95_ns") || !e["abs_p95_ns"].is_number())
+        fail(fmt::format("field 'onset_error.abs_p95_ns' missing ({} {} {})", detector, profile, cls_name));
+      sum += e["abs_p95_ns"].get<double>();
+    }
+    classes.emplace_back(cls_name, sum);
+  }
+  if (classes.empty()) {
+    if (speed != "worst" && speed != "slow" && speed != "medium" && speed != "fast")
+      throw core::Error(core::ErrorKind::usage,
+                        fmt::format("unknown onset speed '{}' (slow, medium, fast or worst)", speed));
+    fail(speed == "worst" ? std::string("field 'speed_classes' missing or empty")
+                          : fmt::format("no speed class '{}' in 'speed_classes'", speed));
+  }
+  const auto worst = std::max_element(classes.begin(), classes.end(),
+                                      [](const auto& a, const auto& b) { return a.second < b.second; });
+  return {"onset", std::llround(worst->second),
+          fmt::format("onsettest {}: {} |p95| hand + actuator, {} motions", name, detector, worst->first)};
+}
+
 nlohmann::json budget_json(const Budget& budget) {
   nlohmann::json j{{"format", kBudgetFormat}, {"terms", nlohmann::json::array()}};
   for (const auto& t : budget.terms)

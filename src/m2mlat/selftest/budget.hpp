@@ -11,6 +11,11 @@
 //              of w deg/s is d / w seconds. The rate is given, or measured in a store from a wheel
 //              with several magnets: the known angle between neighbouring magnets divided by the
 //              time between their consecutive edges (the median over all such edge pairs)
+//   E_onset    in place of E_calib when the motion source is inertial (a gyroscope per wheel): the
+//              measured onset term, from an onset test (onsettest.hpp, `m2mlat onsettest`): for the
+//              chosen detector, the 95th percentile of |onset error| of the hand plus that of the
+//              actuator (each side's onset off by its worst in the same direction), in one speed class
+//              or the worst of them. Not assumed: measured on the simulator's truth.
 //
 // total_ns is the worst case, the plain sum of the terms; rss_ns their root sum of squares (the
 // typical size if the terms are independent).
@@ -64,6 +69,13 @@ std::optional<RateEstimate> steering_rate(std::span<const std::int64_t> edges_ns
 // "p95_abs" or "max_abs". Throws core::Error(data) naming `name` when a field is missing.
 BudgetTerm sync_term_from_synctest(const nlohmann::json& doc, const std::string& statistic,
                                    const std::string& name);
+
+// E_onset from an m2mlat-onsettest/1 document (onsettest_json): `detector` ("flank", "reference"),
+// `speed` a speed class name ("slow", "medium", "fast") or "worst" (the class with the largest term).
+// Throws core::Error(data) naming `name` and the field when the document lacks it (the detector, a
+// class's hand or actuator row), core::Error(usage) for an unknown speed.
+BudgetTerm onset_term_from_onsettest(const nlohmann::json& doc, const std::string& detector,
+                                     const std::string& speed, const std::string& name);
 
 nlohmann::json budget_json(const Budget& budget);
 
