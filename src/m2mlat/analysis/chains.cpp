@@ -46,8 +46,8 @@ std::int64_t root(double squares) { return std::llround(std::sqrt(squares)); }
 // Fills the chain's values and uncertainties from its links.
 void evaluate(Chain& c, const ChainInput& in, const ChainResult& r, const ChainOptions& o) {
   auto& v = c.values;
-  v[kM2m] = difference(c.vehicle_onset_ns, c.station_onset_ns, false);
-  v[kG2g] = difference(c.photo_ns, c.led_ns, true);
+  v[kM2m] = c.m2m_flagged ? none() : difference(c.vehicle_onset_ns, c.station_onset_ns, false);
+  v[kG2g] = c.g2g_flagged ? none() : difference(c.photo_ns, c.led_ns, true);
   if (!v[kM2m].ns) {
     v[kE2e] = none(v[kM2m].why);
   } else if (!v[kG2g].ns) {
@@ -104,7 +104,8 @@ ChainOptions::ChainOptions() {
 
 std::string_view key(ChainGap gap) {
   constexpr std::array<std::string_view, kChainGaps> kKeys{
-      "no_vehicle_onset", "no_station_onset", "no_led", "no_photo", "led_unjoined", "photo_unmatched"};
+      "no_vehicle_onset", "no_station_onset", "no_led",      "no_photo",
+      "led_unjoined",     "photo_unmatched",  "flagged_pair"};
   return kKeys.at(static_cast<std::size_t>(gap));
 }
 
@@ -132,9 +133,10 @@ ChainResult build_chains(const ChainInput& in, const ChainOptions& o, const stat
 
   // LED -> photo edge, by LED index.
   std::vector<std::optional<std::size_t>> photo_of(in.led.size());
-  std::vector<bool> photo_used(in.photo_ns.size(), false);
+  std::vector<bool> photo_used(in.photo_ns.size(), false), g2g_flagged(in.led.size(), false);
   for (const auto& p : g2g.pairs) {
     photo_of[static_cast<std::size_t>(p.cause_index)] = static_cast<std::size_t>(p.effect_index);
+    g2g_flagged[static_cast<std::size_t>(p.cause_index)] = p.ambiguous();
     photo_used[static_cast<std::size_t>(p.effect_index)] = true;
   }
   // Vehicle onset -> LED write: the first unused write in the join window (both in time order).
@@ -159,6 +161,7 @@ ChainResult build_chains(const ChainInput& in, const ChainOptions& o, const stat
     if (photo_of[*c.led]) {
       c.photo = photo_of[*c.led];
       c.photo_ns = in.photo_ns[*c.photo];
+      c.g2g_flagged = g2g_flagged[*c.led];
     }
   };
   std::vector<bool> vehicle_used(vehicle_ns.size(), false);
@@ -166,6 +169,7 @@ ChainResult build_chains(const ChainInput& in, const ChainOptions& o, const stat
     Chain c;
     c.station = static_cast<std::size_t>(p.cause_index);
     c.station_onset_ns = station_ns[*c.station];
+    c.m2m_flagged = p.ambiguous();
     add_vehicle_links(c, static_cast<std::size_t>(p.effect_index));
     vehicle_used[*c.vehicle] = true;
     chains.push_back(c);
@@ -193,6 +197,7 @@ ChainResult build_chains(const ChainInput& in, const ChainOptions& o, const stat
       if (photo_of[i]) {
         c.photo = photo_of[i];
         c.photo_ns = in.photo_ns[*c.photo];
+        c.g2g_flagged = g2g_flagged[i];
       }
       chains.push_back(c);
     }
@@ -221,6 +226,8 @@ ChainResult build_chains(const ChainInput& in, const ChainOptions& o, const stat
       c.gap = ChainGap::no_photo;
     else if (c.photo && !c.led)
       c.gap = ChainGap::photo_unmatched;
+    else if (c.m2m_flagged || c.g2g_flagged)
+      c.gap = ChainGap::flagged_pair;
     if (c.gap) ++r.incomplete[static_cast<std::size_t>(*c.gap)];
     evaluate(c, in, r, o);
   }

@@ -72,16 +72,19 @@ struct ChainOptions {
 };
 
 // Why a chain is incomplete: its first missing link. Keys: "no_vehicle_onset", "no_station_onset",
-// "no_led", "no_photo", "led_unjoined" (an LED write near no vehicle onset), "photo_unmatched".
+// "no_led", "no_photo", "led_unjoined" (an LED write near no vehicle onset), "photo_unmatched",
+// "flagged_pair" (all links there, but the matcher was not sure of the M2M or the G2G pair: its
+// quantities are left out, as flagged pairs are everywhere; docs/matcher.md).
 enum class ChainGap : std::uint8_t {
   no_vehicle_onset,
   no_station_onset,
   no_led,
   no_photo,
   led_unjoined,
-  photo_unmatched
+  photo_unmatched,
+  flagged_pair
 };
-inline constexpr std::size_t kChainGaps = 6;
+inline constexpr std::size_t kChainGaps = 7;
 std::string_view key(ChainGap gap);
 
 struct Chain {
@@ -89,6 +92,7 @@ struct Chain {
   std::optional<std::int64_t> station_onset_ns, vehicle_onset_ns, led_ns, photo_ns;  // board clocks
   std::optional<std::int64_t> led_lag_ns;                // LED stamp - vehicle onset (not in E2E), ns
   std::optional<ChainGap> gap;                           // unset: complete
+  bool m2m_flagged = false, g2g_flagged = false;         // the matcher's pair had a PairFlag reason
   std::array<LoopValue, kLoopQuantities.size()> values;  // by LoopQuantity
   // Standard uncertainty (k = 1) of M2M, G2G, E2E, ns; unset where the value or its clock state is unknown.
   std::array<std::optional<std::int64_t>, 3> u_ns;

@@ -54,6 +54,27 @@ TEST(Chains, SingleBoardArithmeticToTheNanosecond) {
   EXPECT_TRUE(r.loop.from_chains);
 }
 
+// A pair the matcher is not sure of (here: a second photo edge 57 ms after the first could as well be
+// the LED's) leaves its chain's quantities out, counted as flagged_pair, never summarised as sure.
+TEST(Chains, AFlaggedPairKeepsItsChainOutOfTheSummaries) {
+  ChainInput in;
+  in.single_board = true;
+  in.led = {{1'000'000'000, 2'000}, {3'000'000'000, 2'000}, {5'000'000'000, 2'000}, {7'000'000'000, 2'000}};
+  in.photo_ns = {1'093'000'000, 1'150'000'000, 3'095'000'000, 5'097'000'000, 7'094'000'000};
+  const auto r = build_chains(in, {}, {}, "bench");
+  const auto count = [&](ChainGap g) { return r.incomplete[static_cast<std::size_t>(g)]; };
+  EXPECT_EQ(count(ChainGap::photo_unmatched), 1u);
+  ASSERT_GE(count(ChainGap::flagged_pair), 1u);
+  for (const auto& c : r.chains)
+    if (c.gap == ChainGap::flagged_pair) {
+      EXPECT_TRUE(c.g2g_flagged);
+      EXPECT_FALSE(c.values[kG2g].ns);
+    }
+  const auto* g2g = r.loop.find(LoopQuantity::g2g);
+  ASSERT_TRUE(g2g);
+  EXPECT_EQ(g2g->ns.size(), 4u - count(ChainGap::flagged_pair));
+}
+
 TEST(Chains, TwinChainsAddUpAndRecoverTheTruth) {
   const auto run = sim::simulate_full_loop(config(12, 21));
   const auto in = chain_input(run);
