@@ -422,6 +422,62 @@ t_pulse() {
   return $rc
 }
 
+# ---- glass-to-glass: m2mlat led, a camera-and-screen twin, m2mlat record, m2mlat stats -----------------
+
+# Single-board mode on one chip: m2mlat led flashes output line 3 (the LED); m2mlat-vm-driver mirror
+# watches line 3's value every 100 us and, G2G_DELAY_US after each change it saw, sets line 4's pull to
+# match (the camera, the screen and the phototransistor, with a known delay); m2mlat record captures
+# line 4 as channel "photo" into the same store. Then stats pairs guest/led (cause) with guest/photo
+# (effect), rising edges: every flash paired, the median within the loop's measured delay plus its
+# polling error (the read that sees a change comes 0..100 us after it, plus the guest's scheduling).
+G2G_DELAY_US=${G2G_DELAY_US:-20000}
+t_g2g() {
+  "$M2MLAT" help 2>/dev/null | awk '$1 == "led" { found = 1 } END { exit !found }' ||
+    { info "skipped: this m2mlat has no 'led' subcommand"; return 77; }
+  need_record || return 77
+  local n=10 rec mirror rc=0 median p5 p95 pairs lo hi
+  "$M2MLAT" record --store g2g.db --node guest --role effect --scenario g2g --channel "photo=$CHIP:4" \
+    --edges both --json --quiet >g2g-record.json 2>g2g-record.err &
+  rec=$!
+  "$DRIVER" wait-used "/dev/$CHIP" 4 20000 >/dev/null || { show g2g-record.err; return 1; }
+  sleep 0.3
+  "$DRIVER" mirror --value "$SIM/sim_gpio3/value" --sim "$SIM/sim_gpio4" --delay-us "$G2G_DELAY_US" \
+    --duration-ms 3000 --log g2g.mirror >g2g.mirror.out 2>&1 &
+  mirror=$!
+  "$M2MLAT" led --chip "$CHIP" --line 3 --period 100ms --on-for 40ms --count $n --store g2g.db \
+    --node guest --scenario g2g --json --quiet >g2g-led.json 2>g2g-led.err || { info "led failed"; rc=1; }
+  wait $mirror || { info "mirror failed"; rc=1; }
+  show g2g.mirror.out
+  sleep 0.2
+  kill -INT $rec
+  wait_exit $rec 10 || { info "record exited $?"; show g2g-record.err; rc=1; }
+  info "led: switches=$(json_field g2g-led.json switches)" \
+    "ioctl_mean_us=$(ns_to_us "$(json_field g2g-led.json ioctl_mean_ns)")" \
+    "ioctl_max_us=$(ns_to_us "$(json_field g2g-led.json ioctl_max_ns)")"
+  [ "$(json_field g2g-led.json switches)" = $((2 * n)) ] || { show g2g-led.json; show g2g-led.err; rc=1; }
+  [ "$(cat "$SIM/sim_gpio3/value")" = 0 ] || { info "led left the line high"; rc=1; }
+  "$M2MLAT" stats g2g.db --cause guest/led --effect guest/photo --edge rising --json >g2g-stats.json \
+    2>g2g-stats.err || { info "stats failed"; show g2g-stats.err; return 1; }
+  pairs=$(sed -n 's/^ *"n": *\([0-9]*\),*$/\1/p' g2g-stats.json | head -n1)
+  median=$(sed -n 's/^ *"median_ms": *\([0-9.]*\),*$/\1/p' g2g-stats.json | head -n1)
+  p5=$(sed -n 's/^ *"p5_ms": *\([0-9.]*\),*$/\1/p' g2g-stats.json | head -n1)
+  p95=$(sed -n 's/^ *"p95_ms": *\([0-9.]*\),*$/\1/p' g2g-stats.json | head -n1)
+  info "G2G: $pairs pairs, median $median ms, p5 $p5 ms, p95 $p95 ms (loop delay $((G2G_DELAY_US / 1000)) ms)"
+  [ "$pairs" = $n ] || { info "expected $n pairs"; rc=1; }
+  # The loop's real delay (its sleeps overshoot under TCG): from the read that saw a change to the write
+  # that copied it. G2G adds how long the change waited for that read: 0..0.1 ms, and the guest's
+  # scheduling: on the guest's one CPU the read waits while m2mlat led commits the switch it just made
+  # (0.5..1 ms seen under TCG). So the median within [lag_low - 0.05 ms, lag_high + 3 ms].
+  lo=$(sed -n 's/.*lag_low_p50_us=\([0-9]*\).*/\1/p' g2g.mirror.out)
+  hi=$(sed -n 's/.*lag_high_p50_us=\([0-9]*\).*/\1/p' g2g.mirror.out)
+  awk -v l="${lo:-0}" -v d="$G2G_DELAY_US" 'BEGIN { exit !(l >= d) }' || { info "the loop's delay is short"; rc=1; }
+  awk -v m="${median:-0}" -v l="${lo:-0}" -v h="${hi:-0}" \
+    'BEGIN { exit !(m * 1000 >= l - 50 && m * 1000 <= h + 3000) }' ||
+    { info "median $median ms is not the loop's delay ($lo..$hi us)"; rc=1; }
+  [ $rc -eq 0 ] || { show g2g.mirror; show g2g-led.err; show g2g-stats.json; }
+  return $rc
+}
+
 # ---- performance: m2mlat record against Debian's gpiomon on the same streams of edges ---------------
 
 # capture_run NAME TOOL PACE_US N: runs TOOL (record | gpiomon) under the driver's rusage while N edges
@@ -521,6 +577,7 @@ run_test record.busy-line t_record_busy
 run_test record.missing-chip t_record_missing_chip
 run_test cli.doctor t_doctor
 run_test pulse.output t_pulse
+run_test g2g.led-photo t_g2g
 run_test gyro.no-bus t_gyro_no_bus
 run_test gyro.trace t_gyro_trace
 run_test gyro.errors t_gyro_errors
