@@ -600,7 +600,7 @@ int cmd_mirror(const std::map<std::string, std::string>& options) {
   const int out = open(pull.c_str(), O_WRONLY | O_CLOEXEC);
   if (out < 0) throw std::runtime_error("cannot open " + pull + ": " + std::strerror(errno));
   struct Copy {
-    std::int64_t due_mono;             // when to write, CLOCK_MONOTONIC
+    std::int64_t due_mono;                 // when to write, CLOCK_MONOTONIC
     std::int64_t seen_before, seen_after;  // CLOCK_REALTIME around the read that saw the change
     std::int64_t written_before = 0, written_after = 0;
     char value;
@@ -735,7 +735,8 @@ int cmd_verify_pulse(const std::map<std::string, std::string>& options) {
 int main(int argc, char** argv) {
   try {
     if (argc < 2)
-      throw UsageError("usage: m2mlat-vm-driver info|wait-used|rusage|toggle|verify|sample|verify-pulse|mirror ...");
+      throw UsageError(
+          "usage: m2mlat-vm-driver info|wait-used|rusage|toggle|verify|sample|verify-pulse|mirror ...");
     const std::string command = argv[1];
     if (command == "info") {
       if (argc != 3) throw UsageError("usage: m2mlat-vm-driver info /dev/gpiochipN");
