@@ -219,7 +219,6 @@ LedRunSummary run_triggered(PulseGenerator& led, LedTrigger& trigger, core::Dura
     input.edges.clear();
     input.refused.clear();
     open = trigger.take(input);
-    if (on_input) on_input(input);
     for (const auto action : input.actions) {
       ++summary.triggers;
       switch (action) {
@@ -238,6 +237,9 @@ LedRunSummary run_triggered(PulseGenerator& led, LedTrigger& trigger, core::Dura
           break;
       }
     }
+    // Only now, with the line switched: recording the trigger's edges (a store's commit) must not delay
+    // the LED.
+    if (on_input) on_input(input);
   }
   switch_to(false, now_point());
   return summary;

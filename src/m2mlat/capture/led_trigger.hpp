@@ -85,7 +85,7 @@ struct LedRunSummary {
 
 // Switches `led` as the trigger says until the trigger ends or `stop_fd` polls readable (-1: never);
 // `on_edge` sees each switch after it was made, `on_input` what the trigger delivered (its edges,
-// refused commands) before it is acted on. The line is left low.
+// refused commands) after it was acted on (recording them must not delay the LED). The line is left low.
 LedRunSummary run_triggered(PulseGenerator& led, LedTrigger& trigger, core::Duration on_for, int stop_fd,
                             const std::function<void(const PulseEdge&)>& on_edge,
                             const std::function<void(const TriggerInput&)>& on_input = {},

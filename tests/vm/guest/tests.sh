@@ -521,6 +521,14 @@ t_g2g_onset() {
   [ "$pairs" = $n ] || { info "expected $n pairs"; rc=1; }
   "$M2MLAT" export onset.db -o onset.csv 2>/dev/null || rc=1
   [ "$(grep -c '^guest,wheel,falling,' onset.csv)" = $n ] || { info "the onset edges are not all stored"; rc=1; }
+  # The LED's lag behind its trigger (the kernel's stamp of the onset edge -> the LED event): positive,
+  # the i-th flash after the i-th onset.
+  awk -F, '$2 == "wheel" && $3 == "falling" { w[nw++] = $5 } $2 == "led" && $3 == "rising" { l[nl++] = $5 }
+    END { if (nw != nl || nw == 0) exit 1
+          for (i = 0; i < nw; i++) { d = (l[i] - w[i]) / 1000; if (d <= 0) exit 1; s += d; if (d > m) m = d }
+          printf "LED lag behind its trigger edge: mean %d us, max %d us\n", s / nw, m }' onset.csv >onset.lag ||
+    { info "an LED flash is not after its trigger edge"; rc=1; }
+  show onset.lag
   [ $rc -eq 0 ] || { show onset.mirror; show onset-led.err; show onset.csv; }
   return $rc
 }
