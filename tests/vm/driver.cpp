@@ -20,6 +20,12 @@
 //       holds the commanded edges `m2mlat pulse` stored against the line changes sample saw: as many
 //       edges as changes, each edge's direction the change's, each commanded before it was seen, on
 //       consecutive multiples of the period, flagged commanded and without kernel seqno
+//   mirror --value F --sim DIR --delay-us D --duration-ms T [--log OUT]
+//       the camera, screen and phototransistor of a glass-to-glass test: reads an output line's
+//       sim_gpioK/value (the LED) every 100 us and, D us after it saw a change, sets line DIR's pull to
+//       the new value (an edge on the input `m2mlat record` captures). Logs each change with the
+//       CLOCK_REALTIME readings around the read that saw it and around the write that copied it, and
+//       prints the median delay the copies really had (lag_low_p50_us..lag_high_p50_us).
 //   toggle --sim DIR --count N [--period-us P] [--burst B --burst-gap-us G] [--log FILE] [--append]
 //          [--watch DEV:LINE --events FILE]
 //       N writes, each flipping the pull, P us apart (0: as fast as possible), optionally in bursts of
@@ -584,6 +590,76 @@ int cmd_sample(const std::map<std::string, std::string>& options) {
   return 0;
 }
 
+int cmd_mirror(const std::map<std::string, std::string>& options) {
+  const std::string file = required(options, "value");
+  const std::string pull = required(options, "sim") + "/pull";
+  const std::int64_t delay_ns = parse_int(required(options, "delay-us"), "--delay-us") * kNsPerUs;
+  const std::int64_t duration_ns = parse_int(required(options, "duration-ms"), "--duration-ms") * 1000000;
+  const int fd = open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw std::runtime_error("cannot open " + file + ": " + std::strerror(errno));
+  const int out = open(pull.c_str(), O_WRONLY | O_CLOEXEC);
+  if (out < 0) throw std::runtime_error("cannot open " + pull + ": " + std::strerror(errno));
+  struct Copy {
+    std::int64_t due_mono;                 // when to write, CLOCK_MONOTONIC
+    std::int64_t seen_before, seen_after;  // CLOCK_REALTIME around the read that saw the change
+    std::int64_t written_before = 0, written_after = 0;
+    char value;
+  };
+  std::vector<Copy> copies;
+  std::size_t next = 0;  // the first copy not yet written
+  char last = 0;
+  const std::int64_t end = clock_ns(CLOCK_MONOTONIC) + duration_ns;
+  while (clock_ns(CLOCK_MONOTONIC) < end || next < copies.size()) {
+    for (; next < copies.size() && clock_ns(CLOCK_MONOTONIC) >= copies[next].due_mono; ++next) {
+      auto& c = copies[next];
+      const char* word = c.value == '1' ? "pull-up" : "pull-down";
+      c.written_before = clock_ns(CLOCK_REALTIME);
+      if (pwrite(out, word, std::strlen(word), 0) < 0)
+        throw std::runtime_error("write " + pull + ": " + std::strerror(errno));
+      c.written_after = clock_ns(CLOCK_REALTIME);
+    }
+    char buffer[8] = {};
+    const std::int64_t before = clock_ns(CLOCK_REALTIME);
+    const ssize_t n = pread(fd, buffer, sizeof buffer - 1, 0);
+    const std::int64_t after = clock_ns(CLOCK_REALTIME);
+    if (n <= 0) throw std::runtime_error("read " + file + ": " + std::strerror(errno));
+    if (last != 0 && buffer[0] != last)
+      copies.push_back({clock_ns(CLOCK_MONOTONIC) + delay_ns, before, after, 0, 0, buffer[0]});
+    last = buffer[0];
+    const timespec pause{0, 100 * kNsPerUs};
+    nanosleep(&pause, nullptr);
+  }
+  close(fd);
+  close(out);
+  if (options.count("log") != 0) {
+    std::FILE* log = std::fopen(options.at("log").c_str(), "w");
+    if (log == nullptr) throw std::runtime_error("cannot write --log file");
+    std::fprintf(log, "seen_before_ns,seen_after_ns,written_before_ns,written_after_ns,value\n");
+    for (const auto& c : copies)
+      std::fprintf(log, "%lld,%lld,%lld,%lld,%c\n", static_cast<long long>(c.seen_before),
+                   static_cast<long long>(c.seen_after), static_cast<long long>(c.written_before),
+                   static_cast<long long>(c.written_after), c.value);
+    std::fclose(log);
+  }
+  // The delay each copy really had, from the read that saw the change to the write that copied it:
+  // at least written_before - seen_after, at most written_after - seen_before (medians, us). A
+  // glass-to-glass sample adds to it how long the change waited for that read (0..100 us and the
+  // guest's scheduling).
+  std::vector<std::int64_t> low, high;
+  for (const auto& c : copies) {
+    low.push_back(c.written_before - c.seen_after);
+    high.push_back(c.written_after - c.seen_before);
+  }
+  const auto median_us = [](std::vector<std::int64_t> v) -> long long {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    return (v[(v.size() - 1) / 2] + v[v.size() / 2]) / 2 / kNsPerUs;
+  };
+  std::printf("mirror: changes=%zu delay_us=%lld lag_low_p50_us=%lld lag_high_p50_us=%lld\n", copies.size(),
+              static_cast<long long>(delay_ns / kNsPerUs), median_us(low), median_us(high));
+  return 0;
+}
+
 int cmd_verify_pulse(const std::map<std::string, std::string>& options) {
   const std::int64_t period_ns = parse_int(required(options, "period-us"), "--period-us") * kNsPerUs;
   if (period_ns <= 0) throw UsageError("--period-us must be positive");
@@ -659,7 +735,8 @@ int cmd_verify_pulse(const std::map<std::string, std::string>& options) {
 int main(int argc, char** argv) {
   try {
     if (argc < 2)
-      throw UsageError("usage: m2mlat-vm-driver info|wait-used|rusage|toggle|verify|sample|verify-pulse ...");
+      throw UsageError(
+          "usage: m2mlat-vm-driver info|wait-used|rusage|toggle|verify|sample|verify-pulse|mirror ...");
     const std::string command = argv[1];
     if (command == "info") {
       if (argc != 3) throw UsageError("usage: m2mlat-vm-driver info /dev/gpiochipN");
@@ -678,6 +755,7 @@ int main(int argc, char** argv) {
     if (command == "verify") return cmd_verify(parse_options(argc, argv, 2));
     if (command == "sample") return cmd_sample(parse_options(argc, argv, 2));
     if (command == "verify-pulse") return cmd_verify_pulse(parse_options(argc, argv, 2));
+    if (command == "mirror") return cmd_mirror(parse_options(argc, argv, 2));
     throw UsageError("unknown command '" + command + "'");
   } catch (const UsageError& e) {
     std::fprintf(stderr, "m2mlat-vm-driver: %s\n", e.what());

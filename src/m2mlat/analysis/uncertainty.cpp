@@ -78,8 +78,7 @@ ClockTrack make_clock_track(std::vector<store::ClockSample> samples, core::Clock
       auto step = store::clock_step_of(s);
       if (!step || !step->size_ns) track.steps_ns.push_back(s.time.ns());
       if (step) track.step_records.push_back(std::move(*step));
-    }
-    else if (!has_daemon || s.source != kKernelSource)
+    } else if (!has_daemon || s.source != kKernelSource)
       track.samples.push_back(std::move(s));
   }
   std::stable_sort(track.samples.begin(), track.samples.end(),
@@ -155,8 +154,19 @@ SampleUncertainty pair_uncertainty(const ClockTrack& cause, const ClockTrack& ef
   const ClockBound e = bound_at(effect, effect_ns, options.growth_ppm);
   if (step_between(cause, cause_ns, effect_ns) || step_between(effect, cause_ns, effect_ns))
     u.flags |= kUncertaintyClockStep;
+  const auto nsd = [](core::Duration d) { return static_cast<double>(d.count()); };
   if (!c.found || !e.found) {
     u.flags |= kUncertaintyNoClock;
+  } else if (!cause.node.empty() && cause.node == effect.node) {
+    // One board stamped both edges (two channels of one node: single-board glass-to-glass). Its
+    // offset from any reference is in both stamps and cancels, synchronised or not; what is left is
+    // how far its clock moves during the latency, at most growth_ppm (uniform: / sqrt 3 as u).
+    const std::int64_t dt = distance(cause_ns, effect_ns);
+    u.sync_max_ns = growth(options.growth_ppm, dt);
+    u.max_error_ns = add_saturating(add_saturating(u.sync_max_ns, options.kernel_max.count()),
+                                    add_saturating(options.calibration_max.count(), bounce_span_ns));
+    const double drift = options.growth_ppm * 1e-6 / std::sqrt(3.0) * static_cast<double>(dt);
+    u.u_ns = to_ns(std::sqrt(sq(drift) + 2 * sq(nsd(options.kernel_u)) + sq(nsd(options.calibration_u))));
   } else if (!c.synchronised || !e.synchronised) {
     u.flags |= kUncertaintyUnsynchronised;
     u.max_error_ns = u.u_ns = u.sync_max_ns = kUnbounded;
@@ -164,7 +174,6 @@ SampleUncertainty pair_uncertainty(const ClockTrack& cause, const ClockTrack& ef
     u.sync_max_ns = add_saturating(c.max_error_ns, e.max_error_ns);
     u.max_error_ns = add_saturating(add_saturating(u.sync_max_ns, options.kernel_max.count()),
                                     add_saturating(options.calibration_max.count(), bounce_span_ns));
-    const auto nsd = [](core::Duration d) { return static_cast<double>(d.count()); };
     const double path = nsd(options.path_u);
     double clock_sq = 0;
     if (!cause.node.empty() && effect.reference == cause.node) {
@@ -191,7 +200,8 @@ std::vector<SampleUncertainty> pair_uncertainties(const ClockTrack& cause, const
   std::vector<SampleUncertainty> out;
   out.reserve(pairs.size());
   for (const auto& p : pairs)
-    out.push_back(pair_uncertainty(cause, effect, p.cause_time.ns(), p.effect_time.ns(), options, p.bounce_span_ns));
+    out.push_back(
+        pair_uncertainty(cause, effect, p.cause_time.ns(), p.effect_time.ns(), options, p.bounce_span_ns));
   return out;
 }
 

@@ -23,6 +23,10 @@
 //   node as ref_name): the cause's error is common to both stamps and cancels but for how far it
 //   moves during the latency dt:         u_clock^2 = u_E^2 + path_u^2 + min(skew_C dt, sqrt(2) u_C)^2
 // where skew_C is the cause daemon's reported rate uncertainty (detail "skew_ppm"; 0 if not given).
+//   one board stamped both (cause and effect are channels of one node, e.g. single-board
+//   glass-to-glass): its offset cancels, synchronised or not; what is left is its drift over the
+//   latency dt:                          u_clock = growth_ppm dt / sqrt(3), clock part of max_error
+//                                        growth_ppm dt (no unsynchronised flag; a step still flags)
 //
 // A board's state at time t comes from its two neighbouring clock samples (the last at or before t
 // and the first after it). For max_error each neighbour's value is grown by growth_ppm times its

@@ -45,8 +45,20 @@ core::Event commanded_event(const std::string& node, const PulseEdge& edge) {
   return event;
 }
 
+core::Event led_event(const std::string& node, const std::string& channel, const PulseEdge& edge) {
+  core::Event event = commanded_event(node, edge);
+  event.channel = channel;
+  event.time = edge.commanded + edge.bound() / 2;
+  return event;
+}
+
 PulseGenerator::PulseGenerator(GpioDevices& devices, PulseOptions options) : options_(std::move(options)) {
   if (options_.period.count() <= 0) throw core::Error(core::ErrorKind::usage, "--period must be positive");
+  if (options_.on_for.count() < 0 || (options_.on_for.count() > 0 && options_.on_for >= options_.period))
+    throw core::Error(
+        core::ErrorKind::usage,
+        fmt::format("--on-for ({}) must be positive and shorter than --period ({})",
+                    core::format_duration(options_.on_for), core::format_duration(options_.period)));
   if (!options_.now) options_.now = realtime_ns;
   chip_ = find_chip(devices, options_.chip);
   offset_ = find_line(devices, chip_, options_.line);
@@ -75,9 +87,27 @@ PulseGenerator::~PulseGenerator() {
 }
 
 std::string PulseGenerator::describe() const {
-  return fmt::format("pulse: {} ({}) line {}, a toggle every {}{}", chip_.path, chip_.label, offset_,
-                     core::format_duration(options_.period),
+  const auto schedule = options_.on_for.count() > 0
+                            ? fmt::format("on for {} every {}", core::format_duration(options_.on_for),
+                                          core::format_duration(options_.period))
+                            : fmt::format("a toggle every {}", core::format_duration(options_.period));
+  return fmt::format("{} ({}) line {}, {}{}", chip_.path, chip_.label, offset_, schedule,
                      options_.count > 0 ? fmt::format(", {} edges", options_.count) : std::string());
+}
+
+PulseEdge PulseGenerator::set(bool high, std::uint64_t index, core::TimePoint deadline) {
+  const std::int64_t before = options_.now();
+  try {
+    request_->set_values(high ? 1 : 0, 1);
+  } catch (const std::system_error& e) {
+    throw core::Error(core::ErrorKind::io,
+                      fmt::format("output line {} of {}: {}", offset_, chip_.name, e.what()));
+  }
+  const std::int64_t after = options_.now();
+  level_ = high;
+  return {index, high ? core::Edge::rising : core::Edge::falling, deadline,
+          core::TimePoint::from_ns(core::Clock::realtime, before),
+          core::TimePoint::from_ns(core::Clock::realtime, after)};
 }
 
 PulseSummary PulseGenerator::run(int stop_fd, const std::function<void(const PulseEdge&)>& on_edge,
@@ -88,13 +118,15 @@ PulseSummary PulseGenerator::run(int stop_fd, const std::function<void(const Pul
   const std::int64_t first = ((start + 100'000'000) / period + 1) * period;
   const std::int64_t end = options_.duration.count() > 0 ? start + options_.duration.count() : INT64_MAX;
   PulseSummary summary;
-  bool level = false;
+  const std::int64_t on_for = options_.on_for.count();
   for (std::uint64_t k = 0;; ++k) {
     if (options_.count > 0 && k >= options_.count) {
       summary.stop_reason = "count";
       break;
     }
-    const std::int64_t deadline = first + static_cast<std::int64_t>(k) * period;
+    // A toggle each period, or (a flash) high at each period's deadline and low on_for after it.
+    const auto n = static_cast<std::int64_t>(k);
+    const std::int64_t deadline = on_for > 0 ? first + n / 2 * period + n % 2 * on_for : first + n * period;
     if (deadline > end) {
       summary.stop_reason = "duration";
       break;
@@ -119,22 +151,12 @@ PulseSummary PulseGenerator::run(int stop_fd, const std::function<void(const Pul
       break;
     }
     sleep_until(deadline);
-    level = !level;
-    const std::int64_t commanded = options_.now();
-    try {
-      request_->set_values(level ? 1 : 0, 1);
-    } catch (const std::system_error& e) {
-      throw core::Error(core::ErrorKind::io,
-                        fmt::format("pulse line {} of {}: {}", offset_, chip_.name, e.what()));
-    }
-    const core::Duration late{commanded - deadline};
+    const auto edge = set(!level_, k, core::TimePoint::from_ns(core::Clock::realtime, deadline));
+    const core::Duration late = edge.commanded - edge.deadline;
     summary.max_late = std::max(summary.max_late, late);
     summary.total_late += late;
     ++summary.edges;
-    if (on_edge)
-      on_edge({k, level ? core::Edge::rising : core::Edge::falling,
-               core::TimePoint::from_ns(core::Clock::realtime, deadline),
-               core::TimePoint::from_ns(core::Clock::realtime, commanded)});
+    if (on_edge) on_edge(edge);
   }
   return summary;
 }

@@ -43,7 +43,7 @@ int run_pulse(const PulseCommand& c) {
   if (!c.duration.empty()) options.duration = core::parse_duration(c.duration);
   auto devices = capture::linux_gpio_devices();
   capture::PulseGenerator generator(*devices, options);
-  if (!c.quiet) fmt::print(stderr, "m2mlat: {}\n", generator.describe());
+  if (!c.quiet) fmt::print(stderr, "m2mlat: pulse: {}\n", generator.describe());
 
   std::optional<store::Store> store;
   std::unique_ptr<store::EventWriter> writer;

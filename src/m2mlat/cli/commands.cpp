@@ -17,6 +17,7 @@ Runner attach_record(CLI::App& sub);
 Runner attach_report(CLI::App& sub);
 Runner attach_agent(CLI::App& sub);
 Runner attach_pulse(CLI::App& sub);
+Runner attach_led(CLI::App& sub);
 Runner attach_gyro(CLI::App& sub);
 Runner attach_doctor(CLI::App& sub);
 Runner attach_collect(CLI::App& sub);
@@ -39,6 +40,7 @@ constexpr std::array kCommands{
     Command{"export", "Write a store's events, or its pairs, as CSV or JSON Lines", &attach_export},
     Command{"record", "Record one node's edges (GPIO, kernel log or simulated) into a store", &attach_record},
     Command{"pulse", "Toggle an output line on a fixed schedule for the synchronisation test", &attach_pulse},
+    Command{"led", "Switch the glass-to-glass LED (schedule, commands or input edges) and record each switch", &attach_led},
     Command{"gyro", "Record a gyroscope's raw angular-rate trace (MPU-6050 on /dev/i2c-N) into a file", &attach_gyro},
     Command{"doctor", "Check this board for capture and say what to fix", &attach_doctor},
     Command{"collect", "Pull every agent into one campaign store, live and exactly once", &attach_collect},

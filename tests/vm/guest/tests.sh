@@ -422,6 +422,117 @@ t_pulse() {
   return $rc
 }
 
+# ---- glass-to-glass: m2mlat led, a camera-and-screen twin, m2mlat record, m2mlat stats -----------------
+
+# Single-board mode on one chip: m2mlat led flashes output line 3 (the LED); m2mlat-vm-driver mirror
+# watches line 3's value every 100 us and, G2G_DELAY_US after each change it saw, sets line 4's pull to
+# match (the camera, the screen and the phototransistor, with a known delay); m2mlat record captures
+# line 4 as channel "photo" into the same store. Then stats pairs guest/led (cause) with guest/photo
+# (effect), rising edges: every flash paired, the median within the loop's measured delay plus its
+# polling error (the read that sees a change comes 0..100 us after it, plus the guest's scheduling).
+G2G_DELAY_US=${G2G_DELAY_US:-20000}
+t_g2g() {
+  "$M2MLAT" help 2>/dev/null | awk '$1 == "led" { found = 1 } END { exit !found }' ||
+    { info "skipped: this m2mlat has no 'led' subcommand"; return 77; }
+  need_record || return 77
+  local n=10 rec mirror rc=0 median p5 p95 pairs lo hi
+  "$M2MLAT" record --store g2g.db --node guest --role effect --scenario g2g --channel "photo=$CHIP:4" \
+    --edges both --json --quiet >g2g-record.json 2>g2g-record.err &
+  rec=$!
+  "$DRIVER" wait-used "/dev/$CHIP" 4 20000 >/dev/null || { show g2g-record.err; return 1; }
+  sleep 0.3
+  "$DRIVER" mirror --value "$SIM/sim_gpio3/value" --sim "$SIM/sim_gpio4" --delay-us "$G2G_DELAY_US" \
+    --duration-ms 3000 --log g2g.mirror >g2g.mirror.out 2>&1 &
+  mirror=$!
+  "$M2MLAT" led --chip "$CHIP" --line 3 --period 100ms --on-for 40ms --count $n --store g2g.db \
+    --events g2g-led.csv --node guest --scenario g2g --json --quiet >g2g-led.json 2>g2g-led.err ||
+    { info "led failed"; rc=1; }
+  wait $mirror || { info "mirror failed"; rc=1; }
+  show g2g.mirror.out
+  sleep 0.2
+  kill -INT $rec
+  wait_exit $rec 10 || { info "record exited $?"; show g2g-record.err; rc=1; }
+  info "led: switches=$(json_field g2g-led.json switches)" \
+    "ioctl_mean_us=$(ns_to_us "$(json_field g2g-led.json ioctl_mean_ns)")" \
+    "ioctl_max_us=$(ns_to_us "$(json_field g2g-led.json ioctl_max_ns)")"
+  [ "$(json_field g2g-led.json switches)" = $((2 * n)) ] || { show g2g-led.json; show g2g-led.err; rc=1; }
+  [ "$(cat "$SIM/sim_gpio3/value")" = 0 ] || { info "led left the line high"; rc=1; }
+  [ "$(grep -c '^guest,led,' g2g-led.csv)" = $((2 * n)) ] || { info "the events file has not every switch"; rc=1; }
+  "$M2MLAT" stats g2g.db --cause guest/led --effect guest/photo --edge rising --json >g2g-stats.json \
+    2>g2g-stats.err || { info "stats failed"; show g2g-stats.err; return 1; }
+  pairs=$(sed -n 's/^ *"n": *\([0-9]*\),*$/\1/p' g2g-stats.json | head -n1)
+  median=$(sed -n 's/^ *"median_ms": *\([0-9.]*\),*$/\1/p' g2g-stats.json | head -n1)
+  p5=$(sed -n 's/^ *"p5_ms": *\([0-9.]*\),*$/\1/p' g2g-stats.json | head -n1)
+  p95=$(sed -n 's/^ *"p95_ms": *\([0-9.]*\),*$/\1/p' g2g-stats.json | head -n1)
+  info "G2G: $pairs pairs, median $median ms, p5 $p5 ms, p95 $p95 ms (loop delay $((G2G_DELAY_US / 1000)) ms)"
+  [ "$pairs" = $n ] || { info "expected $n pairs"; rc=1; }
+  # The loop's real delay (its sleeps overshoot under TCG): from the read that saw a change to the write
+  # that copied it. G2G adds how long the change waited for that read: 0..0.1 ms, and the guest's
+  # scheduling: on the guest's one CPU the read waits while m2mlat led commits the switch it just made
+  # (0.5..1 ms seen under TCG). So the median within [lag_low - 0.05 ms, lag_high + 3 ms].
+  lo=$(sed -n 's/.*lag_low_p50_us=\([0-9]*\).*/\1/p' g2g.mirror.out)
+  hi=$(sed -n 's/.*lag_high_p50_us=\([0-9]*\).*/\1/p' g2g.mirror.out)
+  awk -v l="${lo:-0}" -v d="$G2G_DELAY_US" 'BEGIN { exit !(l >= d) }' || { info "the loop's delay is short"; rc=1; }
+  awk -v m="${median:-0}" -v l="${lo:-0}" -v h="${hi:-0}" \
+    'BEGIN { exit !(m * 1000 >= l - 50 && m * 1000 <= h + 3000) }' ||
+    { info "median $median ms is not the loop's delay ($lo..$hi us)"; rc=1; }
+  [ $rc -eq 0 ] || { show g2g.mirror; show g2g-led.err; show g2g-stats.json; }
+  return $rc
+}
+
+# The motion-onset trigger: m2mlat led --on-edge holds line 0 (the "Hall sensor") and flashes line 3
+# at each of its falling edges, which the driver makes 100 ms apart; the mirror copies line 3 to
+# line 4 as above. Every onset makes one flash, stored beside the onset edges (channel wheel), and
+# every flash pairs with its photo edge.
+t_g2g_onset() {
+  "$M2MLAT" help 2>/dev/null | awk '$1 == "led" { found = 1 } END { exit !found }' ||
+    { info "skipped: this m2mlat has no 'led' subcommand"; return 77; }
+  need_record || return 77
+  local n=8 rec mirror led rc=0 pairs
+  "$M2MLAT" record --store onset.db --node guest --role effect --scenario g2g --channel "photo=$CHIP:4" \
+    --edges both --json --quiet >onset-record.json 2>onset-record.err &
+  rec=$!
+  "$DRIVER" wait-used "/dev/$CHIP" 4 20000 >/dev/null || { show onset-record.err; return 1; }
+  "$M2MLAT" led --chip "$CHIP" --line 3 --on-edge "wheel=$CHIP:0" --on-for 30ms --store onset.db \
+    --node guest --scenario g2g --json --quiet >onset-led.json 2>onset-led.err &
+  led=$!
+  "$DRIVER" wait-used "/dev/$CHIP" 0 20000 >/dev/null || { show onset-led.err; kill -INT $rec; return 1; }
+  sleep 0.3
+  "$DRIVER" mirror --value "$SIM/sim_gpio3/value" --sim "$SIM/sim_gpio4" --delay-us "$G2G_DELAY_US" \
+    --duration-ms 2200 --log onset.mirror >onset.mirror.out 2>&1 &
+  mirror=$!
+  sleep 0.2
+  # 2n flips of line 0's pull, 100 ms apart, from pull-down: n rising and n falling edges.
+  "$DRIVER" toggle --sim "$SIM/sim_gpio0" --count $((2 * n)) --period-us 100000 >onset.toggle || rc=1
+  wait $mirror || { info "mirror failed"; rc=1; }
+  show onset.mirror.out
+  kill -INT $led
+  wait_exit $led 10 || { info "led exited $?"; show onset-led.err; rc=1; }
+  sleep 0.2
+  kill -INT $rec
+  wait_exit $rec 10 || { info "record exited $?"; show onset-record.err; rc=1; }
+  info "led: switches=$(json_field onset-led.json switches) trigger_edges=$(json_field onset-led.json trigger_edges)"
+  [ "$(json_field onset-led.json trigger_edges)" = $n ] || { show onset-led.json; rc=1; }
+  [ "$(json_field onset-led.json switches)" = $((2 * n)) ] || { show onset-led.json; rc=1; }
+  "$M2MLAT" stats onset.db --cause guest/led --effect guest/photo --edge rising --json >onset-stats.json \
+    2>onset-stats.err || { info "stats failed"; show onset-stats.err; return 1; }
+  pairs=$(sed -n 's/^ *"n": *\([0-9]*\),*$/\1/p' onset-stats.json | head -n1)
+  info "G2G: $pairs pairs, median $(sed -n 's/^ *"median_ms": *\([0-9.]*\),*$/\1/p' onset-stats.json | head -n1) ms"
+  [ "$pairs" = $n ] || { info "expected $n pairs"; rc=1; }
+  "$M2MLAT" export onset.db -o onset.csv 2>/dev/null || rc=1
+  [ "$(grep -c '^guest,wheel,falling,' onset.csv)" = $n ] || { info "the onset edges are not all stored"; rc=1; }
+  # The LED's lag behind its trigger (the kernel's stamp of the onset edge -> the LED event): positive,
+  # the i-th flash after the i-th onset.
+  awk -F, '$2 == "wheel" && $3 == "falling" { w[nw++] = $5 } $2 == "led" && $3 == "rising" { l[nl++] = $5 }
+    END { if (nw != nl || nw == 0) exit 1
+          for (i = 0; i < nw; i++) { d = (l[i] - w[i]) / 1000; if (d <= 0) exit 1; s += d; if (d > m) m = d }
+          printf "LED lag behind its trigger edge: mean %d us, max %d us\n", s / nw, m }' onset.csv >onset.lag ||
+    { info "an LED flash is not after its trigger edge"; rc=1; }
+  show onset.lag
+  [ $rc -eq 0 ] || { show onset.mirror; show onset-led.err; show onset.csv; }
+  return $rc
+}
+
 # ---- performance: m2mlat record against Debian's gpiomon on the same streams of edges ---------------
 
 # capture_run NAME TOOL PACE_US N: runs TOOL (record | gpiomon) under the driver's rusage while N edges
@@ -521,6 +632,8 @@ run_test record.busy-line t_record_busy
 run_test record.missing-chip t_record_missing_chip
 run_test cli.doctor t_doctor
 run_test pulse.output t_pulse
+run_test g2g.led-photo t_g2g
+run_test g2g.onset-trigger t_g2g_onset
 run_test gyro.no-bus t_gyro_no_bus
 run_test gyro.trace t_gyro_trace
 run_test gyro.errors t_gyro_errors
