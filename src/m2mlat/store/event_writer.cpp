@@ -87,6 +87,7 @@ AppendResult EventWriter::flush() {
   batch_.events.clear();
   batch_.losses.clear();
   batch_.clock_samples.clear();
+  batch_.rate_blocks.clear();
   return result;
 }
 

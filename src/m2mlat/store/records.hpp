@@ -84,8 +84,8 @@ struct Loss {
 };
 
 // The kinds of loss the store accepts (stored by name: keep the names stable).
-// "missed_period" and "i2c_error" are a gyroscope's: first_missing is the sampler's number of the
-// first sample not taken, count how many periods went by without one (docs/store.md).
+// "missed_period" and "i2c_error" are a gyroscope's: first_missing is the number (in read order) the
+// next sample read gets, count how many periods went by without a read / failed transfers.
 inline constexpr std::string_view kLossKinds[] = {"seqno_gap", "line_seqno_gap", "kmsg_gap", "overflow",
                                                   "restart",   "missed_period",  "i2c_error"};
 
@@ -96,9 +96,9 @@ struct RateBlock {
   std::string channel;  // e.g. "gyro"; must not be empty
   core::Clock clock = core::Clock::realtime;  // the clock of every sample's stamp
   double counts_per_deg_s = 131.0;            // the chip's scale, counts per deg/s; > 0
-  // The sampler's number of the block's first sample (0 = the session's first on this channel);
-  // sample k of the block is number first_index + k. A jump to the next block's first_index is a
-  // gap: samples lost (see the losses) or left out by a keep window.
+  // The number of the block's first sample in read order (0 = the session's first on this channel);
+  // sample k of the block is number first_index + k. A jump to the next block's first_index shows
+  // samples left out by a keep window (or a block lost); periods without a read are losses.
   std::uint64_t first_index = 0;
   std::vector<core::RateSample> samples;  // in time order; 1 to rate_block::kMaxSamples
 };

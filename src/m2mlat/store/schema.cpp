@@ -111,9 +111,9 @@ CREATE TABLE origin_sessions (
 // Version 3: a gyroscope's raw samples, in blocks (docs/store.md "Raw rate samples"). A row holds up
 // to rate_block::kMaxSamples samples of one channel of one session packed in a BLOB of the layout
 // named by `layout` (rate_block.hpp): one row per sample would cost ~40 bytes of row overhead on an
-// 18-byte sample, at 29 million samples a drive-hour. first_index is the sampler's number of the
-// block's first sample (0 = the session's first on the channel), so a missing block or samples left
-// out by a keep window show as a jump. first_ns/last_ns (the block's first and last stamp, ns on
+// 18-byte sample, at 29 million samples a drive-hour. first_index is the number of the block's
+// first sample in read order (0 = the session's first on the channel), so a missing block or samples
+// left out by a keep window show as a jump. first_ns/last_ns (the block's first and last stamp, ns on
 // `clock`) select blocks by time without decoding them. The losses table is rebuilt (SQLite cannot
 // alter a CHECK) to accept the gyroscope's losses: 'missed_period' (a read deadline passed with no
 // read) and 'i2c_error' (a failed bus transfer); ids are kept, so cursors on them stay valid.
