@@ -18,11 +18,12 @@ GyroKeep parse_gyro_keep(std::string_view flag, std::string_view text) {
   if (text == "all") return {};
   if (text.starts_with("window:")) {
     std::int64_t ms = 0;
-    if (core::parse_integer(text.substr(7), ms) && ms > 0 && ms <= 3'600'000) return {core::Duration{ms * 1'000'000}};
+    if (core::parse_integer(text.substr(7), ms) && ms > 0 && ms <= 3'600'000)
+      return {core::Duration{ms * 1'000'000}};
   }
-  throw core::Error(core::ErrorKind::usage,
-                    fmt::format("{}: '{}' is not 'all' or 'window:<ms>' (a positive number of milliseconds)",
-                                flag, text));
+  throw core::Error(
+      core::ErrorKind::usage,
+      fmt::format("{}: '{}' is not 'all' or 'window:<ms>' (a positive number of milliseconds)", flag, text));
 }
 
 GyroChannel::GyroChannel(std::string channel, core::Clock clock, double counts_per_deg_s, GyroKeep keep)
@@ -36,7 +37,8 @@ void GyroChannel::add(std::vector<core::RateSample> samples, const GyroSummary& 
   // next sample would have been.
   const auto lost = [&](std::uint64_t total, std::uint64_t& seen, std::string_view kind) {
     if (total <= seen) return;
-    new_losses_.push_back({0, channel_, core::TimePoint{}, next + samples.size(), total - seen, std::string(kind)});
+    new_losses_.push_back(
+        {0, channel_, core::TimePoint{}, next + samples.size(), total - seen, std::string(kind)});
     seen = total;
   };
   lost(summary.missed_periods, counters_.missed_periods, "missed_period");
@@ -47,8 +49,8 @@ void GyroChannel::emit(std::int64_t session_id, std::size_t from, std::size_t to
                        std::vector<store::RateBlock>& blocks) {
   if (from >= to) return;
   const std::span<const core::RateSample> run(pending_.data() + from, to - from);
-  for (auto& block : store::rate_block::split(session_id, channel_, clock_, counts_per_deg_s_, run,
-                                              pending_first_ + from))
+  for (auto& block :
+       store::rate_block::split(session_id, channel_, clock_, counts_per_deg_s_, run, pending_first_ + from))
     blocks.push_back(std::move(block));
   counters_.stored += to - from;
 }
@@ -78,20 +80,22 @@ void GyroChannel::collect(std::int64_t session_id, core::TimePoint now, bool fin
   const auto detection = onset::detector("flank").detect(trace);
   std::vector<std::pair<std::int64_t, std::int64_t>> keep;  // [from, to] ns
   for (const auto& m : detection.motions)
-    keep.emplace_back(m.onset_ns - window, m.ended ? m.end_ns + window : std::numeric_limits<std::int64_t>::max());
+    keep.emplace_back(m.onset_ns - window,
+                      m.ended ? m.end_ns + window : std::numeric_limits<std::int64_t>::max());
   // The samples in memory begin in a motion only at the session's start (history is never cut
   // inside a motion, below): its onset was before the recording; keep up to the first onset seen.
   if (detection.began_in_motion)
-    keep.emplace_back(std::numeric_limits<std::int64_t>::min(),
-                      detection.motions.empty() ? std::numeric_limits<std::int64_t>::max()
-                                                : detection.motions.front().onset_ns);
+    keep.emplace_back(std::numeric_limits<std::int64_t>::min(), detection.motions.empty()
+                                                                    ? std::numeric_limits<std::int64_t>::max()
+                                                                    : detection.motions.front().onset_ns);
   const auto kept = [&](std::int64_t t) {
-    return std::any_of(keep.begin(), keep.end(), [t](const auto& k) { return t >= k.first && t <= k.second; });
+    return std::any_of(keep.begin(), keep.end(),
+                       [t](const auto& k) { return t >= k.first && t <= k.second; });
   };
 
   const std::int64_t newest = pending_.back().time_ns;
-  const std::int64_t decide_to = final ? std::numeric_limits<std::int64_t>::max()
-                                       : newest - window - kDecisionDelay.count();
+  const std::int64_t decide_to =
+      final ? std::numeric_limits<std::int64_t>::max() : newest - window - kDecisionDelay.count();
   std::size_t i = first_undecided;
   while (i < pending_.size() && pending_[i].time_ns <= decide_to) {
     const bool in = kept(pending_[i].time_ns);
@@ -110,8 +114,8 @@ void GyroChannel::collect(std::int64_t session_id, core::TimePoint now, bool fin
   // take a motion's tail for the start of the trace.
   std::int64_t forget_before = decide_to - kDetectorHistory.count();
   for (const auto& m : detection.motions) {
-    const std::int64_t after = m.ended ? m.end_ns + window + kDetectorHistory.count()
-                                       : std::numeric_limits<std::int64_t>::max();
+    const std::int64_t after =
+        m.ended ? m.end_ns + window + kDetectorHistory.count() : std::numeric_limits<std::int64_t>::max();
     if (forget_before > m.onset_ns - window && forget_before <= after) forget_before = m.onset_ns - window;
   }
   std::size_t drop = 0;

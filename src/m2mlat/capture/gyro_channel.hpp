@@ -39,8 +39,8 @@ inline constexpr core::Duration kDecisionDelay{2'000'000'000};
 inline constexpr core::Duration kDetectorHistory{1'000'000'000};
 
 struct GyroChannelCounters {
-  std::uint64_t read = 0;    // samples the sampler took
-  std::uint64_t stored = 0;  // samples put into blocks
+  std::uint64_t read = 0;      // samples the sampler took
+  std::uint64_t stored = 0;    // samples put into blocks
   std::uint64_t left_out = 0;  // samples outside every window (keep window only)
   std::uint64_t missed_periods = 0;
   std::uint64_t i2c_errors = 0;
@@ -54,8 +54,8 @@ class GyroChannel {
   void add(std::vector<core::RateSample> samples, const GyroSummary& summary);
   // Moves the decided samples into blocks for `session_id` and the new losses (detected at `now`)
   // into `losses`. `final`: the sampler has stopped; decide everything.
-  void collect(std::int64_t session_id, core::TimePoint now, bool final, std::vector<store::RateBlock>& blocks,
-               std::vector<store::Loss>& losses);
+  void collect(std::int64_t session_id, core::TimePoint now, bool final,
+               std::vector<store::RateBlock>& blocks, std::vector<store::Loss>& losses);
 
   const std::string& channel() const { return channel_; }
   const GyroChannelCounters& counters() const { return counters_; }

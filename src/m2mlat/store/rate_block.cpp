@@ -23,7 +23,8 @@ template <typename T>
 T get(std::span<const std::uint8_t> bytes, std::size_t offset) {
   std::make_unsigned_t<T> bits = 0;
   for (std::size_t i = 0; i < sizeof(T); ++i)
-    bits = static_cast<std::make_unsigned_t<T>>(bits | (static_cast<std::make_unsigned_t<T>>(bytes[offset + i]) << (8 * i)));
+    bits = static_cast<std::make_unsigned_t<T>>(
+        bits | (static_cast<std::make_unsigned_t<T>>(bytes[offset + i]) << (8 * i)));
   return static_cast<T>(bits);
 }
 
@@ -43,8 +44,8 @@ std::vector<std::uint8_t> encode(std::span<const core::RateSample> samples) {
 std::vector<core::RateSample> decode(std::span<const std::uint8_t> bytes, std::int64_t layout,
                                      std::int64_t count, const std::string& where) {
   if (layout != kLayout)
-    core::throw_data_error({where, 0}, fmt::format("field 'layout' is {} (this m2mlat reads layout {})",
-                                                   layout, kLayout));
+    core::throw_data_error(
+        {where, 0}, fmt::format("field 'layout' is {} (this m2mlat reads layout {})", layout, kLayout));
   if (count < 1 || static_cast<std::size_t>(count) > kMaxSamples ||
       bytes.size() != static_cast<std::size_t>(count) * kSampleBytes)
     core::throw_data_error({where, 0},
@@ -60,12 +61,13 @@ std::vector<core::RateSample> decode(std::span<const std::uint8_t> bytes, std::i
     s.bound_ns = get<std::int32_t>(bytes, at + 8);
     for (std::size_t axis = 0; axis < 3; ++axis) s.raw[axis] = get<std::int16_t>(bytes, at + 12 + 2 * axis);
     if (s.bound_ns < 0)
-      core::throw_data_error({where, 0}, fmt::format("field 'samples': sample {} has bound {} ns (expected >= 0)",
-                                                     k, s.bound_ns));
+      core::throw_data_error(
+          {where, 0},
+          fmt::format("field 'samples': sample {} has bound {} ns (expected >= 0)", k, s.bound_ns));
     if (k > 0 && s.time_ns < out[k - 1].time_ns)
-      core::throw_data_error({where, 0},
-                             fmt::format("field 'samples': sample {} at {} ns is earlier than sample {} at {} ns",
-                                         k, s.time_ns, k - 1, out[k - 1].time_ns));
+      core::throw_data_error(
+          {where, 0}, fmt::format("field 'samples': sample {} at {} ns is earlier than sample {} at {} ns", k,
+                                  s.time_ns, k - 1, out[k - 1].time_ns));
   }
   return out;
 }

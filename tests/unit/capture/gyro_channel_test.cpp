@@ -76,7 +76,8 @@ TEST(GyroChannel, TheKeepWindowStoresEverythingAroundEachMotionAndLeavesOutTheSt
   std::size_t at = 0;
   for (std::int64_t round_end = s / 10; at < trace.samples.size(); round_end += s / 10) {
     std::vector<core::RateSample> part;
-    while (at < trace.samples.size() && trace.samples[at].time_ns < round_end) part.push_back(trace.samples[at++]);
+    while (at < trace.samples.size() && trace.samples[at].time_ns < round_end)
+      part.push_back(trace.samples[at++]);
     channel.add(std::move(part), {});
     channel.collect(1, rt(round_end), at == trace.samples.size(), blocks, losses);
   }

@@ -47,7 +47,9 @@ void expect_same(const std::vector<core::RateSample>& got, const std::vector<cor
   }
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 TEST(RateBlocks, ATraceRoundTripsThroughBlocksInTimeOrder) {
   TempDir dir;
@@ -110,10 +112,12 @@ TEST(RateBlocks, AStoreOfThePreviousVersionIsMigratedWithItsRowsKept) {
     const auto all = schema::migrations();
     ASSERT_EQ(all.size(), 3u);
     EXPECT_EQ(schema::migrate(db, all.first(2)), 2);
-    db.exec("INSERT INTO sessions (label, scenario, node, role, config_json, start_clock, start_ns, "
-            "software_version) VALUES ('old', 'bench', 'vehicle', 2, '{}', 0, 5, 'm2mlat 0.old')");
-    db.exec("INSERT INTO losses (id, session_id, channel, clock, t_ns, first_missing, count, kind) "
-            "VALUES (7, 1, 'wheel', 0, 9, 3, 2, 'seqno_gap')");
+    db.exec(
+        "INSERT INTO sessions (label, scenario, node, role, config_json, start_clock, start_ns, "
+        "software_version) VALUES ('old', 'bench', 'vehicle', 2, '{}', 0, 5, 'm2mlat 0.old')");
+    db.exec(
+        "INSERT INTO losses (id, session_id, channel, clock, t_ns, first_missing, count, kind) "
+        "VALUES (7, 1, 'wheel', 0, 9, 3, 2, 'seqno_gap')");
     db.exec("INSERT INTO origins (origin, event_seq, clock_sample_id, loss_id) VALUES ('abc', 4, 5, 6)");
     // The version-2 schema refuses the gyroscope's loss kinds.
     EXPECT_THROW(db.exec("INSERT INTO losses (session_id, channel, clock, t_ns, first_missing, count, kind) "
@@ -195,8 +199,8 @@ TEST(RateBlocks, ADamagedBlobIsReportedNamingTheTableAndRow) {
     auto store = Store::open(path);
     id = store.begin_session(make_session("vehicle"));
     store.append_rate_blocks(rate_block::split(id, "gyro", core::Clock::realtime, 131.0, samples(20)));
-    store.append_rate_blocks(rate_block::split(id, "gyro", core::Clock::realtime, 131.0,
-                                               samples(20, 20 * 125'000), 20));
+    store.append_rate_blocks(
+        rate_block::split(id, "gyro", core::Clock::realtime, 131.0, samples(20, 20 * 125'000), 20));
   }
   {
     // Another tool cuts row 2's BLOB short (CHECK constraints switched off, as SQLite allows).
