@@ -83,7 +83,7 @@ class Recorder::Run {
   void take(ReadResult& batch);
   void add_gaps(const std::vector<Gap>& gaps);
   void add_events(const std::vector<core::Event>& events);
-  void add_clock_samples();
+  void add_clock_samples(bool final = false);
   void notify_commit();
   void check_reader();
   // The loop, the drain and the end.
@@ -155,7 +155,7 @@ RecordCounters Recorder::Run::execute() {
     record_until_stop();
     drain_after_stop();
     check_reader();
-    add_clock_samples();
+    add_clock_samples(true);
   } catch (...) {
     abandon();
     throw;
@@ -262,12 +262,22 @@ void Recorder::Run::add_events(const std::vector<core::Event>& events) {
   }
 }
 
-// The clock monitor's samples for the open session, committed with the round.
-void Recorder::Run::add_clock_samples() {
-  if (!writer_ || !options_.before_commit) return;
-  std::vector<store::ClockSample> samples;
-  options_.before_commit(counters_.session_id, samples);
-  for (const auto& sample : samples) writer_->add(sample);
+// The clock monitor's samples and the raw rate samples for the open session, committed with the
+// round; `final`: the last round, after the stop.
+void Recorder::Run::add_clock_samples(bool final) {
+  if (!writer_) return;
+  if (options_.before_commit) {
+    std::vector<store::ClockSample> samples;
+    options_.before_commit(counters_.session_id, samples);
+    for (const auto& sample : samples) writer_->add(sample);
+  }
+  if (options_.raw_samples) {
+    std::vector<store::RateBlock> blocks;
+    std::vector<store::Loss> losses;
+    options_.raw_samples(counters_.session_id, final, blocks, losses);
+    for (const auto& block : blocks) writer_->add(block);
+    for (const auto& loss : losses) writer_->add(loss);
+  }
 }
 
 void Recorder::Run::notify_commit() {
@@ -313,7 +323,8 @@ void Recorder::Run::record_until_stop() {
 // Without events too, a round every commit interval gives the clock monitor its turn (it stores a
 // sample when one is due, and its state even while no edge comes).
 bool Recorder::Run::round_due(core::Duration now, const SourceReader::Status& queued) const {
-  const bool monitor_due = writer_ && options_.before_commit && now - last_round_ >= options_.commit_interval;
+  const bool monitor_due = writer_ && (options_.before_commit || options_.raw_samples) &&
+                           now - last_round_ >= options_.commit_interval;
   return queued.ended || queued.events >= writer_options_.max_batch || monitor_due ||
          (queued.first && now - *queued.first >= options_.commit_interval);
 }
@@ -336,7 +347,7 @@ bool Recorder::Run::stops_after_round(const SourceReader::Status& queued) {
 std::optional<core::Duration> Recorder::Run::wait_timeout(core::Duration now) {
   auto timeout = options_.progress_interval - (now - last_progress_);
   if (!options_.on_progress) timeout = std::chrono::hours(1);
-  if (writer_ && options_.before_commit)
+  if (writer_ && (options_.before_commit || options_.raw_samples))
     timeout = std::min(timeout, last_round_ + options_.commit_interval - now);
   if (const auto first = reader_->status().first)
     timeout = std::min(timeout, *first + options_.commit_interval - now);

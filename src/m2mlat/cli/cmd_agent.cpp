@@ -55,6 +55,8 @@ int run_agent(AgentCommand& c) {
   auto& flags = c.record;
   flags.sim_paced = true;  // an agent is live: the simulated rig runs in real time
   flags.sim_set.insert(flags.sim_set.begin(), "manoeuvres=1000000000");  // years of manoeuvres
+  if (!flags.gyro.empty())  // its samples would cross the agent's session boundaries: not built yet
+    throw core::Error(core::ErrorKind::usage, "--gyro: the agent does not take a gyroscope yet; use `m2mlat record`");
   auto setup = prepare_record(flags);
   if (!flags.quiet)
     for (const auto& line : setup.source->describe())

@@ -1,8 +1,12 @@
-// `m2mlat export`: a store's events, or the pairs recomputed from them, as files.
+// `m2mlat export`: a store's events, the pairs recomputed from them, or a gyroscope's raw trace, as files.
 #include <fmt/format.h>
 
+#include <fmt/ranges.h>
+
+#include <algorithm>
 #include <limits>
 #include <memory>
+#include <nlohmann/json.hpp>
 
 #include "m2mlat/analysis/clock_records.hpp"
 #include "m2mlat/analysis/pipeline.hpp"
@@ -10,7 +14,9 @@
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/output_file.hpp"
 #include "m2mlat/formats/import_file.hpp"
+#include "m2mlat/formats/rate_trace_csv.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::cli {
@@ -24,9 +30,54 @@ struct ExportCommand {
   std::string format;
   std::vector<std::string> scenarios;
   std::string node;
+  std::string channel;
+  std::int64_t session = 0;
   SelectionFlags selection;
   MatchFlags match;
 };
+
+// One stored raw trace as an m2mlat-gyro/1 file. The trace is chosen by --session, --node, --channel
+// and --scenario; more than one left is a usage error listing them. The comment lines an imported
+// file had (kept in its session's configuration) are written back with it.
+int export_gyro(const ExportCommand& c) {
+  store::Options options;
+  options.read_only = true;
+  auto store = store::Store::open(c.store_path, options);
+  std::vector<std::pair<store::RateChannel, store::Session>> found;
+  for (const auto& trace : store.rate_channels()) {
+    const auto session = store.session(trace.session_id);
+    if (!session) continue;  // a dangling session id: check_rows reports it
+    if (c.session != 0 && trace.session_id != c.session) continue;
+    if (!c.node.empty() && trace.node != c.node) continue;
+    if (!c.channel.empty() && trace.channel != c.channel) continue;
+    if (!c.scenarios.empty() &&
+        std::find(c.scenarios.begin(), c.scenarios.end(), session->scenario) == c.scenarios.end())
+      continue;
+    found.emplace_back(trace, *session);
+  }
+  if (found.empty())
+    throw core::Error(core::ErrorKind::no_input,
+                      fmt::format("{}: no raw gyroscope trace matches (see --session, --node, --channel)",
+                                  c.store_path));
+  if (found.size() > 1) {
+    std::vector<std::string> names;
+    for (const auto& [t, s] : found)
+      names.push_back(fmt::format("session {} node '{}' channel '{}'", t.session_id, t.node, t.channel));
+    throw core::Error(core::ErrorKind::usage,
+                      fmt::format("{} holds {} matching raw traces ({}): choose one with --session, --node or "
+                                  "--channel",
+                                  c.store_path, found.size(), fmt::join(names, "; ")));
+  }
+  const auto& [chosen, session] = found.front();
+  const core::RateTrace trace = store.rate_trace(chosen.session_id, chosen.channel);
+  std::vector<std::string> comments;
+  const auto config = nlohmann::json::parse(session.config_json, nullptr, false);
+  if (config.is_object() && config.contains("comments") && config["comments"].is_array())
+    for (const auto& line : config["comments"])
+      if (line.is_string()) comments.push_back(line.get<std::string>());
+  core::write_output_file(c.out, [&](std::ostream& os) { formats::write_rate_trace_csv(os, trace, comments); });
+  return 0;
+}
 
 int run_export(const ExportCommand& c) {
   if (c.what == "pairs") {
@@ -45,7 +96,8 @@ int run_export(const ExportCommand& c) {
     analysis::write_pairs_file(c.out, format, results);
     return 0;
   }
-  if (c.what != "events") throw core::Error(core::ErrorKind::usage, "--what: events or pairs");
+  if (c.what == "gyro") return export_gyro(c);
+  if (c.what != "events") throw core::Error(core::ErrorKind::usage, "--what: events, pairs or gyro");
 
   store::Options options;
   options.read_only = true;
@@ -78,12 +130,16 @@ int run_export(const ExportCommand& c) {
 Runner attach_export(CLI::App& sub) {
   auto c = std::make_shared<ExportCommand>();
   sub.add_option("store", c->store_path, "The store to export from")->required();
-  sub.add_option("--what", c->what, "events, or pairs (recomputed by the matcher)")->capture_default_str();
+  sub.add_option("--what", c->what,
+                 "events, pairs (recomputed by the matcher), or gyro (one raw trace as m2mlat-gyro/1)")
+      ->capture_default_str();
   sub.add_option("-o,--out", c->out, "Output file ('-' = standard output)")->capture_default_str();
   sub.add_option("--format", c->format,
                  "events-csv (default), events-jsonl; pairs-csv (default), pairs-jsonl, rig-paired-csv");
   sub.add_option("--scenario", c->scenarios, "Only these scenarios (repeatable)");
-  sub.add_option("--node", c->node, "Only the events of this node");
+  sub.add_option("--node", c->node, "Only the events (or raw trace) of this node");
+  sub.add_option("--channel", c->channel, "--what gyro: the trace's channel");
+  sub.add_option("--session", c->session, "--what gyro: the trace's session id");
   c->selection.add_to(sub);
   c->match.add_to(sub);
   return [c] { return run_export(*c); };

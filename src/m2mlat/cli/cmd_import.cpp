@@ -1,4 +1,5 @@
-// `m2mlat import`: read data files (the reference rig's formats or m2mlat's own) into a store.
+// `m2mlat import`: read data files (the reference rig's formats or m2mlat's own, a gyroscope's raw
+// trace among them) into a store.
 // Every file is read and checked whole before anything is written, so malformed input stores
 // nothing; each node of each file becomes one closed session, with the clock samples and steps the
 // file carries (events files' clock records, a kernel log's steps). --clock-log adds chronyd's steps
@@ -6,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -20,7 +22,9 @@
 #include "m2mlat/formats/chrony_log.hpp"
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/formats/input_text.hpp"
+#include "m2mlat/formats/rate_trace_csv.hpp"
 #include "m2mlat/store/clock_step.hpp"
+#include "m2mlat/store/rate_block.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::cli {
@@ -41,12 +45,57 @@ struct ImportCommand {
   bool json = false;
 };
 
-// One session to be written: a node's events from one file.
+// One session to be written: a node's events from one file, or a gyroscope's raw trace.
 struct PendingSession {
   store::Session session;
   std::vector<core::Event> events;
   std::vector<store::ClockSample> clock;  // session_id set when written
+  std::optional<core::RateTrace> trace;   // an m2mlat-gyro/1 file's samples, on channel `gyro_channel`
+  std::string gyro_channel;
 };
+
+core::Role role_for(const ImportCommand& c, const std::string& node);  // below
+
+// True if the file is an m2mlat-gyro/1 trace: --format gyro, or (detected) its first line names it.
+// Standard input is only taken as one with --format gyro (it cannot be read twice).
+bool is_gyro_file(const ImportCommand& c, const std::string& path) {
+  if (c.format == "gyro") return true;
+  if (!c.format.empty() || path == "-") return false;
+  std::ifstream in(path);
+  std::string first;
+  return std::getline(in, first) && first == fmt::format("# format: {}", formats::kRateTraceFormat);
+}
+
+// An m2mlat-gyro/1 file as one closed session of --node with its trace on --channel (default
+// "gyro"). The file's own comment lines (after the fixed ones, before the column header) are kept in
+// the session's configuration, so `export --what gyro` writes the file back byte for byte.
+PendingSession gyro_session(const ImportCommand& c, const std::string& path) {
+  const auto input = formats::InputText::read_file(path);
+  formats::check_input(input.text(), input.name());
+  PendingSession p;
+  p.trace = formats::read_rate_trace_csv(input.text(), input.name());
+  if (p.trace->samples.empty())
+    throw core::Error(core::ErrorKind::data, fmt::format("{}: no samples", input.name()));
+  std::vector<std::string> comments;
+  formats::LineReader lines(input.text());
+  std::string_view line;
+  while (lines.next(line) && line.starts_with("#"))
+    if (!line.starts_with("# format:") && !line.starts_with("# clock:") && !line.starts_with("# counts_per_deg_s:"))
+      comments.emplace_back(line.substr(line.starts_with("# ") ? 2 : 1));
+  p.gyro_channel = c.channel.empty() ? "gyro" : c.channel;
+  p.session.node = c.node;
+  p.session.role = role_for(c, c.node);
+  p.session.label = c.label;
+  p.session.scenario = c.scenario.empty() ? std::filesystem::path(path).stem().string() : c.scenario;
+  p.session.config_json = nlohmann::json{{"source", "import"},
+                                         {"file", path},
+                                         {"format", formats::kRateTraceFormat},
+                                         {"comments", comments}}
+                              .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  p.session.start = core::TimePoint::from_ns(p.trace->clock, p.trace->samples.front().time_ns);
+  p.session.end = core::TimePoint::from_ns(p.trace->clock, p.trace->samples.back().time_ns);
+  return p;
+}
 
 // The clock samples a file carries, by node: an events file's clock records, a kernel log's steps
 // (kernel_log_steps.hpp, on the node of its events).
@@ -132,7 +181,7 @@ int run_import(const ImportCommand& c) {
   options.channel = c.channel;
   options.only_line = c.line;
   const std::optional<formats::Format> format =
-      c.format.empty() ? std::nullopt : std::optional(formats::parse_format(c.format));
+      c.format.empty() || c.format == "gyro" ? std::nullopt : std::optional(formats::parse_format(c.format));
 
   // Read and check everything first, before the store is opened: the files are read raw, and a
   // process must not open and close a file it holds SQLite connections to (docs/store.md).
@@ -140,6 +189,19 @@ int run_import(const ImportCommand& c) {
   nlohmann::json report = nlohmann::json::array();
   nlohmann::json clock_logs = nlohmann::json::array();
   for (const auto& path : c.files) {
+    if (is_gyro_file(c, path)) {
+      auto p = gyro_session(c, path);
+      report.push_back({{"file", path},
+                        {"format", formats::kRateTraceFormat},
+                        {"sessions",
+                         {{{"node", p.session.node},
+                           {"role", core::to_string(p.session.role)},
+                           {"scenario", p.session.scenario},
+                           {"channel", p.gyro_channel},
+                           {"samples", p.trace->samples.size()}}}}});
+      pending.push_back(std::move(p));
+      continue;
+    }
     auto file = formats::import_file(path, format, options);
     nlohmann::json entry{{"file", path}, {"format", formats::to_string(file.format)}};
     const auto* imported = std::get_if<formats::EventImport>(&file.content);
@@ -223,6 +285,9 @@ int run_import(const ImportCommand& c) {
     store.append_events(id, p.events);
     for (auto& s : p.clock) s.session_id = id;
     if (!p.clock.empty()) store.append_clock_samples(p.clock);
+    if (p.trace)
+      store.append_rate_blocks(store::rate_block::split(id, p.gyro_channel, p.trace->clock,
+                                                        p.trace->counts_per_deg_s, p.trace->samples));
     store.end_session(id, end);
   }
   if (c.json) {
@@ -235,7 +300,14 @@ int run_import(const ImportCommand& c) {
                  f["steps"].get<std::size_t>(), core::printable(f["node"].get<std::string>()));
     for (const auto& f : report)
       for (const auto& s : f["sessions"])
-        fmt::print("{} ({}): {} events of {} ({}) -> scenario '{}'\n",
+        if (s.contains("samples"))
+          fmt::print("{} ({}): {} samples of {} channel '{}' -> scenario '{}'\n",
+                     core::printable(f["file"].get<std::string>()), f["format"].get<std::string>(),
+                     s["samples"].get<std::size_t>(), core::printable(s["node"].get<std::string>()),
+                     core::printable(s["channel"].get<std::string>()),
+                     core::printable(s["scenario"].get<std::string>()));
+        else
+          fmt::print("{} ({}): {} events of {} ({}) -> scenario '{}'\n",
                    core::printable(f["file"].get<std::string>()), f["format"].get<std::string>(),
                    s["events"].get<std::size_t>(), core::printable(s["node"].get<std::string>()),
                    s["role"].get<std::string>(), core::printable(s["scenario"].get<std::string>()));
@@ -251,10 +323,11 @@ Runner attach_import(CLI::App& sub) {
   sub.add_option("--store", c->store_path, "Store to import into (created if missing)")->required();
   sub.add_option("--format", c->format,
                  "Input format (default: detected): kernel-log, rig-export-csv, "
-                 "rig-paired-csv, events-csv, events-jsonl");
+                 "rig-paired-csv, events-csv, events-jsonl, gyro (an m2mlat-gyro/1 raw trace)");
   sub.add_option("--node", c->node, "Node of formats that name none (kernel log, export CSV)")
       ->capture_default_str();
-  sub.add_option("--channel", c->channel, "Channel of those events (default gpio<pin>)");
+  sub.add_option("--channel", c->channel,
+                 "Channel of those events (default gpio<pin>), or of a gyroscope trace (default gyro)");
   sub.add_option("--line", c->line, "Only this GPIO pin / Line label of a kernel log or export CSV");
   sub.add_option("--role", c->role,
                  "Role of the imported node: cause/operator, effect/vehicle, observer "

@@ -31,11 +31,12 @@ int run_merge(const MergeCommand& c) {
                       {"nodes", r.nodes},
                       {"events", r.events},
                       {"clock_samples", r.clock_samples},
-                      {"losses", r.losses}});
+                      {"losses", r.losses},
+                      {"rate_blocks", r.rate_blocks}});
     if (!c.json)
-      fmt::print("{} ({}): {} new events, {} clock samples, {} losses\n", core::printable(r.path),
-                 core::printable(fmt::format("{}", fmt::join(r.nodes, ", "))),
-                 r.events, r.clock_samples, r.losses);
+      fmt::print("{} ({}): {} new events, {} clock samples, {} losses, {} raw rate blocks\n",
+                 core::printable(r.path), core::printable(fmt::format("{}", fmt::join(r.nodes, ", "))),
+                 r.events, r.clock_samples, r.losses, r.rate_blocks);
   }
   if (c.json) print_json({{"campaign", c.campaign}, {"merged", report}});
   return 0;

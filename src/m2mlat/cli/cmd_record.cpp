@@ -1,8 +1,9 @@
 // `m2mlat record`: one node's recorder. Reads edges from a capture source (the GPIO character
 // device, the reference module's kernel log, or the simulated rig), filters bounces, and writes
 // events and losses durably into the store until SIGINT/SIGTERM, a count or a duration; then prints
-// a summary per channel (events, suppressed bounces, losses). The options are shared with
-// `m2mlat agent` (record_setup.hpp).
+// a summary per channel (events, suppressed bounces, losses). With --gyro, a gyroscope's raw samples
+// are stored beside (all or a window around each motion; capture/gyro_channel.hpp). The options are
+// shared with `m2mlat agent` (record_setup.hpp).
 #include <fmt/format.h>
 
 #include <memory>
@@ -27,6 +28,15 @@ nlohmann::json commit_latency_json(const capture::LatencyHistogram& h) {
   return {{"events", h.count()}, {"p50", h.quantile(0.5)}, {"p99", h.quantile(0.99)}, {"max", h.max()}};
 }
 
+nlohmann::json gyro_json(const GyroSetup& gyro) {
+  const auto& g = gyro.channel->counters();
+  const auto summary = gyro.source->summary();
+  return {{"channel", gyro.channel->channel()}, {"read", g.read},
+          {"stored", g.stored},                 {"left_out", g.left_out},
+          {"missed_periods", g.missed_periods}, {"i2c_errors", g.i2c_errors},
+          {"stop_reason", summary.stop_reason}, {"error", summary.error}};
+}
+
 int run_record(RecordFlags& c) {
   auto setup = prepare_record(c);
   const auto& node = setup.node;
@@ -40,7 +50,8 @@ int run_record(RecordFlags& c) {
 
   auto store = store::Store::open(c.store_path, setup.store_options);
   apply_rt(setup, c.quiet);
-  capture::StopSignal stop;
+  capture::StopSignal stop;  // before the gyroscope's thread starts: it inherits the blocked signals
+  if (setup.gyro) setup.gyro->start();
   capture::Recorder recorder(store, *source, options);
   const auto counters = recorder.run(stop.fd(), [&] { return stop.take(); });
   progress_done();
@@ -65,6 +76,7 @@ int run_record(RecordFlags& c) {
       row["last_ns"] = ch.last ? nlohmann::json(ch.last->ns()) : nlohmann::json(nullptr);
       j["channels"].push_back(row);
     }
+    if (setup.gyro) j["gyro"] = gyro_json(*setup.gyro);
     print_json(j);
   } else {
     fmt::print("{}: session {} of node {} ({}), {} events, stopped by {}\n", core::printable(c.store_path),
@@ -78,6 +90,14 @@ int run_record(RecordFlags& c) {
     if (!counters.cut_sessions.empty())
       fmt::print("  closed session(s) {} of node {}, cut by a crash: each has a 'restart' loss\n",
                  fmt::join(counters.cut_sessions, ", "), core::printable(node));
+    if (setup.gyro) {
+      const auto& g = setup.gyro->channel->counters();
+      const auto summary = setup.gyro->source->summary();
+      fmt::print("  gyroscope {}: {} samples read, {} stored, {} outside the keep window, {} missed periods, "
+                 "{} I2C errors{}\n",
+                 core::printable(setup.gyro->channel->channel()), g.read, g.stored, g.left_out, g.missed_periods,
+                 g.i2c_errors, summary.error.empty() ? "" : " (" + core::printable(summary.error) + ")");
+    }
     if (counters.node_lost > 0) fmt::print("  {} kernel-log records lost (node-wide)\n", counters.node_lost);
     if (const auto& h = counters.commit_latency; h.count() > 0)
       fmt::print("  edge -> durable commit: p50 {}, p99 {}, max {} ({} events)\n",

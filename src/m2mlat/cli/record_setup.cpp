@@ -9,7 +9,9 @@
 #include "m2mlat/capture/gpio_source.hpp"
 #include "m2mlat/capture/kmsg_source.hpp"
 #include "m2mlat/capture/record_config.hpp"
+#include "m2mlat/capture/recorder.hpp"
 #include "m2mlat/capture/sim_source.hpp"
+#include "m2mlat/cli/duration_flag.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/rt/irq.hpp"
@@ -68,6 +70,52 @@ void start_clock_monitor(const RecordFlags& c, const capture::RecordConfig& file
                                                         std::vector<store::ClockSample>& out) {
     monitor->on_batch(session, out);
   };
+}
+
+// --gyro DEVICE[:ADDRESS]: opens and configures the chip (a missing chip or a wrong WHO_AM_I fails
+// here, before the store is touched), makes the sampler and the channel, and sets the recorder's
+// raw_samples hook. Returns the gyroscope's part of the session's configuration.
+nlohmann::json open_gyro(const RecordFlags& c, RecordSetup& s) {
+  std::string device = c.gyro, address = "0x68";
+  if (const auto colon = c.gyro.rfind(':');
+      colon != std::string::npos && c.gyro.find('/', colon) == std::string::npos) {
+    device = c.gyro.substr(0, colon);
+    address = c.gyro.substr(colon + 1);
+  }
+  if (c.gyro_channel.empty()) throw core::Error(core::ErrorKind::usage, "--gyro-channel: must not be empty");
+  const auto keep = capture::parse_gyro_keep("--gyro-keep", c.gyro_keep);
+  capture::GyroSourceOptions options;
+  options.period = duration_flag("--gyro-period", c.gyro_period);
+  if (options.period.count() <= 0) throw core::Error(core::ErrorKind::usage, "--gyro-period: must be positive");
+  options.chip_output_period = core::Duration{1'000'000'000 / capture::mpu6050::kGyroRateHz};  // divider 0
+  options.rt_priority = s.rt_priority;
+  options.cpu = s.cpu;
+
+  auto g = std::make_unique<GyroSetup>();
+  g->bus = std::make_unique<capture::I2cBus>(device, capture::parse_i2c_address("--gyro", address));
+  g->chip = std::make_unique<capture::Mpu6050>(*g->bus);
+  g->chip->configure({});
+  g->source = std::make_unique<capture::GyroSource>(*g->chip, options);
+  g->channel = std::make_unique<capture::GyroChannel>(c.gyro_channel, core::Clock::realtime,
+                                                      capture::mpu6050::kCountsPerDegS, keep);
+  GyroSetup* gyro = g.get();
+  s.options.raw_samples = [gyro](std::int64_t session_id, bool final, std::vector<store::RateBlock>& blocks,
+                                 std::vector<store::Loss>& losses) {
+    if (final) {  // the recorder has stopped: so does the sampler, and all it read goes into this round
+      gyro->source->stop();
+      gyro->source->join();
+    }
+    gyro->channel->add(gyro->source->take(), gyro->source->summary());
+    gyro->channel->collect(session_id, capture::realtime_now(), final, blocks, losses);
+  };
+  nlohmann::json out{{"device", device},
+                     {"address", address},
+                     {"channel", c.gyro_channel},
+                     {"keep", c.gyro_keep},
+                     {"period_ns", options.period.count()},
+                     {"counts_per_deg_s", capture::mpu6050::kCountsPerDegS}};
+  s.gyro = std::move(g);
+  return out;
 }
 
 }  // namespace
@@ -181,6 +229,8 @@ RecordSetup prepare_record(const RecordFlags& c) {
     s.source = std::make_unique<capture::SimSource>(std::move(sim));
   }
 
+  if (!c.gyro.empty()) config["gyro"] = open_gyro(c, s);
+
   auto& options = s.options;
   options.session.node = s.node;
   options.session.role = s.role;
@@ -264,6 +314,13 @@ void add_record_options(CLI::App& sub, RecordFlags& flags) {
           ->capture_default_str();
   sub.add_option("--chronyc-socket", c->chronyc_socket, "Clock monitor: chronyd's command socket (chronyc -h)");
   sub.add_option("--pmc-socket", c->pmc_socket, "Clock monitor: ptp4l's Unix socket (pmc -s)");
+  o["--gyro"] = sub.add_option("--gyro", c->gyro,
+                               "A gyroscope channel: MPU-6050 at /dev/i2c-N[:ADDRESS] (default address 0x68)");
+  sub.add_option("--gyro-channel", c->gyro_channel, "The gyroscope's channel name")->capture_default_str();
+  sub.add_option("--gyro-keep", c->gyro_keep,
+                 "Raw samples kept: all, or window:<ms> around each detected motion")
+      ->capture_default_str();
+  sub.add_option("--gyro-period", c->gyro_period, "The gyroscope's read period")->capture_default_str();
   sub.add_flag("--quiet", c->quiet, "No settings or live counters on stderr");
 }
 

@@ -13,6 +13,10 @@
 
 #include "m2mlat/capture/channel.hpp"
 #include "m2mlat/capture/gpio_device.hpp"
+#include "m2mlat/capture/gyro_channel.hpp"
+#include "m2mlat/capture/gyro_source.hpp"
+#include "m2mlat/capture/i2c_bus.hpp"
+#include "m2mlat/capture/mpu6050.hpp"
 #include "m2mlat/capture/recorder.hpp"
 #include "m2mlat/capture/source.hpp"
 #include "m2mlat/store/records.hpp"
@@ -40,6 +44,9 @@ struct RecordFlags {
   bool no_clock_monitor = false;
   std::string kernel_interval = "1s", chrony_interval = "8s", ptp_interval = "0";
   std::string chronyc_socket, pmc_socket;  // other daemons than the system's (chronyc -h, pmc -s)
+  // The gyroscope channel: "/dev/i2c-N[:ADDRESS]" (empty: none), its channel name, what to keep of
+  // its raw samples ("all" or "window:<ms>") and the read period.
+  std::string gyro, gyro_channel = "gyro", gyro_keep = "all", gyro_period = "1ms";
   // Which of the flags above were given (a flag overrides the file; a file's channel key overrides
   // the flag's default).
   std::map<std::string, CLI::Option*> options;
@@ -48,6 +55,18 @@ struct RecordFlags {
 
 // Registers the shared options on `sub`, writing into `flags` (which must outlive parsing).
 void add_record_options(CLI::App& sub, RecordFlags& flags);
+
+// The gyroscope channel (--gyro): the bus, the chip, its sampling thread and the channel that turns
+// its samples into the store's blocks (capture/gyro_channel.hpp). Start the sampler with start()
+// once the stop signal is set up (the thread inherits the blocked signals); the recorder's
+// raw_samples hook stops it in the last round, so everything it read is committed.
+struct GyroSetup {
+  std::unique_ptr<capture::I2cBus> bus;
+  std::unique_ptr<capture::Mpu6050> chip;
+  std::unique_ptr<capture::GyroSource> source;
+  std::unique_ptr<capture::GyroChannel> channel;
+  void start() { source->start(); }
+};
 
 // What the flags and the configuration file make: everything but the store and the loop.
 struct RecordSetup {
@@ -67,6 +86,7 @@ struct RecordSetup {
   std::unique_ptr<sync::SystemClockSource> clocks;
   std::unique_ptr<process::ProcessRunner> runner;
   std::unique_ptr<sync::ClockMonitor> monitor;
+  std::unique_ptr<GyroSetup> gyro;  // --gyro; its hook is options.raw_samples
 };
 
 // Reads the configuration file, merges the flags and opens the source (so that a wrong line or a

@@ -62,6 +62,16 @@ void EventWriter::add(const ClockSample& sample) {
   buffered();
 }
 
+void EventWriter::add(const RateBlock& block) {
+  validate::rate_block(store_.path(), batch_.rate_blocks.size(), block);
+  if (block.session_id != batch_.session_id)
+    core::throw_data_error({store_.path(), 0},
+                           fmt::format("rate block: field 'session_id' is {}, the writer's session is {}",
+                                       block.session_id, batch_.session_id));
+  batch_.rate_blocks.push_back(block);
+  buffered();
+}
+
 bool EventWriter::poll() {
   if (pending() == 0 || !due()) return false;
   flush();
@@ -77,11 +87,12 @@ AppendResult EventWriter::flush() {
   batch_.events.clear();
   batch_.losses.clear();
   batch_.clock_samples.clear();
+  batch_.rate_blocks.clear();
   return result;
 }
 
 std::size_t EventWriter::pending() const {
-  return batch_.events.size() + batch_.losses.size() + batch_.clock_samples.size();
+  return batch_.events.size() + batch_.losses.size() + batch_.clock_samples.size() + batch_.rate_blocks.size();
 }
 
 void EventWriter::buffered() {

@@ -49,6 +49,7 @@ class EventWriter {
   void add(const core::Event& event);
   void add(const Loss& loss);
   void add(const ClockSample& sample);
+  void add(const RateBlock& block);  // a block of raw rate samples of the writer's session
 
   // Commits if the oldest buffered record is at least max_age old; true if it committed.
   bool poll();

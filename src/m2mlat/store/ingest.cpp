@@ -1,6 +1,7 @@
 // Campaign stores: taking in what other stores (an agent's, a board's file) hold, exactly once.
 //
-// Each origin store has a cursor row (origins) with the largest origin seq / id taken of each kind,
+// Each origin store has a cursor row (origins) with the largest origin seq / id taken of each kind
+// (events, clock samples, losses, raw rate blocks),
 // and a map from its session ids to local ones (origin_sessions). Items at or below the cursor are
 // skipped; the rest are inserted with local seqs and ids; the cursor moves in the same transaction.
 // So a batch given twice, a batch that overlaps an earlier one, or a pull resumed after a crash on
@@ -45,10 +46,10 @@ bool take(const std::string& path, std::string_view what, std::size_t index, std
 
 IngestCursor Store::ingest_cursor(const std::string& origin) const {
   sqlite::Statement query(impl_->db,
-                          "SELECT event_seq, clock_sample_id, loss_id FROM origins WHERE origin = ?1");
+                          "SELECT event_seq, clock_sample_id, loss_id, rate_block_id FROM origins WHERE origin = ?1");
   query.bind(1, origin);
   if (!query.step()) return {};
-  return {query.column_int64(0), query.column_int64(1), query.column_int64(2)};
+  return {query.column_int64(0), query.column_int64(1), query.column_int64(2), query.column_int64(3)};
 }
 
 std::vector<std::string> Store::origins() const {
@@ -77,6 +78,8 @@ IngestCursor Store::ingest(const IngestBatch& batch) {
   for (std::size_t i = 0; i < batch.clock_samples.size(); ++i)
     validate::clock_sample(path(), i, batch.clock_samples[i].sample);
   for (std::size_t i = 0; i < batch.losses.size(); ++i) validate::loss(path(), i, batch.losses[i].loss);
+  for (std::size_t i = 0; i < batch.rate_blocks.size(); ++i)
+    validate::rate_block(path(), i, batch.rate_blocks[i].block);
 
   sqlite::Transaction transaction(s.db);
   const IngestCursor before = ingest_cursor(origin);
@@ -174,13 +177,24 @@ IngestCursor Store::ingest(const IngestBatch& batch) {
     s.insert_loss.reset();
   }
 
+  for (std::size_t i = 0; i < batch.rate_blocks.size(); ++i) {
+    const StoredRateBlock& item = batch.rate_blocks[i];
+    if (!take(path(), "rate block", i, item.id, before.rate_blocks, after.rate_blocks)) continue;
+    RateBlock block = item.block;
+    block.session_id = local_session(block.session_id, "rate block", i).id;
+    rows::bind_rate_block(s.insert_rate_block, block);
+    s.insert_rate_block.step();
+    s.insert_rate_block.reset();
+  }
+
   sqlite::Statement cursor(s.db,
-                           "UPDATE origins SET event_seq = ?2, clock_sample_id = ?3, loss_id = ?4 "
-                           "WHERE origin = ?1");
+                           "UPDATE origins SET event_seq = ?2, clock_sample_id = ?3, loss_id = ?4, "
+                           "rate_block_id = ?5 WHERE origin = ?1");
   cursor.bind(1, origin);
   cursor.bind(2, after.events);
   cursor.bind(3, after.clock_samples);
   cursor.bind(4, after.losses);
+  cursor.bind(5, after.rate_blocks);
   cursor.step();
   transaction.commit();
   return after;

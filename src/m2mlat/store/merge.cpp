@@ -31,17 +31,22 @@ MergeResult merge_store(store::Store& campaign, const std::string& board_path, s
     if (std::find(result.nodes.begin(), result.nodes.end(), s.node) == result.nodes.end())
       result.nodes.push_back(s.node);
 
+  // A rate block holds up to 4096 samples (72 KiB): far fewer of them per chunk than events keeps a
+  // chunk's memory near that of `chunk` events.
+  const std::size_t block_chunk = std::max<std::size_t>(1, chunk / 256);
   store::IngestCursor cursor = campaign.ingest_cursor(result.origin);
   for (;;) {
     batch.events = board.events_after(cursor.events, chunk);
     batch.clock_samples = board.clock_samples_after(cursor.clock_samples, chunk);
     batch.losses = board.losses_after(cursor.losses, chunk);
+    batch.rate_blocks = board.rate_blocks_after(cursor.rate_blocks, block_chunk);
     const bool last = batch.events.size() < chunk && batch.clock_samples.size() < chunk &&
-                      batch.losses.size() < chunk;
+                      batch.losses.size() < chunk && batch.rate_blocks.size() < block_chunk;
     const store::IngestCursor next = campaign.ingest(batch);
     result.events += static_cast<std::int64_t>(batch.events.size());
     result.clock_samples += static_cast<std::int64_t>(batch.clock_samples.size());
     result.losses += static_cast<std::int64_t>(batch.losses.size());
+    result.rate_blocks += static_cast<std::int64_t>(batch.rate_blocks.size());
     cursor = next;
     if (last) break;
   }

@@ -21,10 +21,11 @@ struct MergeResult {
   std::int64_t events = 0;         // events taken now (0 when merged before and unchanged)
   std::int64_t clock_samples = 0;
   std::int64_t losses = 0;
+  std::int64_t rate_blocks = 0;    // blocks of raw rate samples taken now
 };
 
 // Takes into `campaign` what the store at `board_path` holds beyond the campaign's cursor for it,
-// in chunks of `chunk` events (each chunk one transaction: an interrupted merge resumes). Throws
+// in chunks of `chunk` events (and chunk / 256 raw rate blocks; each chunk one transaction: an interrupted merge resumes). Throws
 // core::Error naming the file if it is not a current m2mlat store or is the campaign itself.
 MergeResult merge_store(store::Store& campaign, const std::string& board_path, std::size_t chunk = 50'000);
 

@@ -1,5 +1,5 @@
-// The values the store takes and gives back: sessions, stored events, clock samples, losses, and
-// the options of a store. These are the store's API types; how they map to SQLite rows is in
+// The values the store takes and gives back: sessions, stored events, clock samples, losses, blocks
+// of raw rate samples, and the options of a store. These are the store's API types; how they map to SQLite rows is in
 // rows.hpp and the schema in schema.cpp, so the file format can change without touching them.
 #pragma once
 
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "m2mlat/core/event.hpp"
+#include "m2mlat/core/rate_sample.hpp"
 #include "m2mlat/core/time.hpp"
 
 namespace m2mlat::store {
@@ -83,8 +84,39 @@ struct Loss {
 };
 
 // The kinds of loss the store accepts (stored by name: keep the names stable).
+// "missed_period" and "i2c_error" are a gyroscope's: first_missing is the number (in read order) the
+// next sample read gets, count how many periods went by without a read / failed transfers.
 inline constexpr std::string_view kLossKinds[] = {"seqno_gap", "line_seqno_gap", "kmsg_gap", "overflow",
-                                                  "restart"};
+                                                  "restart",   "missed_period",  "i2c_error"};
+
+// A run of one gyroscope channel's raw samples of one session, stored as one row (rate_block.hpp
+// has the BLOB's layout). A trace is kept as consecutive blocks.
+struct RateBlock {
+  std::int64_t session_id = 0;
+  std::string channel;  // e.g. "gyro"; must not be empty
+  core::Clock clock = core::Clock::realtime;  // the clock of every sample's stamp
+  double counts_per_deg_s = 131.0;            // the chip's scale, counts per deg/s; > 0
+  // The number of the block's first sample in read order (0 = the session's first on this channel);
+  // sample k of the block is number first_index + k. A jump to the next block's first_index shows
+  // samples left out by a keep window (or a block lost); periods without a read are losses.
+  std::uint64_t first_index = 0;
+  std::vector<core::RateSample> samples;  // in time order; 1 to rate_block::kMaxSamples
+};
+
+// One stored raw trace: a session's channel of rate samples, and how many samples it holds.
+struct RateChannel {
+  std::int64_t session_id = 0;
+  std::string node;     // the session's node
+  std::string channel;
+  std::int64_t samples = 0;
+  friend bool operator==(const RateChannel&, const RateChannel&) = default;
+};
+
+// A block with its row id in the store that holds it (increasing, never reused).
+struct StoredRateBlock {
+  std::int64_t id = 0;
+  RateBlock block;
+};
 
 // Everything one commit writes, all or nothing.
 struct Batch {
@@ -92,6 +124,7 @@ struct Batch {
   std::vector<core::Event> events;  // every event's node must be the session's node
   std::vector<Loss> losses;
   std::vector<ClockSample> clock_samples;
+  std::vector<RateBlock> rate_blocks;  // each names its own (open) session
 };
 
 // The store-wide sequence numbers a commit gave its events; both 0 when it had none.
@@ -135,6 +168,7 @@ struct IngestCursor {
   std::int64_t events = 0;
   std::int64_t clock_samples = 0;
   std::int64_t losses = 0;
+  std::int64_t rate_blocks = 0;
   friend bool operator==(const IngestCursor&, const IngestCursor&) = default;
 };
 
@@ -148,6 +182,7 @@ struct IngestBatch {
   std::vector<StoredEvent> events;    // in origin seq order
   std::vector<StoredClockSample> clock_samples;  // in origin id order
   std::vector<StoredLoss> losses;                // in origin id order
+  std::vector<StoredRateBlock> rate_blocks;      // in origin id order
 };
 
 }  // namespace m2mlat::store

@@ -63,8 +63,23 @@ constexpr Rule kLossRules[] = {
     {"clock", kClockBroken, "0 to 3"},
     {"t_ns", "typeof(t_ns) <> 'integer'", "an integer"},
     {"count", "typeof(count) <> 'integer' OR count = 0", "a non-zero integer"},
-    {"kind", "kind NOT IN ('seqno_gap', 'line_seqno_gap', 'kmsg_gap', 'overflow', 'restart')",
+    {"kind",
+     "kind NOT IN ('seqno_gap', 'line_seqno_gap', 'kmsg_gap', 'overflow', 'restart', 'missed_period', "
+     "'i2c_error')",
      "a known loss kind"},
+};
+constexpr Rule kRateBlockRules[] = {
+    {"session_id", "session_id NOT IN (SELECT id FROM sessions)", "an existing session"},
+    {"channel", "channel = ''", "not empty"},
+    {"clock", kClockBroken, "0 to 3"},
+    {"counts_per_deg_s", "typeof(counts_per_deg_s) NOT IN ('real', 'integer') OR counts_per_deg_s <= 0",
+     "a number above 0"},
+    {"first_index", "typeof(first_index) <> 'integer' OR first_index < 0", "an integer >= 0"},
+    {"count", "typeof(count) <> 'integer' OR count NOT BETWEEN 1 AND 4096", "1 to 4096"},
+    {"first_ns", "typeof(first_ns) <> 'integer'", "an integer"},
+    {"last_ns", "typeof(last_ns) <> 'integer' OR last_ns < first_ns", "an integer >= first_ns"},
+    {"layout", "typeof(layout) <> 'integer' OR layout <> 1", "1 (the layout this m2mlat reads)"},
+    {"samples", "typeof(samples) <> 'blob' OR length(samples) <> 18 * count", "a BLOB of 18 bytes a sample"},
 };
 
 constexpr Table kTables[] = {
@@ -72,6 +87,7 @@ constexpr Table kTables[] = {
     {"events", "seq", kEventRules},
     {"clock_samples", "id", kClockSampleRules},
     {"losses", "id", kLossRules},
+    {"rate_blocks", "id", kRateBlockRules},
 };
 
 }  // namespace

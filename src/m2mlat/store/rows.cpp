@@ -6,6 +6,7 @@
 #include <bit>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/store/rate_block.hpp"
 
 namespace m2mlat::store::rows {
 
@@ -177,6 +178,33 @@ Loss read_loss(const sqlite::Statement& row, const std::string& path) {
   loss.count = from_column(row.column_int64(5));
   loss.kind = row.column_text(6);
   return loss;
+}
+
+void bind_rate_block(sqlite::Statement& insert, const RateBlock& block) {
+  insert.bind(1, block.session_id);
+  insert.bind(2, block.channel);
+  insert.bind(3, to_column(block.clock));
+  insert.bind_double(4, block.counts_per_deg_s);
+  insert.bind(5, to_column(block.first_index));
+  insert.bind(6, static_cast<std::int64_t>(block.samples.size()));
+  insert.bind(7, block.samples.front().time_ns);
+  insert.bind(8, block.samples.back().time_ns);
+  insert.bind(9, rate_block::kLayout);
+  insert.bind_blob(10, rate_block::encode(block.samples));
+}
+
+StoredRateBlock read_rate_block(const sqlite::Statement& row, const std::string& path) {
+  StoredRateBlock out;
+  out.id = row.column_int64(8);
+  RateBlock& block = out.block;
+  block.session_id = row.column_int64(0);
+  block.channel = row.column_text(1);
+  block.clock = read_enum<core::Clock>(row, 2, path, "rate_blocks", "clock");
+  block.counts_per_deg_s = row.column_double(3);
+  block.first_index = from_column(row.column_int64(4));
+  block.samples = rate_block::decode(row.column_blob(7), row.column_int64(6), row.column_int64(5),
+                                     fmt::format("{}: table 'rate_blocks' row id {}", path, out.id));
+  return out;
 }
 
 }  // namespace m2mlat::store::rows

@@ -36,6 +36,8 @@ inline constexpr std::string_view kClockSampleColumns =
     "session_id, clock, t_ns, source, offset_ns, max_error_ns, est_error_ns, synchronised, detail_json";
 inline constexpr std::string_view kLossColumns =
     "session_id, channel, clock, t_ns, first_missing, count, kind";
+inline constexpr std::string_view kRateBlockColumns =
+    "session_id, channel, clock, counts_per_deg_s, first_index, count, layout, samples, id";
 
 // INSERT statements whose parameters the bind_* functions fill.
 inline constexpr std::string_view kInsertSession =
@@ -56,6 +58,9 @@ inline constexpr std::string_view kInsertClockSample =
 inline constexpr std::string_view kInsertLoss =
     "INSERT INTO losses (session_id, channel, clock, t_ns, first_missing, count, kind) "
     "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)";
+inline constexpr std::string_view kInsertRateBlock =
+    "INSERT INTO rate_blocks (session_id, channel, clock, counts_per_deg_s, first_index, count, first_ns, "
+    "last_ns, layout, samples) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)";
 
 // `software_version` is bound as given; the caller fills an empty one.
 void bind_session(sqlite::Statement& insert, const Session& session);
@@ -63,11 +68,15 @@ void bind_session(sqlite::Statement& insert, const Session& session);
 void bind_event(sqlite::Statement& insert, std::int64_t session_id, const core::Event& event, int first = 0);
 void bind_clock_sample(sqlite::Statement& insert, const ClockSample& sample);
 void bind_loss(sqlite::Statement& insert, const Loss& loss);
+// The samples must be 1 to rate_block::kMaxSamples, in time order (validate::rate_block).
+void bind_rate_block(sqlite::Statement& insert, const RateBlock& block);
 
 // `path` names the store in errors about values no m2mlat writes.
 Session read_session(const sqlite::Statement& row, const std::string& path);
 StoredEvent read_event(const sqlite::Statement& row, const std::string& path);
 ClockSample read_clock_sample(const sqlite::Statement& row, const std::string& path);
 Loss read_loss(const sqlite::Statement& row, const std::string& path);
+// Columns kRateBlockColumns; decodes the BLOB, a damaged one reported naming the table and row.
+StoredRateBlock read_rate_block(const sqlite::Statement& row, const std::string& path);
 
 }  // namespace m2mlat::store::rows

@@ -1,4 +1,4 @@
-// Schema version 1 and the migration runner. Columns, types and units are documented in
+// The schema's versions (1 to 3) and the migration runner. Columns, types and units are documented in
 // docs/store.md; how rows map to the in-memory values is in rows.cpp.
 #include "m2mlat/store/schema.hpp"
 
@@ -108,9 +108,57 @@ CREATE TABLE origin_sessions (
 );
 )sql";
 
+// Version 3: a gyroscope's raw samples, in blocks (docs/store.md "Raw rate samples"). A row holds up
+// to rate_block::kMaxSamples samples of one channel of one session packed in a BLOB of the layout
+// named by `layout` (rate_block.hpp): one row per sample would cost ~40 bytes of row overhead on an
+// 18-byte sample, at 29 million samples a drive-hour. first_index is the number of the block's
+// first sample in read order (0 = the session's first on the channel), so a missing block or samples
+// left out by a keep window show as a jump. first_ns/last_ns (the block's first and last stamp, ns on
+// `clock`) select blocks by time without decoding them. The losses table is rebuilt (SQLite cannot
+// alter a CHECK) to accept the gyroscope's losses: 'missed_period' (a read deadline passed with no
+// read) and 'i2c_error' (a failed bus transfer); ids are kept, so cursors on them stay valid.
+// origins gets the cursor of the blocks taken from each origin.
+constexpr std::string_view kVersion3 = R"sql(
+CREATE TABLE rate_blocks (
+  id               INTEGER PRIMARY KEY,
+  session_id       INTEGER NOT NULL REFERENCES sessions (id),
+  channel          TEXT NOT NULL CHECK (channel <> ''),
+  clock            INTEGER NOT NULL CHECK (clock BETWEEN 0 AND 3),
+  counts_per_deg_s REAL NOT NULL CHECK (counts_per_deg_s > 0),
+  first_index      INTEGER NOT NULL CHECK (first_index >= 0),
+  count            INTEGER NOT NULL CHECK (count BETWEEN 1 AND 4096),
+  first_ns         INTEGER NOT NULL,
+  last_ns          INTEGER NOT NULL CHECK (last_ns >= first_ns),
+  layout           INTEGER NOT NULL CHECK (layout = 1),
+  samples          BLOB NOT NULL CHECK (length(samples) = 18 * count)
+);
+CREATE INDEX rate_blocks_by_session ON rate_blocks (session_id, channel, first_ns);
+
+CREATE TABLE losses_v3 (
+  id            INTEGER PRIMARY KEY,
+  session_id    INTEGER NOT NULL REFERENCES sessions (id),
+  channel       TEXT NOT NULL,
+  clock         INTEGER NOT NULL CHECK (clock BETWEEN 0 AND 3),
+  t_ns          INTEGER NOT NULL,
+  first_missing INTEGER NOT NULL,
+  count         INTEGER NOT NULL CHECK (count <> 0),
+  kind          TEXT NOT NULL
+    CHECK (kind IN ('seqno_gap', 'line_seqno_gap', 'kmsg_gap', 'overflow', 'restart', 'missed_period',
+                    'i2c_error'))
+);
+INSERT INTO losses_v3 (id, session_id, channel, clock, t_ns, first_missing, count, kind)
+  SELECT id, session_id, channel, clock, t_ns, first_missing, count, kind FROM losses;
+DROP TABLE losses;
+ALTER TABLE losses_v3 RENAME TO losses;
+CREATE INDEX losses_by_session ON losses (session_id, clock, t_ns);
+
+ALTER TABLE origins ADD COLUMN rate_block_id INTEGER NOT NULL DEFAULT 0;
+)sql";
+
 constexpr std::array kMigrations{
     Migration{"sessions, events, clock samples, losses, meta", kVersion1},
     Migration{"store identity, origins of a campaign store", kVersion2},
+    Migration{"raw rate samples in blocks, the gyroscope's loss kinds", kVersion3},
 };
 
 // Table name -> its column names, of the main database of `db` (SQLite's own tables left out).

@@ -170,6 +170,16 @@ void Statement::bind_null(int index) {
   if (rc != SQLITE_OK) throw_error(db_, rc, fmt::format("binding parameter {}", index));
 }
 
+void Statement::bind_double(int index, double value) {
+  const int rc = sqlite3_bind_double(stmt_, index, value);
+  if (rc != SQLITE_OK) throw_error(db_, rc, fmt::format("binding parameter {}", index));
+}
+
+void Statement::bind_blob(int index, std::span<const std::uint8_t> bytes) {
+  const int rc = sqlite3_bind_blob64(stmt_, index, bytes.data(), bytes.size(), kTransient);
+  if (rc != SQLITE_OK) throw_error(db_, rc, fmt::format("binding parameter {}", index));
+}
+
 bool Statement::step() {
   const int rc = sqlite3_step(stmt_);
   if (rc == SQLITE_ROW) return true;
@@ -193,6 +203,15 @@ std::string_view Statement::column_text(int column) const {
 }
 
 bool Statement::column_is_null(int column) const { return sqlite3_column_type(stmt_, column) == SQLITE_NULL; }
+
+double Statement::column_double(int column) const { return sqlite3_column_double(stmt_, column); }
+
+std::span<const std::uint8_t> Statement::column_blob(int column) const {
+  const void* data = sqlite3_column_blob(stmt_, column);
+  if (data == nullptr) return {};
+  const int bytes = sqlite3_column_bytes(stmt_, column);
+  return {static_cast<const std::uint8_t*>(data), static_cast<std::size_t>(bytes)};
+}
 
 // --- Transaction --------------------------------------------------------------------------------
 

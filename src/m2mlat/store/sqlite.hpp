@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -74,6 +75,9 @@ class Statement {
   void bind(int index, std::int64_t value);
   void bind(int index, std::string_view text);  // copied by SQLite
   void bind_null(int index);
+  // Named apart from bind(): an int argument would otherwise be ambiguous between int64 and double.
+  void bind_double(int index, double value);
+  void bind_blob(int index, std::span<const std::uint8_t> bytes);  // copied by SQLite
 
   // Executes one step: true when a row is available, false when the statement is done.
   bool step();
@@ -84,6 +88,9 @@ class Statement {
   // Valid until the next step() or reset().
   std::string_view column_text(int column) const;
   bool column_is_null(int column) const;
+  double column_double(int column) const;
+  // Valid until the next step() or reset(); empty for NULL or a zero-length blob.
+  std::span<const std::uint8_t> column_blob(int column) const;
 
  private:
   sqlite3* db_ = nullptr;

@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <random>
 #include <set>
 #include <thread>
@@ -329,6 +330,8 @@ AppendResult Store::append(const Batch& batch) {
   for (std::size_t i = 0; i < batch.losses.size(); ++i) validate::loss(path(), i, batch.losses[i]);
   for (std::size_t i = 0; i < batch.clock_samples.size(); ++i)
     validate::clock_sample(path(), i, batch.clock_samples[i]);
+  for (std::size_t i = 0; i < batch.rate_blocks.size(); ++i)
+    validate::rate_block(path(), i, batch.rate_blocks[i]);
 
   sqlite::Transaction transaction(s.db);
   AppendResult result;
@@ -374,6 +377,13 @@ AppendResult Store::append(const Batch& batch) {
     s.insert_clock_sample.step();
     s.insert_clock_sample.reset();
   }
+  for (const RateBlock& block : batch.rate_blocks) {
+    if (checked.insert(block.session_id).second)
+      s.require_open_session(block.session_id, "appending raw rate samples");
+    rows::bind_rate_block(s.insert_rate_block, block);
+    s.insert_rate_block.step();
+    s.insert_rate_block.reset();
+  }
   transaction.commit();
   return result;
 }
@@ -394,6 +404,12 @@ void Store::append_clock_samples(std::span<const ClockSample> samples) {
 void Store::append_losses(std::span<const Loss> losses) {
   Batch batch;
   batch.losses.assign(losses.begin(), losses.end());
+  append(batch);
+}
+
+void Store::append_rate_blocks(std::span<const RateBlock> blocks) {
+  Batch batch;
+  batch.rate_blocks.assign(blocks.begin(), blocks.end());
   append(batch);
 }
 
@@ -499,6 +515,63 @@ std::vector<StoredLoss> Store::losses_after(std::int64_t after_id, std::size_t l
   query.bind(2, limit_column(limit));
   std::vector<StoredLoss> out;
   while (query.step()) out.push_back({query.column_int64(7), rows::read_loss(query, path())});
+  return out;
+}
+
+std::vector<RateChannel> Store::rate_channels() const {
+  sqlite::Statement query(impl_->db,
+                          "SELECT b.session_id, s.node, b.channel, sum(b.count) FROM rate_blocks b "
+                          "JOIN sessions s ON s.id = b.session_id GROUP BY b.session_id, b.channel "
+                          "ORDER BY b.session_id, b.channel");
+  std::vector<RateChannel> out;
+  while (query.step())
+    out.push_back({query.column_int64(0), std::string(query.column_text(1)), std::string(query.column_text(2)),
+                   query.column_int64(3)});
+  return out;
+}
+
+core::RateTrace Store::rate_trace(std::int64_t session_id, const std::string& channel) const {
+  sqlite::Statement query(impl_->db, fmt::format("SELECT {} FROM rate_blocks WHERE session_id = ?1 AND "
+                                                 "channel = ?2 ORDER BY first_ns, first_index, id",
+                                                 rows::kRateBlockColumns));
+  query.bind(1, session_id);
+  query.bind(2, channel);
+  core::RateTrace trace;
+  std::optional<std::int64_t> first_id;
+  while (query.step()) {
+    StoredRateBlock stored = rows::read_rate_block(query, path());
+    const RateBlock& block = stored.block;
+    if (!first_id) {
+      first_id = stored.id;
+      trace.clock = block.clock;
+      trace.counts_per_deg_s = block.counts_per_deg_s;
+    } else if (block.clock != trace.clock || block.counts_per_deg_s != trace.counts_per_deg_s) {
+      core::throw_data_error({path(), 0},
+                             fmt::format("table 'rate_blocks' row id {}: its clock or counts_per_deg_s ({}) "
+                                         "differs from row id {} of the same trace ({})",
+                                         stored.id, block.counts_per_deg_s, *first_id, trace.counts_per_deg_s));
+    }
+    trace.samples.insert(trace.samples.end(), block.samples.begin(), block.samples.end());
+  }
+  if (!first_id)
+    throw core::Error(core::ErrorKind::no_input,
+                      fmt::format("{}: session {} has no raw rate samples on channel '{}'", path(), session_id,
+                                  channel));
+  // Blocks are ordered by their first stamp; a block overlapping the next (two samplers writing one
+  // channel) would leave the trace out of order: order it, ties kept as stored.
+  std::stable_sort(trace.samples.begin(), trace.samples.end(),
+                   [](const core::RateSample& a, const core::RateSample& b) { return a.time_ns < b.time_ns; });
+  return trace;
+}
+
+std::vector<StoredRateBlock> Store::rate_blocks_after(std::int64_t after_id, std::size_t limit) const {
+  sqlite::Statement query(impl_->db, fmt::format("SELECT {} FROM rate_blocks WHERE id > ?1 ORDER BY id "
+                                                 "LIMIT ?2",
+                                                 rows::kRateBlockColumns));
+  query.bind(1, after_id);
+  query.bind(2, limit_column(limit));
+  std::vector<StoredRateBlock> out;
+  while (query.step()) out.push_back(rows::read_rate_block(query, path()));
   return out;
 }
 

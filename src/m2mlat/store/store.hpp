@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "m2mlat/core/event.hpp"
+#include "m2mlat/core/rate_sample.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/store/records.hpp"
 
@@ -66,6 +67,7 @@ class Store {
   std::int64_t append_events(std::int64_t session_id, std::span<const core::Event> events);
   void append_clock_samples(std::span<const ClockSample> samples);
   void append_losses(std::span<const Loss> losses);
+  void append_rate_blocks(std::span<const RateBlock> blocks);
 
   // Up to `limit` events with seq > after_seq, in seq order (the resume-by-seq read).
   std::vector<StoredEvent> events_after(std::int64_t after_seq, std::size_t limit) const;
@@ -88,9 +90,18 @@ class Store {
   std::vector<StoredClockSample> clock_samples_after(std::int64_t after_id, std::size_t limit) const;
   std::vector<StoredLoss> losses_after(std::int64_t after_id, std::size_t limit) const;
 
+  // Raw rate samples (a gyroscope's). The traces stored, by session id then channel:
+  std::vector<RateChannel> rate_channels() const;
+  // One channel's trace of a session, its blocks joined in time order. Throws core::Error: no_input
+  // if there is none; data if its blocks disagree on the clock or the scale, or a BLOB is damaged
+  // (naming the table and row).
+  core::RateTrace rate_trace(std::int64_t session_id, const std::string& channel) const;
+  // Up to `limit` blocks with id > after_id, in id order (the resume-by-id read of merge).
+  std::vector<StoredRateBlock> rate_blocks_after(std::int64_t after_id, std::size_t limit) const;
+
   // Campaign stores. ingest() appends, all or nothing, what `batch` holds beyond this store's cursor
   // for batch.origin: origin sessions are mapped to local ones (made on first sight, their end set
-  // when it becomes known), events/samples/losses get local seqs/ids, and the cursor advances in the
+  // when it becomes known), events/samples/losses/rate blocks get local seqs/ids, and the cursor advances in the
   // same transaction, so every origin item is stored exactly once however often it is given.
   // Returns the new cursor. Refuses (changing nothing) items naming a session the batch does not
   // carry and never carried before, and an origin equal to this store's own id.

@@ -39,6 +39,7 @@ struct Store::Impl {
         insert_events(db, rows::insert_events_sql(rows::kEventsPerInsert)),
         insert_loss(db, rows::kInsertLoss),
         insert_clock_sample(db, rows::kInsertClockSample),
+        insert_rate_block(db, rows::kInsertRateBlock),
         session_state(db, "SELECT node, end_ns IS NOT NULL FROM sessions WHERE id = ?1"),
         // LEFT JOIN: an event naming a missing session is refused by read_event, not skipped.
         events_after(db, fmt::format("SELECT {} FROM events e LEFT JOIN sessions s ON s.id = e.session_id "
@@ -79,6 +80,7 @@ struct Store::Impl {
   sqlite::Statement insert_events;  // rows::kEventsPerInsert rows
   sqlite::Statement insert_loss;
   sqlite::Statement insert_clock_sample;
+  sqlite::Statement insert_rate_block;
   sqlite::Statement session_state;
   sqlite::Statement events_after;
 };

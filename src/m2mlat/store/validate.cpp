@@ -4,9 +4,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/store/rate_block.hpp"
 #include "m2mlat/store/rows.hpp"
 
 namespace m2mlat::store::validate {
@@ -93,6 +96,28 @@ void loss(const std::string& store_path, std::size_t index, const Loss& l) {
   if (std::find(std::begin(kLossKinds), std::end(kLossKinds), l.kind) == std::end(kLossKinds))
     fail(store_path, what,
          fmt::format("field 'kind' is '{}' (expected one of {})", l.kind, fmt::join(kLossKinds, ", ")));
+}
+
+void rate_block(const std::string& store_path, std::size_t index, const RateBlock& b) {
+  const std::string what = fmt::format("rate block {} of the batch", index);
+  if (b.channel.empty()) fail(store_path, what, "field 'channel' is empty");
+  if (!rows::is_known(b.clock))
+    fail(store_path, what, fmt::format("field 'clock' has value {}, not a known clock", static_cast<int>(b.clock)));
+  if (!std::isfinite(b.counts_per_deg_s) || b.counts_per_deg_s <= 0)
+    fail(store_path, what, fmt::format("field 'counts_per_deg_s' is {} (expected > 0)", b.counts_per_deg_s));
+  if (b.first_index > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+    fail(store_path, what, fmt::format("field 'first_index' is {} (expected < 2^63)", b.first_index));
+  if (b.samples.empty() || b.samples.size() > rate_block::kMaxSamples)
+    fail(store_path, what,
+         fmt::format("holds {} samples (expected 1 to {})", b.samples.size(), rate_block::kMaxSamples));
+  for (std::size_t k = 0; k < b.samples.size(); ++k) {
+    if (b.samples[k].bound_ns < 0)
+      fail(store_path, what, fmt::format("sample {}: field 'bound_ns' is {} (expected >= 0)", k,
+                                         b.samples[k].bound_ns));
+    if (k > 0 && b.samples[k].time_ns < b.samples[k - 1].time_ns)
+      fail(store_path, what, fmt::format("sample {}: field 'time_ns' {} is earlier than the sample before ({})",
+                                         k, b.samples[k].time_ns, b.samples[k - 1].time_ns));
+  }
 }
 
 }  // namespace m2mlat::store::validate

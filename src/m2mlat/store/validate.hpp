@@ -20,5 +20,8 @@ void session(const std::string& store_path, const Session& session);
 void event(const std::string& store_path, std::size_t index, const core::Event& event);
 void clock_sample(const std::string& store_path, std::size_t index, const ClockSample& sample);
 void loss(const std::string& store_path, std::size_t index, const Loss& loss);
+// A channel name, a known clock, a positive finite scale, 1 to rate_block::kMaxSamples samples in
+// time order with non-negative bounds.
+void rate_block(const std::string& store_path, std::size_t index, const RateBlock& block);
 
 }  // namespace m2mlat::store::validate

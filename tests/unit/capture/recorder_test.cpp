@@ -12,6 +12,10 @@
 
 #include "m2mlat/capture/fake_gpio.hpp"
 #include "m2mlat/capture/gpio_source.hpp"
+#include "m2mlat/capture/gyro_channel.hpp"
+#include "m2mlat/capture/gyro_source.hpp"
+#include "m2mlat/capture/mpu6050.hpp"
+#include "m2mlat/capture/register_twin.hpp"
 #include "m2mlat/core/error.hpp"
 
 namespace m2mlat::capture {
@@ -276,6 +280,53 @@ TEST_F(RecorderTest, EveryAcknowledgedEventIsInTheStore) {
   ASSERT_FALSE(acknowledged.empty());
   EXPECT_EQ(acknowledged.back(), 250);
   EXPECT_EQ(store.events_after(0, 1000).size(), 250u);
+}
+
+// The gyroscope channel's path as `record --gyro` wires it: the sampler on the register twin, the
+// channel's blocks committed every round, and at the stop the sampler stopped first, so every sample
+// it read is in the store, in order, under the recorder's session.
+TEST_F(RecorderTest, TheRawSampleHookStoresEverySampleTheGyroscopeReadByTheStop) {
+  auto store = store::Store::open(path_);
+  StreamSource source;
+  RegisterTwin twin;
+  twin.registers[mpu6050::reg::who_am_i] = 0x68;
+  twin.set_rates(100, -200, 300);
+  Mpu6050 chip(twin);
+  chip.configure({});
+  GyroSource gyro(chip, {.period = core::Duration{500'000}});
+  GyroChannel channel("wheel_gyro", core::Clock::realtime, mpu6050::kCountsPerDegS, {});
+  auto o = options();
+  o.commit_interval = std::chrono::milliseconds(20);
+  o.max_duration = std::chrono::milliseconds(300);
+  int rounds = 0, finals = 0;
+  o.raw_samples = [&](std::int64_t session, bool final, std::vector<store::RateBlock>& blocks,
+                      std::vector<store::Loss>& losses) {
+    ++rounds;
+    if (final) {
+      ++finals;
+      gyro.stop();
+      gyro.join();
+    }
+    channel.add(gyro.take(), gyro.summary());
+    channel.collect(session, realtime_now(), final, blocks, losses);
+  };
+  gyro.start();
+  Recorder recorder(store, source, o);
+  const auto counters = recorder.run(-1);
+  EXPECT_EQ(finals, 1);
+  EXPECT_GE(rounds, 5);  // about every 20 ms, without any edge
+  const auto read = gyro.summary().reads;
+  EXPECT_GT(read, 100u);
+  const auto trace = store.rate_trace(counters.session_id, "wheel_gyro");
+  EXPECT_EQ(trace.samples.size(), read);
+  EXPECT_EQ(channel.counters().stored, read);
+  for (std::size_t i = 0; i < trace.samples.size(); ++i) {
+    EXPECT_EQ(trace.samples[i].raw, (std::array<std::int16_t, 3>{100, -200, 300}));
+    if (i > 0) {
+      EXPECT_GT(trace.samples[i].time_ns, trace.samples[i - 1].time_ns);
+    }
+  }
+  EXPECT_TRUE(store.session(counters.session_id)->end.has_value());
 }
 
 }  // namespace
