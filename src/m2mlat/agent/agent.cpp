@@ -8,6 +8,7 @@
 #include <exception>
 #include <thread>
 
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/store/store.hpp"
 
@@ -58,7 +59,7 @@ capture::RecordCounters Agent::run(int stop_fd, const std::function<std::string(
   std::exception_ptr failure;
   {
     std::lock_guard lock(mutex_);
-    started_ns_ = capture::realtime_now().ns();
+    started_ns_ = core::realtime_now().ns();
   }
   std::thread thread([&] {
     try {

@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <limits>
 
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/rt/scheduling.hpp"
 
@@ -14,20 +15,6 @@ namespace m2mlat::capture {
 namespace {
 
 constexpr std::int64_t kNsPerS = 1'000'000'000;
-
-std::int64_t now_ns(clockid_t clock) {
-  timespec ts{};
-  clock_gettime(clock, &ts);
-  return std::int64_t{ts.tv_sec} * kNsPerS + ts.tv_nsec;
-}
-
-void sleep_until_monotonic(std::int64_t deadline_ns) {
-  timespec ts{};
-  ts.tv_sec = deadline_ns / kNsPerS;
-  ts.tv_nsec = deadline_ns % kNsPerS;
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-  }
-}
 
 }  // namespace
 
@@ -80,7 +67,7 @@ void GyroSource::loop() {
   }
 
   const std::int64_t period = options_.period.count();
-  const std::int64_t start = now_ns(CLOCK_MONOTONIC);
+  const std::int64_t start = core::now_ns(CLOCK_MONOTONIC);
   const std::int64_t end = options_.duration.count() > 0 ? start + options_.duration.count()
                                                          : std::numeric_limits<std::int64_t>::max();
   std::int64_t deadline = start;
@@ -90,9 +77,9 @@ void GyroSource::loop() {
       reason = "duration";
       break;
     }
-    sleep_until_monotonic(deadline);
+    core::sleep_until_ns(CLOCK_MONOTONIC, deadline);
     core::RateSample sample;
-    const std::int64_t before = now_ns(CLOCK_REALTIME);
+    const std::int64_t before = core::now_ns(CLOCK_REALTIME);
     try {
       sample.raw = chip_.read_rates();
     } catch (const std::exception& e) {
@@ -102,7 +89,7 @@ void GyroSource::loop() {
       reason = "i2c error";
       break;
     }
-    const std::int64_t after = now_ns(CLOCK_REALTIME);
+    const std::int64_t after = core::now_ns(CLOCK_REALTIME);
     const std::int64_t took = after - before;
     // The middle of [before - output period, after], and half its width rounded up, so that the
     // interval covers both ends.
@@ -121,7 +108,7 @@ void GyroSource::loop() {
     }
     // The next deadline; those already past (a slow read, a late wake-up) are skipped and counted.
     deadline += period;
-    const std::int64_t now = now_ns(CLOCK_MONOTONIC);
+    const std::int64_t now = core::now_ns(CLOCK_MONOTONIC);
     if (now > deadline) {
       const std::int64_t skipped = (now - deadline) / period + 1;
       // Only deadlines inside the run count as missed (the last read may end after the run's end).

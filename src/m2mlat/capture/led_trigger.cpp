@@ -15,6 +15,7 @@
 #include <cstring>
 
 #include "m2mlat/capture/gpio_source.hpp"
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/number.hpp"
 #include "m2mlat/core/printable.hpp"
@@ -37,12 +38,6 @@ void take_word(std::string_view word, const std::string& where, TriggerInput& ou
   else
     out.refused.push_back(fmt::format("{}: unknown LED command '{}' (on, off, flash)", where,
                                       core::printable(std::string(trim(word)))));
-}
-
-std::int64_t realtime_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
 }
 
 class StreamTrigger final : public LedTrigger {
@@ -181,7 +176,7 @@ LedRunSummary run_triggered(PulseGenerator& led, LedTrigger& trigger, core::Dura
   bool flash_lit = false;
   std::int64_t off_at = 0;  // the lit flash's end, CLOCK_REALTIME ns
   bool open = true;
-  const auto now_point = [] { return core::TimePoint::from_ns(core::Clock::realtime, realtime_ns()); };
+  const auto now_point = [] { return core::TimePoint::from_ns(core::Clock::realtime, core::now_ns(CLOCK_REALTIME)); };
   const auto switch_to = [&](bool high, core::TimePoint asked) {
     if (led.high() == high) return;
     const auto edge = led.set(high, summary.switches++, asked);
@@ -191,7 +186,7 @@ LedRunSummary run_triggered(PulseGenerator& led, LedTrigger& trigger, core::Dura
   for (;;) {
     int timeout_ms = -1;
     if (flash_lit) {
-      const std::int64_t left = off_at - realtime_ns();
+      const std::int64_t left = off_at - core::now_ns(CLOCK_REALTIME);
       if (left <= 0) {
         switch_to(false, core::TimePoint::from_ns(core::Clock::realtime, off_at));
         flash_lit = false;

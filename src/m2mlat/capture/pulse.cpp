@@ -11,6 +11,7 @@
 #include <system_error>
 
 #include "m2mlat/capture/chip_lookup.hpp"
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 
 namespace m2mlat::capture {
@@ -18,20 +19,6 @@ namespace m2mlat::capture {
 namespace {
 
 constexpr std::int64_t kNsPerSec = 1'000'000'000;
-
-std::int64_t realtime_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return std::int64_t{ts.tv_sec} * kNsPerSec + ts.tv_nsec;
-}
-
-void sleep_until(std::int64_t deadline_ns) {
-  timespec ts{};
-  ts.tv_sec = deadline_ns / kNsPerSec;
-  ts.tv_nsec = deadline_ns % kNsPerSec;
-  while (clock_nanosleep(CLOCK_REALTIME, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-  }
-}
 
 }  // namespace
 
@@ -59,7 +46,7 @@ PulseGenerator::PulseGenerator(GpioDevices& devices, PulseOptions options) : opt
         core::ErrorKind::usage,
         fmt::format("--on-for ({}) must be positive and shorter than --period ({})",
                     core::format_duration(options_.on_for), core::format_duration(options_.period)));
-  if (!options_.now) options_.now = realtime_ns;
+  if (!options_.now) options_.now = [] { return core::now_ns(CLOCK_REALTIME); };
   chip_ = find_chip(devices, options_.chip);
   offset_ = find_line(devices, chip_, options_.line);
   gpio_v2_line_request request{};
@@ -150,7 +137,7 @@ PulseSummary PulseGenerator::run(int stop_fd, const std::function<void(const Pul
       if (summary.stop_reason.empty()) summary.stop_reason = "stop";
       break;
     }
-    sleep_until(deadline);
+    core::sleep_until_ns(CLOCK_REALTIME, deadline);
     const auto edge = set(!level_, k, core::TimePoint::from_ns(core::Clock::realtime, deadline));
     const core::Duration late = edge.commanded - edge.deadline;
     summary.max_late = std::max(summary.max_late, late);

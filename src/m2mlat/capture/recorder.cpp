@@ -12,23 +12,11 @@
 #include <optional>
 
 #include "m2mlat/capture/source_reader.hpp"
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/store/event_writer.hpp"
 
 namespace m2mlat::capture {
-
-core::TimePoint realtime_now() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return core::TimePoint::from_ns(core::Clock::realtime,
-                                  std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec);
-}
-
-core::Duration monotonic_now() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return core::Duration{std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec};
-}
 
 Recorder::Recorder(store::Store& store, Source& source, RecorderOptions options)
     : store_(store), source_(source), options_(std::move(options)) {
@@ -57,7 +45,7 @@ Recorder::Channel& Recorder::channel_of(const core::Event& event) {
 
 std::int64_t Recorder::begin(const store::Session& session) {
   auto copy = session;
-  copy.start = realtime_now();
+  copy.start = core::realtime_now();
   copy.end.reset();
   return store_.begin_session(copy);
 }
@@ -131,7 +119,7 @@ Recorder::Run::Run(Recorder& recorder, int stop_fd, const std::function<std::str
   writer_options_.max_age = options_.commit_interval;
   writer_options_.age_on_add = false;  // the rounds keep the time
   writer_options_.on_commit = [this](const store::Batch& committed, const store::AppendResult&) {
-    const auto now = realtime_now().ns();
+    const auto now = core::realtime_now().ns();
     // Only edges this machine's kernel timestamped: a simulated rig's times are on its own clocks.
     for (const auto& event : committed.events)
       if (event.time.clock() == core::Clock::realtime && (event.flags & core::kFlagSimulated) == 0)
@@ -143,9 +131,9 @@ RecordCounters Recorder::Run::execute() {
   open_first_session();
   last_committed_ = recorder_.store_.last_seq();
   ended_session_ = counters_.session_id;
-  started_ = monotonic_now();
+  started_ = core::monotonic_now();
   last_progress_ = started_;
-  last_round_ = monotonic_now();
+  last_round_ = core::monotonic_now();
   try {
     SourceReaderOptions reader_options = options_.reader;
     reader_options.chunk_events = std::max<std::size_t>(reader_options.chunk_events, 1);
@@ -168,7 +156,7 @@ RecordCounters Recorder::Run::execute() {
 void Recorder::Run::open_first_session() {
   // Before this node's first session: a session of it still open was cut by a crash; end it and
   // record the cut, so that neither stays open for ever nor hides the gap.
-  for (const auto& cut : recorder_.store_.close_cut_sessions(options_.session.node, realtime_now()))
+  for (const auto& cut : recorder_.store_.close_cut_sessions(options_.session.node, core::realtime_now()))
     counters_.cut_sessions.push_back(cut.id);
   if (options_.start_session || control_ == nullptr) begin_session(options_.session);
 }
@@ -184,7 +172,7 @@ std::optional<store::Session> Recorder::Run::end_open() {
   writer_->flush();
   last_committed_ = std::max(last_committed_, writer_->last_committed_seq());
   writer_.reset();
-  recorder_.store_.end_session(counters_.session_id, realtime_now());
+  recorder_.store_.end_session(counters_.session_id, core::realtime_now());
   ended_session_ = counters_.session_id;
   auto ended = recorder_.store_.session(counters_.session_id);
   counters_.session_id = 0;
@@ -209,7 +197,7 @@ void Recorder::Run::serve_requests() {
 // Everything queued is taken, gated and committed (in batches of at most max_batch, the rest at the
 // end): each event is counted as stored only once its commit has returned.
 void Recorder::Run::commit_round() {
-  last_round_ = monotonic_now();
+  last_round_ = core::monotonic_now();
   reader_->take(chunks_);
   for (auto& chunk : chunks_) {
     take(*chunk);
@@ -238,7 +226,7 @@ void Recorder::Run::take(ReadResult& batch) {
 
 void Recorder::Run::add_gaps(const std::vector<Gap>& gaps) {
   if (gaps.empty()) return;
-  const auto detected = realtime_now();
+  const auto detected = core::realtime_now();
   for (const auto& gap : gaps) {
     store::Loss loss{counters_.session_id, gap.channel, detected, gap.first_missing, gap.count, gap.kind};
     writer_->add(loss);
@@ -298,7 +286,7 @@ void Recorder::Run::check_reader() {
 
 void Recorder::Run::record_until_stop() {
   for (;;) {
-    const auto now = monotonic_now();
+    const auto now = core::monotonic_now();
     const auto queued = reader_->status();
     if (round_due(now, queued)) {
       commit_round();
@@ -426,7 +414,7 @@ void Recorder::Run::snapshot() {
 }
 
 void Recorder::Run::report_progress() {
-  last_progress_ = monotonic_now();
+  last_progress_ = core::monotonic_now();
   snapshot();
   if (options_.on_progress) options_.on_progress(counters_);
 }

@@ -109,9 +109,4 @@ class Recorder {
   std::size_t last_channel_ = 0;
 };
 
-// CLOCK_REALTIME now (for session bounds and loss detection times).
-core::TimePoint realtime_now();
-// CLOCK_MONOTONIC now, ns (for limits and intervals).
-core::Duration monotonic_now();
-
 }  // namespace m2mlat::capture

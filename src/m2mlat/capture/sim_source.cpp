@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "m2mlat/capture/recorder.hpp"
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/store/clock_step.hpp"
 
 namespace m2mlat::capture {
@@ -69,7 +70,7 @@ void SimSource::read(ReadResult& out, std::size_t max_events) {
       if (sample.node == options_.side)
         clock_ready_.push_back(sim_clock_sample(sample, 0, sim_reference(options_.config, options_.side)));
   }
-  const auto now = monotonic_now();
+  const auto now = core::monotonic_now();
   std::size_t taken = 0;
   while (taken < max_events && !ready_.empty()) {
     const auto& next = ready_.front();

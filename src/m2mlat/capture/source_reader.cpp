@@ -14,6 +14,7 @@
 #include <cstring>
 
 #include "m2mlat/capture/recorder.hpp"
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 
 namespace m2mlat::capture {
@@ -99,7 +100,7 @@ void SourceReader::stop(bool drain) {
   {
     std::lock_guard lock(mutex_);
     if (stop_) drain = drain && drain_;  // a second request can cancel a drain, never ask for one
-    if (drain && !drain_) drain_until_ = monotonic_now() + options_.drain_limit;
+    if (drain && !drain_) drain_until_ = core::monotonic_now() + options_.drain_limit;
     stop_ = true;
     drain_ = drain;
   }
@@ -139,7 +140,7 @@ std::size_t SourceReader::read_once() {
   const auto got = items(*current_) - before;
   if (got == 0 && !current_->finished) return 0;
   const bool was_empty = queued_events_ == 0 && !first_;
-  if (!first_) first_ = monotonic_now();
+  if (!first_) first_ = core::monotonic_now();
   const auto queued_before = queued_events_;
   queued_events_ += current_->events.size() - events_before;
   const bool finished = current_->finished;
@@ -173,14 +174,14 @@ void SourceReader::run() {
       }
       if (drain) {
         // Read until the source has nothing more (the kernel's buffer at a stop), within the limit.
-        if (monotonic_now() >= drain_until || read_once() == 0) break;
+        if (core::monotonic_now() >= drain_until || read_once() == 0) break;
         continue;
       }
       const auto got = read_once();
       if (got > 0 && pollable && options_.coalesce.count() > 0) {
         // Events come faster than one per coalesce period: let them accumulate, so that the next
         // read takes many. Slower ones are read as they come: a pause would only add a wake-up.
-        const auto now = monotonic_now();
+        const auto now = core::monotonic_now();
         if (last_read_ && now - *last_read_ < options_.coalesce) {
           pollfd fd{wake_reader_fd_.get(), POLLIN, 0};  // a stop ends the pause at once
           const auto ts = to_timespec(options_.coalesce);

@@ -17,6 +17,7 @@
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/collect/coordinator.hpp"
 #include "m2mlat/collect/live_view.hpp"
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/core/time.hpp"
@@ -131,7 +132,7 @@ int run_collect(const CollectCommand& c) {
   std::vector<bool> seen(c.agents.size(), false);
   const auto on_refresh = [&] {
     const auto health = coordinator.health();
-    view.refresh(health, collect::realtime_now_ns());
+    view.refresh(health, core::now_ns(CLOCK_REALTIME));
     for (std::size_t i = 0; i < health.size(); ++i) {
       const auto& h = health[i];
       if (seen[i] && h.state == previous[i]) continue;
@@ -143,7 +144,7 @@ int run_collect(const CollectCommand& c) {
             collect::to_string(h.state),
             h.state == collect::NodeState::stale
                 ? fmt::format(" (no answer for {})", core::format_duration(core::Duration(
-                                                         collect::realtime_now_ns() - h.last_contact_ns)))
+                                                         core::now_ns(CLOCK_REALTIME) - h.last_contact_ns)))
                 : std::string());
       previous[i] = h.state;
       seen[i] = true;
@@ -170,7 +171,7 @@ int run_collect(const CollectCommand& c) {
   if (!quiet) fmt::print(stderr, "m2mlat: collect: stopping ({})\n", reason);
   coordinator.stop();
   // The final numbers, from everything the agents held (those of `m2mlat stats` on the campaign).
-  view.finish(coordinator.health(), collect::realtime_now_ns());
+  view.finish(coordinator.health(), core::now_ns(CLOCK_REALTIME));
   print_summary(coordinator.health(), c.store_path, c.json);
   return 0;
 }

@@ -17,6 +17,7 @@
 #include "m2mlat/capture/stop_signal.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/output_file.hpp"
 #include "m2mlat/core/printable.hpp"
@@ -103,7 +104,7 @@ int run_led(const LedCommand& c) {
     session.role = core::parse_role(c.role);
     session.label = "led";
     session.scenario = c.scenario;
-    session.start = capture::realtime_now();
+    session.start = core::realtime_now();
     session.config_json = nlohmann::json{{"source", "led"},
                                          {"chip", c.chip},
                                          {"line", c.line},
@@ -167,7 +168,7 @@ int run_led(const LedCommand& c) {
   progress_done();
   if (writer) {
     writer->flush();
-    store->end_session(session_id, capture::realtime_now());
+    store->end_session(session_id, core::realtime_now());
   }
   if (!c.events_path.empty())
     core::write_output_file(c.events_path, [&](std::ostream& out) {

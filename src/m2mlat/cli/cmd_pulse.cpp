@@ -14,6 +14,7 @@
 #include "m2mlat/capture/stop_signal.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/rt/scheduling.hpp"
@@ -55,7 +56,7 @@ int run_pulse(const PulseCommand& c) {
     session.role = core::Role::observer;
     session.label = "pulse";
     session.scenario = "sync-test";
-    session.start = capture::realtime_now();
+    session.start = core::realtime_now();
     session.config_json =
         nlohmann::json{
             {"source", "pulse"}, {"chip", c.chip}, {"line", c.line}, {"period_ns", options.period.count()}}
@@ -89,7 +90,7 @@ int run_pulse(const PulseCommand& c) {
   progress_done();
   if (writer) {
     writer->flush();
-    store->end_session(session_id, capture::realtime_now());
+    store->end_session(session_id, core::realtime_now());
   }
   const auto mean_late =
       summary.edges > 0 ? summary.total_late / static_cast<std::int64_t>(summary.edges) : core::Duration{0};

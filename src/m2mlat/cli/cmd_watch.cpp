@@ -13,6 +13,7 @@
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/live_flags.hpp"
 #include "m2mlat/collect/health.hpp"
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/time.hpp"
 
@@ -47,10 +48,10 @@ int run_watch(const WatchCommand& c) {
     if (ready < 0 && errno != EINTR)
       throw core::Error(core::ErrorKind::io, fmt::format("poll: {}", std::strerror(errno)));
     if (ready > 0 && !stop.take().empty()) break;
-    view.refresh({}, collect::realtime_now_ns());
+    view.refresh({}, core::now_ns(CLOCK_REALTIME));
     if (duration && std::chrono::steady_clock::now() - started >= *duration) break;
   }
-  const auto final_summary = view.finish({}, collect::realtime_now_ns());
+  const auto final_summary = view.finish({}, core::now_ns(CLOCK_REALTIME));
   return final_summary.state == collect::LiveState::error ? 65 : 0;
 }
 

@@ -13,6 +13,7 @@
 #include "m2mlat/capture/sim_source.hpp"
 #include "m2mlat/cli/duration_flag.hpp"
 #include "m2mlat/cli/output.hpp"
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/rt/irq.hpp"
 #include "m2mlat/rt/scheduling.hpp"
@@ -106,7 +107,7 @@ nlohmann::json open_gyro(const RecordFlags& c, RecordSetup& s) {
       gyro->source->join();
     }
     gyro->channel->add(gyro->source->take(), gyro->source->summary());
-    gyro->channel->collect(session_id, capture::realtime_now(), final, blocks, losses);
+    gyro->channel->collect(session_id, core::realtime_now(), final, blocks, losses);
   };
   nlohmann::json out{{"device", device},
                      {"address", address},

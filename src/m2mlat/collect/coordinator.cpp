@@ -7,6 +7,7 @@
 #include <future>
 #include <set>
 
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/store/store.hpp"
 
@@ -68,7 +69,7 @@ void Coordinator::collect_once() {
     try {
       calls[i].get();
     } catch (const std::exception& e) {
-      trackers_[i]->failed(e.what(), realtime_now_ns());
+      trackers_[i]->failed(e.what(), core::now_ns(CLOCK_REALTIME));
       if (!failure) failure = std::current_exception();
     }
   }
@@ -123,7 +124,7 @@ void Coordinator::stop() {
 }
 
 std::vector<NodeHealth> Coordinator::health() const {
-  const auto now = realtime_now_ns();
+  const auto now = core::now_ns(CLOCK_REALTIME);
   std::vector<NodeHealth> out;
   out.reserve(trackers_.size());
   for (const auto& tracker : trackers_) out.push_back(tracker->snapshot(now));

@@ -1,6 +1,8 @@
 // Per-agent health: contact times, a sliding 10 s event rate, the agent's losses and clock state.
 #include "m2mlat/collect/health.hpp"
 
+#include "m2mlat/core/clock_read.hpp"
+
 #include <time.h>
 
 #include <algorithm>
@@ -14,12 +16,6 @@ std::string_view to_string(NodeState state) {
     case NodeState::unreachable: return "unreachable";
   }
   return "unreachable";
-}
-
-std::int64_t realtime_now_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
 NodeTracker::NodeTracker(std::string url, std::chrono::nanoseconds stale_after) : stale_after_(stale_after) {

@@ -85,7 +85,4 @@ class NodeTracker {
   mutable std::uint64_t recent_sum_ = 0;
 };
 
-// The current CLOCK_REALTIME, ns.
-std::int64_t realtime_now_ns();
-
 }  // namespace m2mlat::collect

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 
 namespace m2mlat::collect {
@@ -15,7 +16,7 @@ LiveView::LiveView(LiveViewOptions options) : options_(std::move(options)) {
   if (options_.dashboard) {
     dashboard_ = std::make_unique<Dashboard>(*options_.dashboard);
     // A whole snapshot from the first request on (what the store holds already; no node seen yet).
-    dashboard_->publish(snapshot_json(summary_, {}, realtime_now_ns()));
+    dashboard_->publish(snapshot_json(summary_, {}, core::now_ns(CLOCK_REALTIME)));
   }
   if (options_.terminal)
     terminal_ = std::make_unique<TerminalView>(options_.out, options_.tty, options_.plain_interval);
@@ -54,7 +55,7 @@ void LiveView::run() {
     summary_ = std::move(result);
     // A new result goes to the dashboard at once, not at the next refresh(): the delay from an
     // effect event's commit to its sample on the page is then the store's poll plus the pairing.
-    if (fresh && dashboard_) dashboard_->publish(snapshot_json(summary_, nodes_, realtime_now_ns()));
+    if (fresh && dashboard_) dashboard_->publish(snapshot_json(summary_, nodes_, core::now_ns(CLOCK_REALTIME)));
   }
 }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <future>
 
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/store/store.hpp"
 
@@ -70,7 +71,7 @@ void Puller::run() {
       pull(*store);
     } catch (const std::exception& e) {
       if (stopping()) break;
-      tracker_->failed(e.what(), realtime_now_ns());
+      tracker_->failed(e.what(), core::now_ns(CLOCK_REALTIME));
       if (on_error_) on_error_(control_.url(), e.what());
       if (!wait(backoff)) break;
       backoff = std::min(backoff * 2, options_.backoff_max);
@@ -90,7 +91,7 @@ void Puller::run() {
       sync_sessions();
       catch_up(*store);
     } catch (const std::exception& e) {
-      tracker_->failed(e.what(), realtime_now_ns());
+      tracker_->failed(e.what(), core::now_ns(CLOCK_REALTIME));
       if (on_error_) on_error_(control_.url(), fmt::format("final pull: {}", e.what()));
     }
   }
@@ -119,7 +120,7 @@ void Puller::note_status(const net::Status& status) {
   std::optional<ClockState> clock;
   if (status.clock)
     clock = ClockState{status.clock->offset_ns, status.clock->max_error_ns, status.clock->synchronised};
-  tracker_->status(status.node, status.role, status.lost, status.last_seq, clock, realtime_now_ns());
+  tracker_->status(status.node, status.role, status.lost, status.last_seq, clock, core::now_ns(CLOCK_REALTIME));
   const std::optional<std::int64_t> open =
       status.session ? std::optional<std::int64_t>(status.session->id) : std::nullopt;
   // The open session changed (started, stopped or replaced): the sessions' ends changed too.
@@ -168,7 +169,7 @@ void Puller::ingest(store::Store& store, std::vector<store::StoredEvent> events,
   batch.losses = std::move(losses);
   cursor_ = store.ingest(batch);
   unsent_.clear();
-  tracker_->stored(new_events, cursor_.events, realtime_now_ns());
+  tracker_->stored(new_events, cursor_.events, core::now_ns(CLOCK_REALTIME));
 }
 
 void Puller::catch_up(store::Store& store) {
@@ -181,7 +182,7 @@ void Puller::catch_up(store::Store& store) {
   if (!halted()) {
     auto raw = control_.fetch_events(cursor_.events, options_.page);
     for (;;) {
-      tracker_->contact(realtime_now_ns());
+      tracker_->contact(core::now_ns(CLOCK_REALTIME));
       std::future<net::RawEventPage> next;
       const auto last = raw.lines() == options_.page ? raw.last_event_seq() : std::nullopt;
       if (last && !halted())
@@ -251,7 +252,7 @@ void Puller::pull(store::Store& store) {
       ingest(store, std::move(pending), {}, {});
       pending.clear();
     }
-    tracker_->contact(realtime_now_ns());
+    tracker_->contact(core::now_ns(CLOCK_REALTIME));
     if (side_due()) side_poll(store);
     return !stopping();
   };

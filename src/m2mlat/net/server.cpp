@@ -10,6 +10,7 @@
 #include <map>
 #include <type_traits>
 
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/version.hpp"
 #include "m2mlat/net/auth.hpp"
@@ -55,12 +56,6 @@ std::optional<std::string_view> param(const httplib::Request& req, const char* n
   if (count > 1) throw RequestError(400, fmt::format("{} given {} times", name, count));
   const auto it = req.params.find(name);
   return std::string_view(it->second);
-}
-
-std::int64_t realtime_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
 }
 
 template <typename Items>
@@ -193,7 +188,7 @@ struct AgentServer::Impl {
     s.software_version = core::kVersion;
     s.store_id = store->store_id();
     s.last_seq = store->last_seq();
-    s.now_ns = realtime_ns();
+    s.now_ns = core::now_ns(CLOCK_REALTIME);
     return s;
   }
 

@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/fd.hpp"
 #include "m2mlat/core/printable.hpp"
 
@@ -25,12 +26,6 @@ extern char** environ;
 namespace m2mlat::process {
 
 namespace {
-
-std::int64_t monotonic_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
 
 // 0 if `program` names an executable file (as posix_spawnp would find it: a path if it has a slash,
 // else the first match in $PATH), else the errno why not. posix_spawnp reports the same, but only
@@ -110,10 +105,10 @@ CommandResult ProcessRunner::run(const std::vector<std::string>& argv, core::Dur
   }
   result.started = true;
 
-  const std::int64_t deadline = monotonic_ns() + timeout.count();
+  const std::int64_t deadline = core::now_ns(CLOCK_MONOTONIC) + timeout.count();
   std::array<char, 4096> buffer{};
   while (out_read || err_read) {
-    const std::int64_t left_ns = deadline - monotonic_ns();
+    const std::int64_t left_ns = deadline - core::now_ns(CLOCK_MONOTONIC);
     if (left_ns <= 0) {
       result.timed_out = true;
       break;
@@ -140,7 +135,7 @@ CommandResult ProcessRunner::run(const std::vector<std::string>& argv, core::Dur
   while (!result.timed_out) {
     const pid_t done = ::waitpid(pid, &status, WNOHANG);
     if (done == pid || (done < 0 && errno != EINTR)) break;
-    if (monotonic_ns() >= deadline) {
+    if (core::now_ns(CLOCK_MONOTONIC) >= deadline) {
       result.timed_out = true;
       break;
     }

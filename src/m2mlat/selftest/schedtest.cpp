@@ -1,6 +1,8 @@
 // The scheduling test: running, reporting and storing a cyclictest run.
 #include "m2mlat/selftest/schedtest.hpp"
 
+#include "m2mlat/core/clock_read.hpp"
+
 #include <fmt/format.h>
 #include <time.h>
 
@@ -10,21 +12,14 @@ namespace m2mlat::selftest {
 
 namespace {
 
-core::TimePoint realtime() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return core::TimePoint::from_ns(core::Clock::realtime,
-                                  std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec);
-}
-
 }  // namespace
 
 SchedtestRun run_schedtest(process::CommandRunner& runner, const CyclictestOptions& options) {
   SchedtestRun run;
   run.options = options;
-  run.start = realtime();
+  run.start = core::realtime_now();
   run.result = run_cyclictest(runner, options);
-  run.end = realtime();
+  run.end = core::realtime_now();
   return run;
 }
 

@@ -1,6 +1,8 @@
 // Reading the kernel clock discipline (clock_adjtime, read-only) and the realtime/raw clock pair.
 #include "m2mlat/sync/kernel_clock.hpp"
 
+#include "m2mlat/core/clock_read.hpp"
+
 #include <sys/timex.h>
 #include <time.h>
 
@@ -12,12 +14,6 @@
 namespace m2mlat::sync {
 
 namespace {
-
-std::int64_t read_ns(clockid_t clock) {
-  timespec ts{};
-  clock_gettime(clock, &ts);
-  return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
 
 constexpr std::pair<int, const char*> kStatusBits[] = {
     {STA_PLL, "PLL"},
@@ -113,9 +109,9 @@ ClockPair read_clock_pair() {
   ClockPair best;
   best.window_ns = INT64_MAX;
   for (int attempt = 0; attempt < 4; ++attempt) {
-    const std::int64_t raw0 = read_ns(CLOCK_MONOTONIC_RAW);
-    const std::int64_t real = read_ns(CLOCK_REALTIME);
-    const std::int64_t raw1 = read_ns(CLOCK_MONOTONIC_RAW);
+    const std::int64_t raw0 = core::now_ns(CLOCK_MONOTONIC_RAW);
+    const std::int64_t real = core::now_ns(CLOCK_REALTIME);
+    const std::int64_t raw1 = core::now_ns(CLOCK_MONOTONIC_RAW);
     if (raw1 - raw0 < best.window_ns) best = {real, raw0 + (raw1 - raw0) / 2, raw1 - raw0};
     if (best.window_ns < 20'000) break;  // 20 us: good enough against a 1 ms step threshold
   }

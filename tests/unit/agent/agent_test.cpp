@@ -12,6 +12,7 @@
 #include <mutex>
 #include <thread>
 
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/fd.hpp"
 #include "m2mlat/net/wire.hpp"
@@ -159,7 +160,7 @@ TEST_F(AgentTest, ClockSamplesFromTheHookGoIntoTheOpenSessionAndTheStatus) {
   o.recorder.before_commit = [](std::int64_t session, std::vector<store::ClockSample>& samples) {
     store::ClockSample s;
     s.session_id = session;
-    s.time = capture::realtime_now();
+    s.time = core::realtime_now();
     s.source = "test";
     s.offset_ns = -42;
     s.synchronised = true;

@@ -16,6 +16,7 @@
 #include "m2mlat/capture/gyro_source.hpp"
 #include "m2mlat/capture/mpu6050.hpp"
 #include "m2mlat/capture/register_twin.hpp"
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 
 namespace m2mlat::capture {
@@ -183,7 +184,7 @@ class StreamSource final : public Source {
       auto& e = out.events.emplace_back();
       e.node = "vehicle";
       e.channel = "wheel";
-      e.time = realtime_now();
+      e.time = core::realtime_now();
       e.seqno = e.line_seqno = next_++;
     }
   }
@@ -249,7 +250,7 @@ TEST_F(RecorderTest, TheClockHookHasItsTurnWithoutEdges) {
     if (calls++ > 0) return;
     store::ClockSample sample;
     sample.session_id = session;
-    sample.time = realtime_now();
+    sample.time = core::realtime_now();
     sample.source = "test";
     samples.push_back(sample);
   };
@@ -308,7 +309,7 @@ TEST_F(RecorderTest, TheRawSampleHookStoresEverySampleTheGyroscopeReadByTheStop)
       gyro.join();
     }
     channel.add(gyro.take(), gyro.summary());
-    channel.collect(session, realtime_now(), final, blocks, losses);
+    channel.collect(session, core::realtime_now(), final, blocks, losses);
   };
   gyro.start();
   Recorder recorder(store, source, o);

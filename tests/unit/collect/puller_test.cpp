@@ -14,6 +14,7 @@
 
 #include "agent_twin.hpp"
 #include "m2mlat/collect/coordinator.hpp"
+#include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/store/store.hpp"
 
@@ -124,7 +125,7 @@ TEST(Puller, CatchesUpByPagesAndTakesNothingTwice) {
   EXPECT_EQ(sessions[0].node, "vehicle");
   EXPECT_EQ(sessions[0].label, "twin");
 
-  const auto h = tracker->snapshot(realtime_now_ns());
+  const auto h = tracker->snapshot(core::now_ns(CLOCK_REALTIME));
   EXPECT_EQ(h.state, NodeState::ok);
   EXPECT_EQ(h.events, 25000u);
   EXPECT_EQ(h.cursor_seq, 25000);
@@ -164,7 +165,7 @@ TEST(Puller, FollowsTheStreamAndNewSessions) {
   EXPECT_EQ(sessions[1].label, "second");
   EXPECT_EQ(store.event_count(sessions[1].id), 30);
   EXPECT_EQ(errors.count(), 0u);
-  EXPECT_GT(tracker->snapshot(realtime_now_ns()).events_per_s, 0.0);
+  EXPECT_GT(tracker->snapshot(core::now_ns(CLOCK_REALTIME)).events_per_s, 0.0);
 }
 
 TEST(Puller, PollsInsteadOfStreamingWhenAsked) {
@@ -204,14 +205,14 @@ TEST(Puller, SurvivesDroppedConnectionsGarbageAndAFrozenAgentExactlyOnce) {
 
   // Frozen for longer than the read timeout: unreachable (or at least stale), then back.
   twin.set_fault(Fault::freeze);
-  ASSERT_TRUE(eventually([&] { return tracker->snapshot(realtime_now_ns()).state != NodeState::ok; }));
+  ASSERT_TRUE(eventually([&] { return tracker->snapshot(core::now_ns(CLOCK_REALTIME)).state != NodeState::ok; }));
   ASSERT_TRUE(
-      eventually([&] { return tracker->snapshot(realtime_now_ns()).state == NodeState::unreachable; }));
-  EXPECT_NE(tracker->snapshot(realtime_now_ns()).last_error.find("/v1/"), std::string::npos);
+      eventually([&] { return tracker->snapshot(core::now_ns(CLOCK_REALTIME)).state == NodeState::unreachable; }));
+  EXPECT_NE(tracker->snapshot(core::now_ns(CLOCK_REALTIME)).last_error.find("/v1/"), std::string::npos);
   twin.append(77);
   twin.set_fault(Fault::none);
   ASSERT_TRUE(eventually([&] { return stored_of(campaign, twin.store_id()) == 15200; }));
-  ASSERT_TRUE(eventually([&] { return tracker->snapshot(realtime_now_ns()).state == NodeState::ok; }));
+  ASSERT_TRUE(eventually([&] { return tracker->snapshot(core::now_ns(CLOCK_REALTIME)).state == NodeState::ok; }));
   puller.stop(false);
   expect_exactly_once(campaign, {&twin});
 }
