@@ -6,15 +6,16 @@
 #include <cmath>
 #include <utility>
 
+#include "m2mlat/formats/json_number.hpp"
 #include "m2mlat/report/table.hpp"
 
 namespace m2mlat::report {
 
+using formats::number;
+
 namespace {
 
 std::string ms(double ns) { return std::isnan(ns) ? "-" : fmt::format("{:+.3f}", ns / 1e6); }
-
-nlohmann::json number(double x) { return std::isnan(x) ? nlohmann::json(nullptr) : nlohmann::json(x); }
 
 // The rows of one check: the three quantities, then the onsets.
 std::array<std::pair<const char*, const analysis::ErrorStats*>, 5> rows(const analysis::ChainTruthCheck& c) {

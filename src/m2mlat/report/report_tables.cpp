@@ -26,7 +26,8 @@ std::string csv_field(const std::string& s) {
   return out + "\"";
 }
 
-std::string threshold_name(core::Duration t) {
+// A threshold as a column name's part: "170ms", "2500000ns".
+std::string threshold_column(core::Duration t) {
   const auto ns = t.count();
   if (ns % 1'000'000 == 0) return fmt::format("{}ms", ns / 1'000'000);
   return fmt::format("{}ns", ns);
@@ -93,7 +94,7 @@ std::string report_markdown(const Report& report) {
       "(ms)";
   const auto& first = report.scenarios.empty() ? nullptr : &report.scenarios.front().result.summary;
   if (first)
-    for (const auto& t : first->thresholds) out += fmt::format(" | > {}", threshold_name(t.threshold));
+    for (const auto& t : first->thresholds) out += fmt::format(" | > {}", threshold_column(t.threshold));
   out += " |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:";
   if (first)
     for (std::size_t k = 0; k < first->thresholds.size(); ++k) out += "|---:";
@@ -157,7 +158,7 @@ std::string scenarios_csv(const Report& report) {
   const auto* first = report.scenarios.empty() ? nullptr : &report.scenarios.front().result.summary;
   if (first)
     for (const auto& t : first->thresholds)
-      out += fmt::format(",above_{}_fraction", threshold_name(t.threshold));
+      out += fmt::format(",above_{}_fraction", threshold_column(t.threshold));
   out += "\n";
   for (const auto& s : report.scenarios) {
     const auto& m = s.result.summary;
@@ -188,7 +189,7 @@ std::string comparisons_csv(const Report& report) {
   const auto* first = report.comparisons.empty() ? nullptr : &report.comparisons.front().comparison;
   if (first)
     for (const auto& d : first->shares) {
-      const auto t = threshold_name(d.threshold);
+      const auto t = threshold_column(d.threshold);
       out += fmt::format(
           ",above_{0}_subject,above_{0}_baseline,above_{0}_difference,above_{0}_ci_low,above_{0}_ci_high", t);
     }
@@ -217,7 +218,7 @@ std::string full_loop_csv(std::span<const analysis::FullLoopResult> results) {
       "scenario,file,quantity,events,n,excluded_missing,excluded_impossible,excluded_overflow,mean_ms,sd_ms,"
       "min_ms,p5_ms,q1_ms,median_ms,q3_ms,p90_ms,p95_ms,p99_ms,iqr_ms,max_ms";
   if (const auto* t = full_loop_thresholds(results))
-    for (const auto& share : *t) out += fmt::format(",above_{}_fraction", threshold_name(share.threshold));
+    for (const auto& share : *t) out += fmt::format(",above_{}_fraction", threshold_column(share.threshold));
   out += "\n";
   for (const auto& r : results)
     for (const auto q : analysis::kLoopQuantities) {
