@@ -218,7 +218,11 @@ TEST(LedEdge, EachInputEdgeFlashesAndIsReturnedWithItsKernelStamp) {
   ASSERT_EQ(edges.size(), 2u);  // one flash: on, then off 3 ms after the last trigger
   EXPECT_EQ(edges[0].edge, core::Edge::rising);
   EXPECT_EQ(edges[1].edge, core::Edge::falling);
-  EXPECT_GE(edges[1].commanded - edges[0].commanded, core::Duration{3 * kMs});
+  // The flash ends on_for after the trigger was seen (the on edge's deadline), not after the on write
+  // returned: how long reading the trigger and the write took does not lengthen the flash.
+  EXPECT_EQ(edges[1].deadline - edges[0].deadline, core::Duration{3 * kMs});
+  EXPECT_GE(edges[1].commanded - edges[0].deadline, core::Duration{3 * kMs});
+  EXPECT_LE(edges[0].deadline.ns(), edges[0].commanded.ns());
   const auto& changes = gpio.output_changes();
   ASSERT_GE(changes.size(), 2u);
   EXPECT_EQ(changes[0].offset, 1u);
