@@ -176,7 +176,6 @@ LedRunSummary run_triggered(PulseGenerator& led, LedTrigger& trigger, core::Dura
   bool flash_lit = false;
   std::int64_t off_at = 0;  // the lit flash's end, CLOCK_REALTIME ns
   bool open = true;
-  const auto now_point = [] { return core::TimePoint::from_ns(core::Clock::realtime, core::now_ns(CLOCK_REALTIME)); };
   const auto switch_to = [&](bool high, core::TimePoint asked) {
     if (led.high() == high) return;
     const auto edge = led.set(high, summary.switches++, asked);
@@ -209,7 +208,7 @@ LedRunSummary run_triggered(PulseGenerator& led, LedTrigger& trigger, core::Dura
       break;
     }
     if (!open || fds[1].revents == 0) continue;
-    const auto asked = now_point();  // when the trigger was seen: the deadline of what it asks for
+    const auto asked = core::realtime_now();  // when the trigger was seen: the deadline of what it asks for
     input.actions.clear();
     input.edges.clear();
     input.refused.clear();
@@ -236,7 +235,7 @@ LedRunSummary run_triggered(PulseGenerator& led, LedTrigger& trigger, core::Dura
     // the LED.
     if (on_input) on_input(input);
   }
-  switch_to(false, now_point());
+  switch_to(false, core::realtime_now());
   return summary;
 }
 
