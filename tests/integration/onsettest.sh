@@ -23,3 +23,7 @@ PY
 expect_exit 2 "$M2MLAT" onsettest --detector magic
 grep -q "no onset detector 'magic' (known: reference, flank)" err.txt || fail "$(cat err.txt)"
 expect_exit 2 "$M2MLAT" onsettest --motions 0
+"$M2MLAT" onsettest --motions 4 --detector flank --hand-shape raised-cosine --json > cos.json
+$PY -c 'import json; j = json.load(open("cos.json")); assert j["hand_shape"] == "raised-cosine", j["hand_shape"]'
+expect_exit 2 "$M2MLAT" onsettest --hand-shape trapezoid
+grep -q "unknown hand shape 'trapezoid': minimum-jerk or raised-cosine" err.txt || fail "$(cat err.txt)"

@@ -38,7 +38,7 @@ Trial make_trial(const OnsetTestOptions& o, std::size_t speed, int index, sim::R
   const int direction = plan.bernoulli(0.5) ? 1 : -1;
   const std::int64_t delay = 50 * kMs + plan.uniform_int(0, 100 * kMs);
   Trial t;
-  t.hand = sim::hand_motion(rest, peak, duration, direction);
+  t.hand = sim::hand_motion(rest, peak, duration, direction, o.hand_shape);
   t.vehicle = sim::actuator_motion(t.hand, delay, o.actuator);
   const auto chip = static_cast<std::uint64_t>(speed) * 1'000'000 + static_cast<std::uint64_t>(index) * 3;
   const std::span<const sim::RateMotion> hand(&t.hand, 1), vehicle(&t.vehicle, 1);
@@ -185,6 +185,7 @@ nlohmann::json onsettest_json(const OnsetTestResult& r) {
   nlohmann::json j{{"format", "m2mlat-onsettest/1"},
                    {"seed", r.options.seed},
                    {"motions_per_class", r.options.motions},
+                   {"hand_shape", sim::hand_shape_name(r.options.hand_shape)},
                    {"samples", r.samples},
                    {"gyro",
                     {{"noise_sd_deg_s", r.options.gyro.noise_sd_deg_s()},
@@ -218,10 +219,11 @@ nlohmann::json onsettest_json(const OnsetTestResult& r) {
 
 std::string onsettest_text(const OnsetTestResult& r) {
   std::string out = fmt::format(
-      "onset test: seed {}, {} motions per speed class, {} samples; gyro noise {:.3f} deg/s rms, {} kHz\n"
+      "onset test: seed {}, {} motions per speed class ({} hand), {} samples; gyro noise {:.3f} deg/s rms, {} kHz\n"
       "errors are detected - true, ms (positive: late); |p95| = 95th percentile of |error|;\n"
       "sd med = the detector's stated onset sd (median); <=2sd = share of onsets within 2 stated sd\n\n",
-      r.options.seed, r.options.motions, r.samples, r.options.gyro.noise_sd_deg_s(),
+      r.options.seed, r.options.motions, sim::hand_shape_name(r.options.hand_shape), r.samples,
+      r.options.gyro.noise_sd_deg_s(),
       1e6 / static_cast<double>(r.options.gyro.period_ns));
   out += fmt::format("{:<10} {:<9} {:<7} {:>8} {:>6} {:>9} {:>17} {:>8} {:>9} {:>17} {:>8} {:>8} {:>6}\n",
                      "detector", "profile", "speed", "found", "extra", "onset med", "onset p5..p95", "|p95|",

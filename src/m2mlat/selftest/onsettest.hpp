@@ -32,6 +32,7 @@ struct OnsetTestOptions {
   int motions = 100;  // per speed class
   sim::GyroConfig gyro;
   sim::ActuatorLimits actuator;
+  sim::RateMotion::Shape hand_shape = sim::RateMotion::Shape::minimum_jerk;  // the operator's hand
   std::vector<std::string> detectors{"reference", "flank"};
 };
 

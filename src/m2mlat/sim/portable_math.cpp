@@ -1,4 +1,4 @@
-// Logarithm and exponential from basic IEEE operations (see portable_math.hpp for why).
+// Logarithm, exponential and cosine from basic IEEE operations (see portable_math.hpp for why).
 #include "m2mlat/sim/portable_math.hpp"
 
 #include <array>
@@ -28,6 +28,19 @@ constexpr std::array<double, 18> kInverseFactorial = [] {
   double factorial = 1;  // exact: 17! < 2^53, so each entry is one correctly rounded division
   for (std::size_t n = 0; n < c.size(); ++n) {
     if (n > 0) factorial *= static_cast<double>(n);
+    c[n] = 1.0 / factorial;
+  }
+  return c;
+}();
+// 2 pi split so that k * kTwoPiHigh is exact for |k| < 2^20; 1 / (2n)!, n = 0..16.
+constexpr double kTwoPiHigh = 0x1.921fb544p+2;
+constexpr double kTwoPiLow = 0x1.0b4611a626331p-32;
+constexpr double kInvTwoPi = 0.159154943091895335768883763372514362;
+constexpr std::array<double, 17> kInverseEvenFactorial = [] {
+  std::array<double, 17> c{};
+  double factorial = 1;  // (2n)! rounded once per step: the same everywhere (compile time)
+  for (std::size_t n = 0; n < c.size(); ++n) {
+    if (n > 0) factorial *= static_cast<double>((2 * n - 1) * (2 * n));
     c[n] = 1.0 / factorial;
   }
   return c;
@@ -70,6 +83,17 @@ double portable_exp(double x) {
   double sum = kInverseFactorial[17];
   for (int n = 16; n >= 0; --n) sum = kInverseFactorial[n] + r * sum;
   return std::ldexp(sum, static_cast<int>(k));
+}
+
+double portable_cos(double x) {
+  if (x != x) return x;
+  // x = k 2pi + y with |y| <= pi; cos y by its Taylor series (17 terms: pi^34 / 34! < 1e-20).
+  const double k = std::floor(x * kInvTwoPi + 0.5);
+  const double y = (x - k * kTwoPiHigh) - k * kTwoPiLow;
+  const double y2 = y * y;
+  double sum = kInverseEvenFactorial[16];
+  for (int n = 15; n >= 0; --n) sum = kInverseEvenFactorial[static_cast<std::size_t>(n)] - y2 * sum;
+  return sum;
 }
 
 }  // namespace m2mlat::sim

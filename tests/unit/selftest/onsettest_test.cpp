@@ -79,6 +79,29 @@ TEST(OnsetTest, ThirtyMotionsPerClass) {
   }
 }
 
+// A hand that is no polynomial (a raised cosine): the flank detector's model (a quartic start) is then
+// only an approximation, as it is on a real hand. It still finds every motion and on fast motions stays
+// within 1 ms (0.47 and 0.68 ms |p95| on this run; the minimum-jerk hand's 0.3 ms owe something to its
+// curve being a quartic: docs/onset.md). Its stated sd, which knows nothing of the model's error,
+// covers less: 77-97 % of the errors within two sd on this run (79 % on fast hands in docs/onset.md).
+TEST(OnsetTest, AHandTheFlankModelDoesNotContain) {
+  OnsetTestOptions o;
+  o.motions = 30;
+  o.detectors = {"flank"};
+  o.hand_shape = sim::RateMotion::Shape::raised_cosine;
+  const auto result = run_onsettest(o);
+  for (const auto& x : result.rows) {
+    EXPECT_EQ(x.found, x.motions) << x.profile << " " << x.speed;
+    EXPECT_EQ(x.extra, 0u) << x.profile << " " << x.speed;
+    EXPECT_GE(x.within_2sd_share, 0.7) << x.profile << " " << x.speed;
+    if (x.speed == "fast") {
+      EXPECT_LE(x.onset.abs_p95_ns, 1.0e6) << x.profile;
+      EXPECT_LT(std::fabs(x.onset.median_ns), 0.4e6) << x.profile;
+    }
+  }
+  EXPECT_EQ(onsettest_json(result)["hand_shape"], "raised-cosine");
+}
+
 TEST(OnsetTestRun, DeterministicAndChecked) {
   OnsetTestOptions o;
   o.motions = 2;

@@ -34,6 +34,24 @@ TEST(GyroMotion, HandStartsAtRestPeaksMidwayAndTurnsItsAngle) {
   EXPECT_THROW(hand_motion(0, 0, kMs, 1), core::Error);
 }
 
+TEST(GyroMotion, RaisedCosineHandStartsAtRestPeaksMidwayAndTurnsItsAngle) {
+  const auto m = hand_motion(100 * kMs, 200, 600 * kMs, 1, RateMotion::Shape::raised_cosine);
+  EXPECT_EQ(m.shape, RateMotion::Shape::raised_cosine);
+  EXPECT_EQ(rate_deg_s(m, 100 * kMs), 0);
+  EXPECT_LT(std::fabs(rate_deg_s(m, 101 * kMs)), 0.01);  // ~t^2 at first, as a hand must
+  EXPECT_NEAR(rate_deg_s(m, 400 * kMs), 200, 1e-9);
+  EXPECT_NEAR(angle(m), m.amplitude_deg, 0.01);
+  EXPECT_NEAR(m.amplitude_deg, 200 * 0.6 / 2, 1e-9);
+  // Not a minimum-jerk curve: a quarter of the way in, at the same peak, it is at 0.5 of its peak, the
+  // minimum-jerk curve at 30 (3/16)^2 / 1.875 = 0.5625.
+  const auto j = hand_motion(100 * kMs, 200, 600 * kMs, 1);
+  EXPECT_GT(std::fabs(rate_deg_s(m, 250 * kMs) - rate_deg_s(j, 250 * kMs)), 5);
+  EXPECT_EQ(parse_hand_shape("raised-cosine"), RateMotion::Shape::raised_cosine);
+  EXPECT_EQ(hand_shape_name(parse_hand_shape("minimum-jerk")), "minimum-jerk");
+  EXPECT_THROW(parse_hand_shape("trapezoid"), core::Error);
+  EXPECT_THROW(hand_motion(0, 100, kMs, 1, RateMotion::Shape::trapezoid), core::Error);
+}
+
 TEST(GyroMotion, ActuatorRepeatsWithinItsLimitsAndSaturatesBeyond) {
   const ActuatorLimits limits{360, 1500};
   // Slow: within the limits, the same rotation 80 ms later.

@@ -97,6 +97,9 @@ TEST(PortableMath, AgreesWithTheLibrary) {
   EXPECT_EQ(portable_exp(0.0), 1.0);
   EXPECT_NEAR(portable_log(5e-324), std::log(5e-324), 1e-12);  // subnormal input
   EXPECT_TRUE(std::isinf(portable_log(0.0)));
+  for (double x = -100; x < 100; x += 0.0137) EXPECT_NEAR(portable_cos(x), std::cos(x), 2e-16 * 100) << x;
+  EXPECT_EQ(portable_cos(0.0), 1.0);
+  EXPECT_NEAR(portable_cos(3.141592653589793), -1.0, 1e-15);
 }
 
 TEST(Distribution, ShapesHaveTheirMedians) {
