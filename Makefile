@@ -12,10 +12,11 @@ CMAKE_FLAGS ?=
 empty :=
 space := $(empty) $(empty)
 
-# Debian 12 / Ubuntu 24.04 packages the build and the tests need.
-PACKAGES := build-essential cmake ninja-build clang-14 pkg-config \
-  libsqlite3-dev sqlite3 libcpp-httplib-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtomlplusplus-dev \
-  libgtest-dev libgmock-dev libbenchmark-dev libboost-math-dev \
+# Debian 12 / Ubuntu 24.04 packages: what building m2mlat needs (all `make demo` installs), then what
+# the tests need besides (the test frameworks, the Clang tree, the programs the tests run).
+BUILD_PACKAGES := build-essential cmake ninja-build pkg-config \
+  libsqlite3-dev libcpp-httplib-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtomlplusplus-dev libboost-math-dev
+PACKAGES := $(BUILD_PACKAGES) clang-14 sqlite3 libgtest-dev libgmock-dev libbenchmark-dev \
   python3 python3-numpy python3-pandas python3-scipy chromium chrony rt-tests linuxptp libclang-rt-14-dev
 # Packages of the real-kernel suite (make check-vm): QEMU, the guest's busybox, the tools to unpack
 # Debian's kernel packages and pack the initramfs. The guest runs $(BUILD)/m2mlat (with its shared
@@ -24,7 +25,7 @@ PACKAGES := build-essential cmake ninja-build clang-14 pkg-config \
 # judges with python3 (standard library), and finds free ports with ss (iproute2).
 VM_PACKAGES := qemu-system-x86 busybox-static cpio xz-utils kmod binutils chrony python3 iproute2
 
-.PHONY: all deps deps-vm build build-clang demo check check-vm fuzz test bench clean
+.PHONY: all deps deps-build deps-vm build build-clang demo check check-vm fuzz test bench clean
 .PHONY: deps-arm64 deps-package cross-arm64 check-arm64 package check-package
 
 all: build
@@ -45,12 +46,17 @@ endef
 deps:
 	$(call install_missing,$(PACKAGES))
 
+deps-build:
+	$(call install_missing,$(BUILD_PACKAGES))
+
 deps-vm: deps
 	$(call install_missing,$(VM_PACKAGES))
 
+# Everything, each file compiled alone (the settings `make demo` changes are set back explicitly).
 build: deps
 	$(call step,build $(BUILD))
-	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) $(CMAKE_FLAGS)
+	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DM2MLAT_TESTS=ON -DM2MLAT_BENCH=ON \
+	  -DCMAKE_UNITY_BUILD=OFF $(CMAKE_FLAGS)
 	cmake --build $(BUILD)
 
 # The Clang and arm64 trees are unity builds (eight source files of a target compiled as one: each
@@ -70,8 +76,14 @@ build-clang: deps
 	  -DM2MLAT_WERROR=ON -DM2MLAT_FUZZ=ON -DM2MLAT_BENCH=OFF $(UNITY)
 	cmake --build $(BUILD_CLANG)
 
-demo: build
-	./$(BUILD)/m2mlat demo
+# The first run: only the m2mlat executable (no tests, no benchmarks, no debug info, a unity build),
+# then the simulated campaign, checked against its truth, and its HTML report in demo-report/.
+demo: deps-build
+	$(call step,build $(BUILD): m2mlat only)
+	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -DM2MLAT_TESTS=OFF -DM2MLAT_BENCH=OFF $(UNITY)
+	cmake --build $(BUILD) --target m2mlat_exe
+	$(call step,demo)
+	./$(BUILD)/m2mlat demo --report demo-report
 
 check: BUILD_TYPE = Release
 check: CMAKE_FLAGS += -DM2MLAT_WERROR=ON -DCMAKE_CXX_FLAGS_RELEASE=-O2

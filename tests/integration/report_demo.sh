@@ -100,3 +100,19 @@ else
   skipped=$((skipped + 1))
 fi
 echo "1 passed, 0 failed, $skipped skipped"
+
+# `demo --report DIR`: the same report straight from the demo (what `make demo` ends with): the
+# scenarios' figures and the full loop's, the same comparisons as `report` of the demo's store.
+"$M2MLAT" demo --report direct --scenario static_wifi --scenario static_5g --scenario full_loop > demo.txt
+grep -q "report: direct/report.html" demo.txt || fail "demo --report: $(tail -3 demo.txt)"
+for f in report.html report.md report.json scenarios.csv comparisons.csv full_loop.csv pgfplots/figures.tex; do
+  [ -s "direct/$f" ] || fail "direct/$f missing or empty"
+done
+$PY - direct/report.json <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+names = [s["scenario"] for s in r["scenarios"]]
+assert names == ["static_wifi", "static_5g"], names
+assert any(c["subject"] == "static_5g" and c["baseline"] == "static_wifi" for c in r["comparisons"]), r["comparisons"]
+assert "demo" in r["generated_by"]["command"], r["generated_by"]
+PY

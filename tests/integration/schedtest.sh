@@ -36,5 +36,7 @@ grep -Eq "^ +[0-9-]+ us +[0-9]+ #+" run.txt || fail "no histogram: $(cat run.txt
 
 expect_exit 2 "$M2MLAT" schedtest --core "$CPU" --duration 1500ms
 expect_exit 2 "$M2MLAT" schedtest --core -1 --duration 1s
+expect_exit 2 "$M2MLAT" schedtest --core 4096 --duration 1s  # beyond the machine: named, not cyclictest's warning
+grep -q -- "--core 4096: this process may run on CPUs" err.txt || fail "$(cat err.txt)"
 expect_exit 74 "$M2MLAT" schedtest --core "$CPU" --duration 1s --cyclictest /nonexistent/cyclictest
 echo "schedtest: ok"

@@ -19,10 +19,12 @@
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
+#include "m2mlat/cli/report_files.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/onset/detectors.hpp"
 #include "m2mlat/report/chain_truth_text.hpp"
 #include "m2mlat/report/full_loop_view.hpp"
+#include "m2mlat/report/report_model.hpp"
 #include "m2mlat/report/scenario_json.hpp"
 #include "m2mlat/report/scenario_text.hpp"
 #include "m2mlat/report/table.hpp"
@@ -36,6 +38,7 @@ namespace {
 
 struct DemoCommand {
   std::string store_path;  // empty: a temporary store, removed afterwards
+  std::string report_dir;  // the campaign's report (report.html, ...) written here; empty: none
   std::vector<std::string> scenarios{"static_wifi", "static_5g", "dynamic_co_referenced",
                                      "dynamic_autonomous"};
   std::uint64_t seed = 1;
@@ -188,6 +191,16 @@ int run_demo(const DemoCommand& c) {
           "95 % within U95, k = 2, all within max_err)\n{}",
           coverage.render());
   }
+  if (!c.report_dir.empty()) {  // the same report `m2mlat report` gives of a store
+    auto r = new_report();
+    for (auto& result : results) r.scenarios.push_back(report::scenario_report(std::move(result)));
+    r.full_loops = full_loop.results;
+    report::assign_groups(r, {}, true);
+    add_comparisons(r, {}, false, c.stats);
+    progress_done();
+    write_report_folder(r, c.report_dir);
+    if (!c.json) fmt::print("\nreport: {}/report.html (and report.md, report.json, CSV, pgfplots/)\n", c.report_dir);
+  }
   // The demo is also a self-check: it fails when a wrong pair reaches the statistics with no flag
   // telling why, or when the matcher finds too few of the true pairs.
   for (const auto& t : checks)
@@ -202,6 +215,9 @@ int run_demo(const DemoCommand& c) {
 Runner attach_demo(CLI::App& sub) {
   auto c = std::make_shared<DemoCommand>();
   sub.add_option("--store", c->store_path, "Keep the campaign in this new store file (default: temporary)");
+  sub.add_option("--report", c->report_dir,
+                 "Write the campaign's report here: report.html, report.md, report.json, CSV and pgfplots/ "
+                 "(as `m2mlat report --out`)");
   sub.add_option("--scenario", c->scenarios,
                  "Scenarios to simulate (presets, or full_loop, full_loop_baseline, full_loop_single_board: "
                  "gyroscopes, LED and camera to screen; repeatable)")

@@ -6,11 +6,13 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <memory>
 
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/rt/scheduling.hpp"
 #include "m2mlat/selftest/schedtest.hpp"
 #include "m2mlat/store/store.hpp"
 
@@ -29,6 +31,15 @@ int run_schedtest(SchedtestCommand& c) {
   c.options.duration = core::parse_duration(c.duration, 1'000'000'000);
   if (c.options.duration.count() % 1'000'000'000 != 0)
     throw core::Error(core::ErrorKind::usage, "--duration must be whole seconds (cyclictest's unit)");
+  // A CPU this process may not run on (beyond the machine's, or outside its cpuset) is the user's
+  // mistake: say so, rather than pass cyclictest's libnuma warning on as a failure of the test.
+  if (const auto cpus = rt::allowed_cpus();
+      !cpus.empty() && std::find(cpus.begin(), cpus.end(), c.options.cpu) == cpus.end()) {
+    std::string list;
+    for (const int cpu : cpus) list += (list.empty() ? "" : ",") + std::to_string(cpu);
+    throw core::Error(core::ErrorKind::usage,
+                      fmt::format("--core {}: this process may run on CPUs {} only", c.options.cpu, list));
+  }
   process::ProcessRunner runner;
   if (!c.json) fmt::print(stderr, "running cyclictest on cpu {} for {} ...\n", c.options.cpu, c.duration);
   const selftest::SchedtestRun run = selftest::run_schedtest(runner, c.options);
