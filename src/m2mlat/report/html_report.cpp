@@ -317,6 +317,41 @@ std::string scenario_section(const Report& report) {
   return h;
 }
 
+// The comparisons as a forest plot: each one's median difference (subject - baseline, ms) with its
+// bootstrap confidence interval as a bar, zero as the reference line, and the Mann-Whitney p in its
+// label. Empty without comparisons.
+std::string forest_chart(const Report& report) {
+  if (report.comparisons.empty()) return {};
+  double lo = 0, hi = 0;
+  for (const auto& r : report.comparisons) {
+    const auto& c = r.comparison;
+    for (const double v : {c.median_difference_ms, c.median_difference_ci_ms.lower, c.median_difference_ci_ms.upper})
+      if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  }
+  const double pad = std::max(1.0, (hi - lo) * 0.1);
+  const auto n = static_cast<double>(report.comparisons.size());
+  SvgPlot plot("forest", "Median differences with their confidence intervals",
+               "subject vs baseline (Mann-Whitney p)", "median difference (ms)", 0.4, n + 0.6, lo - pad, hi + pad);
+  std::vector<std::pair<double, std::string>> cats;
+  for (std::size_t i = 0; i < report.comparisons.size(); ++i) {
+    const auto& r = report.comparisons[i];
+    const auto& c = r.comparison;
+    const double x = static_cast<double>(i) + 1;
+    const auto colour = palette(i);
+    const auto& ci = c.median_difference_ci_ms;
+    if (std::isfinite(ci.lower) && std::isfinite(ci.upper)) {
+      plot.segment(x, ci.lower, x, ci.upper, colour);
+      plot.segment(x - 0.08, ci.lower, x + 0.08, ci.lower, colour);
+      plot.segment(x - 0.08, ci.upper, x + 0.08, ci.upper, colour);
+    }
+    plot.circle(x, c.median_difference_ms, 3.5, colour);
+    cats.emplace_back(x, fmt::format("{} vs {} ({})", r.subject, r.baseline, p_text(c.mann_whitney.p)));
+  }
+  plot.hline(0, "0 ms");
+  plot.set_x_categories(std::move(cats));
+  return plot.render();
+}
+
 std::string comparison_section(const Report& report) {
   std::string h;
   if (!report.comparisons.empty()) {
@@ -339,6 +374,9 @@ std::string comparison_section(const Report& report) {
     h += html_table({"subject vs baseline", "median diff (ms)", "CI", "Mann-Whitney", "IQR ratio", "CI",
                      "SD ratio", "CI", "Brown-Forsythe", "uncertainty (ms)"},
                     crows, "comparisons");
+    h += figure(forest_chart(report),
+                "Dot: the difference of the medians (subject - baseline); bar: its bootstrap confidence "
+                "interval; p: the Mann-Whitney test of the two samples' locations.");
   }
 
   return h;

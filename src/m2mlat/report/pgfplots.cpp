@@ -9,8 +9,10 @@
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/output_file.hpp"
+#include "m2mlat/report/comparison_text.hpp"
 #include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/plot_data.hpp"
+#include "m2mlat/report/svg_plot.hpp"
 
 namespace m2mlat::report {
 
@@ -44,6 +46,29 @@ std::string header(const std::string& what) {
 }
 
 std::string num(double x) { return std::isnan(x) ? "nan" : fmt::format("{:.6f}", x); }
+
+// About six round tick positions within [low, high] (svg_plot's rule) as a pgfplots list: ybar interval
+// would otherwise label every bin edge.
+std::string tick_list(double low, double high) {
+  std::string out;
+  for (const double t : nice_ticks(low, high)) out += (out.empty() ? "" : ",") + fmt::format("{:g}", t);
+  return out;
+}
+
+// The thresholds of the statistics (the first scenario's: every scenario has the same) as dashed
+// horizontal lines across a box plot, each labelled at its right end, as in the HTML report.
+std::string threshold_lines(const Report& report) {
+  std::string out;
+  if (report.scenarios.empty()) return out;
+  for (const auto& t : report.scenarios.front().result.summary.thresholds) {
+    const double ms = static_cast<double>(t.threshold.count()) / 1e6;
+    out += fmt::format(
+        "\\draw[dashed, gray] ({{rel axis cs:0,0}} |- {{axis cs:0,{0:g}}}) -- ({{rel axis cs:1,0}} |- "
+        "{{axis cs:0,{0:g}}}) node[pos=1, above left, font=\\scriptsize] {{{0:g} ms}};\n",
+        ms);
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -111,7 +136,7 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
       x += 1;
     }
     tex += ticks + "}, xticklabels={" + labels + "}, x tick label style={rotate=20, anchor=north east}]\n" +
-           plots + "\\end{axis}\n\\end{tikzpicture}\n";
+           plots + threshold_lines(report) + "\\end{axis}\n\\end{tikzpicture}\n";
     w.file("box.dat", dat);
     w.file("box.tex", tex);
     figures.push_back("box.tex");
@@ -193,7 +218,9 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
     std::string tex =
         header("Histogram of latency") +
         "\\begin{tikzpicture}\n\\begin{axis}[width=0.95\\linewidth, height=6cm, xlabel={latency (ms)},\n"
-        "  ylabel={pairs per bin}, ymin=0, ybar interval, legend cell align=left]\n";
+        "  ylabel={pairs per bin}, ymin=0, ybar interval, legend cell align=left,\n"
+        "  x tick label as interval=false, xtick={" + tick_list(h.edges.front(), h.edges.back()) +
+        "}, xticklabel style={/pgf/number format/fixed}]\n";
     for (std::size_t i = 0; i < report.scenarios.size(); ++i)
       tex += fmt::format(
           "\\addplot[draw={0}, fill={0}, fill opacity=0.3] table[x=left_ms, y=c{1}] "
@@ -201,6 +228,35 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
           colour(i), i, tex_escape(report.scenarios[i].result.input.scenario));
     w.file("histogram.tex", tex + "\\end{axis}\n\\end{tikzpicture}\n");
     figures.push_back("histogram.tex");
+  }
+
+  // The comparisons: median differences with their confidence intervals (a forest plot), zero dashed.
+  if (!report.comparisons.empty()) {
+    std::string dat = "index difference_ms minus_ms plus_ms mann_whitney_p\n", labels;
+    for (std::size_t i = 0; i < report.comparisons.size(); ++i) {
+      const auto& r = report.comparisons[i];
+      const auto& c = r.comparison;
+      const auto& ci = c.median_difference_ci_ms;
+      const bool with_ci = std::isfinite(ci.lower) && std::isfinite(ci.upper);
+      dat += fmt::format("{} {} {} {} {:g}\n", i + 1, num(c.median_difference_ms),
+                         num(with_ci ? c.median_difference_ms - ci.lower : 0.0),
+                         num(with_ci ? ci.upper - c.median_difference_ms : 0.0), c.mann_whitney.p);
+      labels += fmt::format("{}{{{} vs {} ({})}}", i ? "," : "", tex_escape(r.subject), tex_escape(r.baseline),
+                            tex_escape(p_text(c.mann_whitney.p)));
+    }
+    w.file("forest.dat", dat);
+    w.file("forest.tex",
+           header("Median differences with their confidence intervals") +
+               fmt::format("\\begin{{tikzpicture}}\n\\begin{{axis}}[width=0.95\\linewidth, height=6cm, "
+                           "ylabel={{median difference (ms)}}, xmin=0.5, xmax={}, xtick={{1,...,{}}},\n"
+                           "  xticklabels={{{}}}, x tick label style={{rotate=20, anchor=north east}}]\n"
+                           "\\addplot[only marks, mark=*, error bars/.cd, y dir=both, y explicit]\n"
+                           "  table[x=index, y=difference_ms, y error plus=plus_ms, y error minus=minus_ms] "
+                           "{{\\mtwomlatdir forest.dat}};\n"
+                           "\\draw[dashed, gray] ({{rel axis cs:0,0}} |- {{axis cs:0,0}}) -- ({{rel axis cs:1,0}} "
+                           "|- {{axis cs:0,0}});\n\\end{{axis}}\n\\end{{tikzpicture}}\n",
+                           static_cast<double>(report.comparisons.size()) + 0.5, report.comparisons.size(), labels));
+    figures.push_back("forest.tex");
   }
 
   // Latency over time and clocks, per scenario.

@@ -167,9 +167,27 @@ std::string SvgPlot::render() const {
           "x=\"{:.1f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n",
           px(t), plot_top, px(t), plot_bottom, px(t), plot_bottom + 14, tick_label(t, xstep));
   } else {
-    for (const auto& [x, name] : categories_)
-      s += fmt::format("<text class=\"tick\" x=\"{:.1f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", px(x),
-                       plot_bottom + 14, xml_escape(name));
+    // Labels wider than the space between categories (11 px text: about 6 px a character) go on two
+    // alternating rows; one still wider than two spaces is cut with an ellipsis, its whole name in a
+    // tooltip. So neighbouring labels never overlap.
+    constexpr double kCharPx = 6.0;
+    double slot = static_cast<double>(width_ - left_ - right_);
+    for (std::size_t k = 1; k < categories_.size(); ++k)
+      slot = std::min(slot, std::fabs(px(categories_[k].first) - px(categories_[k - 1].first)));
+    std::size_t widest = 0;
+    for (const auto& category : categories_) widest = std::max(widest, category.second.size());
+    const bool two_rows = static_cast<double>(widest) * kCharPx > slot;
+    const auto fits = static_cast<std::size_t>(std::max(3.0, (two_rows ? 2 * slot : slot) / kCharPx - 1));
+    for (std::size_t k = 0; k < categories_.size(); ++k) {
+      const auto& [x, name] = categories_[k];
+      const bool cut = name.size() > fits;
+      std::size_t keep = fits - 1;
+      while (cut && keep > 0 && (static_cast<unsigned char>(name[keep]) & 0xC0) == 0x80) --keep;  // whole UTF-8
+      const std::string shown = cut ? name.substr(0, keep) + "\u2026" : name;
+      s += fmt::format("<text class=\"tick\" x=\"{:.1f}\" y=\"{}\" text-anchor=\"middle\">{}{}</text>\n", px(x),
+                       plot_bottom + (two_rows && k % 2 == 1 ? 27 : 14),
+                       cut ? "<title>" + xml_escape(name) + "</title>" : std::string(), xml_escape(shown));
+    }
   }
   s += fmt::format("<rect class=\"frame\" x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\"/>\n", left_, top_,
                    width_ - left_ - right_, height_ - top_ - bottom_);

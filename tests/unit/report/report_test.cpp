@@ -202,12 +202,32 @@ TEST(Svg, TicksAndEscaping) {
   EXPECT_EQ(tex_escape("static_5g 50%"), "static\\_5g 50\\%");
 }
 
+// Category labels never overlap: too wide for their slot they alternate on two rows, too wide for two
+// slots they are cut with an ellipsis and keep their whole name in a tooltip.
+TEST(Svg, CategoryLabelsDoNotOverlap) {
+  const auto labels = [](const std::vector<std::string>& names) {
+    SvgPlot plot("c", "t", "x", "y", 0.5, static_cast<double>(names.size()) + 0.5, 0, 1, 400, 200);
+    std::vector<std::pair<double, std::string>> cats;
+    for (std::size_t k = 0; k < names.size(); ++k) cats.emplace_back(static_cast<double>(k) + 1, names[k]);
+    plot.set_x_categories(std::move(cats));
+    return plot.render();
+  };
+  const auto short_names = labels({"a", "b", "c"});
+  EXPECT_NE(short_names.find(">b</text>"), std::string::npos);
+  EXPECT_EQ(short_names.find("y=\"179\""), std::string::npos);  // one row: 200 - 48 + 14 = 166 only
+  const auto wide = labels({"dynamic_co_referenced", "dynamic_autonomous", "static_5g_with_stalls"});
+  EXPECT_NE(wide.find("y=\"179\""), std::string::npos);  // the second label on the second row
+  const auto too_wide = labels({std::string(60, 'a') + "_end", "b", "c"});
+  EXPECT_NE(too_wide.find("<title>" + std::string(60, 'a') + "_end</title>"), std::string::npos);
+  EXPECT_EQ(too_wide.find("_end</text>"), std::string::npos);  // the shown text is cut
+}
+
 TEST(Html, SelfContainedWithEveryChart) {
   const auto html = report_html(sample_report());
   for (const char* chart :
        {"data-chart=\"box\"", "data-chart=\"ecdf\"", "data-chart=\"histogram\"",
         "data-chart=\"timeseries-0\"", "data-chart=\"timeseries-3\"", "data-chart=\"clock-0\"",
-        "data-chart=\"budget\"", "data-table=\"losses\"", "data-table=\"comparisons\""})
+        "data-chart=\"budget\"", "data-table=\"losses\"", "data-table=\"comparisons\"", "data-chart=\"forest\""})
     EXPECT_NE(html.find(chart), std::string::npos) << chart;
   EXPECT_EQ(html.find("http://"), html.find("http://www.w3.org/2000/svg"));  // only the SVG namespace
   EXPECT_EQ(html.find("https://"), std::string::npos);
@@ -219,13 +239,19 @@ TEST(Pgfplots, WritesFiguresAndData) {
   const m2mlat::testing::TempDir temp;
   const auto dir = temp.path() / "figures";  // made by write_pgfplots
   const auto files = write_pgfplots(sample_report(), dir);
-  for (const char* f : {"box.tex", "box.dat", "ecdf.tex", "histogram.tex", "histogram.dat", "figures.tex",
+  for (const char* f : {"box.tex", "box.dat", "ecdf.tex", "histogram.tex", "histogram.dat", "figures.tex", "forest.tex",
+                        "forest.dat",
                         "timeseries-static_wifi.tex", "timeseries-static_wifi.dat", "clock-static_wifi.tex"})
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   std::ifstream box(dir / "box.tex");
   std::stringstream text;
   text << box.rdbuf();
   EXPECT_NE(text.str().find("boxplot prepared"), std::string::npos);
+  EXPECT_NE(text.str().find("\\draw[dashed, gray]"), std::string::npos);  // the latency limits
+  std::ifstream histogram(dir / "histogram.tex");
+  std::stringstream h;
+  h << histogram.rdbuf();
+  EXPECT_NE(h.str().find("x tick label as interval=false, xtick={"), std::string::npos);  // round ticks only
 }
 
 // A link planted in the figures folder under a figure's name is not written through.
