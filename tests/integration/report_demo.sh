@@ -61,10 +61,33 @@ if command -v chromium > /dev/null; then
   printf '<!DOCTYPE html><p>x</p><script>undefinedFunction();</script>' > broken.html
   timeout 120 "${chrome[@]}" --user-data-dir="$PWD/chrome-3" --dump-dom "file://$PWD/broken.html" > /dev/null 2> broken.err
   grep -q "CONSOLE" broken.err || fail "the console check did not see a script error"
+  # Layout, at a desktop and a phone width: a copy of the page with a probe script at its end (the page
+  # itself has none) reports every table or chart wider than the page and any two x-axis labels of one
+  # chart that overlap.
+  probe='<script>(function(){const w=document.documentElement.clientWidth,bad=[];
+for(const t of document.querySelectorAll("table"))if(t.getBoundingClientRect().right>w+1||t.scrollWidth>t.clientWidth+1)bad.push("table "+t.dataset.table);
+for(const s of document.querySelectorAll("svg")){if(s.getBoundingClientRect().right>w+1)bad.push("wide "+s.dataset.chart);
+const r=[...s.querySelectorAll("text.tick[text-anchor=middle]")].map(t=>t.getBoundingClientRect());
+for(let i=0;i<r.length;i++)for(let j=i+1;j<r.length;j++){const a=r[i],b=r[j];
+if(a.left<b.right-0.5&&b.left<a.right-0.5&&a.top<b.bottom-0.5&&b.top<a.bottom-0.5)bad.push("labels overlap in "+s.dataset.chart);}}
+document.body.setAttribute("data-probe",JSON.stringify({width:w,bad:bad}));})();</script>'
+  sed "s#</body>#$(printf '%s' "$probe" | tr '\n' ' ' | sed 's/[&#]/\\&/g')</body>#" out/report.html > probe.html
+  for size in 1000,3000 390,3000; do
+    timeout 120 "${chrome[@]}" --user-data-dir="$PWD/chrome-p$size" --window-size=$size --dump-dom \
+      "file://$PWD/probe.html" > probe-dom.html 2>> chrome.err
+    $PY - probe-dom.html "$size" <<'PY'
+import json, re, sys
+m = re.search(r'data-probe="([^"]*)"', open(sys.argv[1]).read())
+assert m, "the layout probe did not run"
+probe = json.loads(m.group(1).replace("&quot;", '"'))
+assert not probe["bad"], (sys.argv[2], probe)
+print("layout at", sys.argv[2], "ok: page width", probe["width"])
+PY
+  done
   $PY - dom.html <<'PY'
 import sys
 from html.parser import HTMLParser
-want = ["box", "ecdf", "histogram", "timeseries-0", "timeseries-1", "timeseries-2", "timeseries-3",
+want = ["forest", "box", "ecdf", "histogram", "timeseries-0", "timeseries-1", "timeseries-2", "timeseries-3",
         "clock-0", "clock-1", "clock-2", "clock-3", "budget"]
 class Charts(HTMLParser):
     def __init__(self):

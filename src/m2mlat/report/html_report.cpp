@@ -26,10 +26,19 @@ main{max-width:980px;margin:0 auto;padding:12px 16px 48px}
 h1{font-size:1.5em;margin:.4em 0}h2{font-size:1.2em;margin:1.6em 0 .4em;border-bottom:1px solid var(--line)}
 .meta,.note-text{color:var(--muted);font-size:.9em}
 code{font-size:.9em;word-break:break-all}
-.scroll{overflow-x:auto;-webkit-overflow-scrolling:touch}
-table{border-collapse:collapse;font-size:.88em;margin:.4em 0}
-th,td{border-bottom:1px solid #e3e3e3;padding:3px 8px;text-align:right;white-space:nowrap}
+table{border-collapse:collapse;font-size:.84em;margin:.4em 0;width:100%}
+th,td{border-bottom:1px solid #e3e3e3;padding:3px 5px;text-align:right;vertical-align:bottom}
+td{overflow-wrap:anywhere}
 th:first-child,td:first-child{text-align:left}
+@media (max-width:640px){
+table,thead,tbody,tr,td{display:block;width:100%}
+thead{display:none}
+tr{border-top:1px solid var(--line);padding:4px 0}
+td{border:none;padding:1px 0;text-align:right}
+td::before{content:attr(data-label);float:left;color:var(--muted);padding-right:8px;text-align:left}
+td:first-child{text-align:left;font-weight:600}
+td:first-child::before{content:none}
+}
 ul.sentences li{margin:.35em 0}
 figure{margin:1em 0;break-inside:avoid;page-break-inside:avoid}
 figcaption{font-size:.85em;color:var(--muted)}
@@ -49,20 +58,24 @@ svg .med{stroke-width:2.4}
 svg .band{fill-opacity:.18;stroke:none}
 svg .pt{fill-opacity:.8}
 svg .ref{stroke:#b00;stroke-dasharray:4 3;stroke-width:1}
-@media print{body{font-size:11pt}main{max-width:none;padding:0}h2{break-after:avoid}.scroll{overflow:visible}}
+@media print{body{font-size:11pt}main{max-width:none;padding:0}h2{break-after:avoid}}
 )";
 
 std::string html_table(const std::vector<std::string>& header,
                        const std::vector<std::vector<std::string>>& rows, const std::string& name) {
-  std::string s = fmt::format("<div class=\"scroll\"><table data-table=\"{}\"><thead><tr>", name);
+  // Each cell carries its column's name (data-label): on a narrow screen the rows stack as cards, each
+  // value beside its name, instead of a table wider than the page.
+  std::string s = fmt::format("<table data-table=\"{}\"><thead><tr>", name);
   for (const auto& h : header) s += "<th>" + xml_escape(h) + "</th>";
   s += "</tr></thead><tbody>\n";
   for (const auto& r : rows) {
     s += "<tr>";
-    for (const auto& c : r) s += "<td>" + xml_escape(c) + "</td>";
+    for (std::size_t k = 0; k < r.size(); ++k)
+      s += fmt::format("<td data-label=\"{}\">{}</td>", k < header.size() ? xml_escape(header[k]) : "",
+                       xml_escape(r[k]));
     s += "</tr>\n";
   }
-  return s + "</tbody></table></div>\n";
+  return s + "</tbody></table>\n";
 }
 
 std::string figure(const std::string& svg, const std::string& caption) {
