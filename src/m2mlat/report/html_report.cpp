@@ -53,6 +53,7 @@ svg .line{fill:none;stroke-width:1.6}
 svg .seg{stroke-width:1.2}
 svg .err{stroke-width:1;opacity:.55}
 svg .box{fill-opacity:.25;stroke-width:1.4}
+svg .ci{fill-opacity:.55;stroke:none}
 svg .bar{fill-opacity:.35;stroke-width:.8}
 svg .med{stroke-width:2.4}
 svg .band{fill-opacity:.18;stroke:none}
@@ -112,10 +113,12 @@ std::string boxes_svg(const std::vector<BoxData>& boxes, const std::string& char
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     const auto& b = boxes[i];
     const auto colour = palette(colours.empty() ? i : colours.at(i));
-    cats.emplace_back(xs[i], b.scenario);
+    cats.emplace_back(xs[i], fmt::format("{} (n={})", b.scenario, b.n));
     if (b.n == 0) continue;
     const double w = 0.32;
     plot.rect(xs[i] - w, b.q1, xs[i] + w, b.q3, colour);
+    if (b.median_ci && std::isfinite(b.median_ci->lower) && std::isfinite(b.median_ci->upper))
+      plot.rect(xs[i] - w * 0.55, b.median_ci->lower, xs[i] + w * 0.55, b.median_ci->upper, colour, "ci");
     plot.segment(xs[i] - w, b.median, xs[i] + w, b.median, colour, "med");
     plot.segment(xs[i], b.q3, xs[i], b.whisker_high, colour);
     plot.segment(xs[i], b.q1, xs[i], b.whisker_low, colour);
@@ -277,28 +280,48 @@ std::string clock_chart(const ScenarioReport& s, std::size_t index) {
   return plot.render();
 }
 
+// The median over the pairs in the statistics of the part of each pair's worst-case bound that is not
+// its clocks' (the interrupt timestamps, the sensors' calibration, a bounce's span), ms; 0 without
+// per-pair bounds.
+double other_terms_ms(const ScenarioReport& s) {
+  std::vector<std::int64_t> rest;
+  const auto& r = s.result;
+  for (std::size_t i = 0; i < r.uncertainty.size() && i < r.match.pairs.size(); ++i)
+    if (r.in_statistics(i) && r.uncertainty[i].max_error_ns != analysis::kUnbounded && r.uncertainty[i].max_error_ns > 0)
+      rest.push_back(r.uncertainty[i].max_error_ns - r.uncertainty[i].sync_max_ns);
+  if (rest.empty()) return 0;
+  std::nth_element(rest.begin(), rest.begin() + static_cast<std::ptrdiff_t>(rest.size() / 2), rest.end());
+  return static_cast<double>(rest[rest.size() / 2]) / 1e6;
+}
+
 std::string budget_chart(const Report& report) {
-  std::vector<const ScenarioReport*> known;
+  struct Bar {
+    const ScenarioReport* s;
+    double cause, effect, other;  // ms
+  };
+  std::vector<Bar> bars;
   double top = 0;
   for (const auto& s : report.scenarios)
     if (s.result.cause_clock_ms && s.result.effect_clock_ms) {
-      known.push_back(&s);
-      top = std::max(top, *s.result.cause_clock_ms + *s.result.effect_clock_ms);
+      bars.push_back({&s, *s.result.cause_clock_ms, *s.result.effect_clock_ms, other_terms_ms(s)});
+      top = std::max(top, bars.back().cause + bars.back().effect + bars.back().other);
     }
-  if (known.empty()) return {};
+  if (bars.empty()) return {};
   SvgPlot plot("budget", "Error budget per latency (median over pairs)", "scenario", "bound (ms)", -0.6,
-               static_cast<double>(known.size()) - 0.4, 0, top * 1.15 + 1e-6, 720, 280);
+               static_cast<double>(bars.size()) - 0.4, 0, top * 1.15 + 1e-6, 720, 280);
   std::vector<std::pair<double, std::string>> cats;
-  for (std::size_t i = 0; i < known.size(); ++i) {
-    const double x = static_cast<double>(i), a = *known[i]->result.cause_clock_ms,
-                 b = *known[i]->result.effect_clock_ms;
-    plot.rect(x - 0.3, 0, x + 0.3, a, palette(0), "bar");
-    plot.rect(x - 0.3, a, x + 0.3, a + b, palette(1), "bar");
-    cats.emplace_back(x, known[i]->result.input.scenario);
+  for (std::size_t i = 0; i < bars.size(); ++i) {
+    const double x = static_cast<double>(i);
+    const auto& b = bars[i];
+    plot.rect(x - 0.3, 0, x + 0.3, b.cause, palette(0), "bar");
+    plot.rect(x - 0.3, b.cause, x + 0.3, b.cause + b.effect, palette(1), "bar");
+    if (b.other > 0) plot.rect(x - 0.3, b.cause + b.effect, x + 0.3, b.cause + b.effect + b.other, palette(2), "bar");
+    cats.emplace_back(x, b.s->result.input.scenario);
   }
   plot.set_x_categories(std::move(cats));
-  plot.legend(
-      {{"cause board clock", std::string(palette(0))}, {"effect board clock", std::string(palette(1))}});
+  plot.legend({{"cause board clock", std::string(palette(0))},
+               {"effect board clock", std::string(palette(1))},
+               {"interrupts, calibration, bounces", std::string(palette(2))}});
   return plot.render();
 }
 
@@ -398,8 +421,9 @@ std::string comparison_section(const Report& report) {
 std::string distribution_sections(const Report& report) {
   std::string h = "<h2>Distributions</h2>\n";
   h += figure(box_chart(report),
-              "Box: quartiles; line: median; whiskers: the most extreme samples within 1.5 IQR; "
-              "dots: samples beyond (at most 100 per side drawn); dashed: latency limits.");
+              "Box: quartiles; line: median; dark band: the median's bootstrap confidence interval; "
+              "whiskers: the most extreme samples within 1.5 IQR; dots: samples beyond (at most 100 per "
+              "side drawn); dashed: latency limits; n: the pairs in the statistics.");
   h += figure(ecdf_chart(report), "Share of samples at or below each latency.");
   if (auto hist = histogram_chart(report); !hist.empty()) h += figure(hist, "Counts per bin, all samples.");
 

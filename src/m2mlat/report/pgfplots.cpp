@@ -125,7 +125,7 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
       for (double o : b.outliers) out += num(o) + "\n";
       w.file(fmt::format("box-outliers-{}.dat", name), out);
       ticks += fmt::format("{}{:g}", i ? "," : "", x);
-      labels += fmt::format("{}{{{}}}", i ? "," : "", tex_escape(b.scenario));
+      labels += fmt::format("{}{{{} ($n$={})}}", i ? "," : "", tex_escape(b.scenario), b.n);
       if (b.n > 0)
         plots += fmt::format(
             "\\addplot+[{}, solid, mark=o, mark size=1pt, boxplot prepared={{draw position={:g}, lower "

@@ -39,7 +39,9 @@ std::int64_t origin_ns(const ScenarioReport& s) {
 
 BoxData box_data(const ScenarioReport& s) {
   const auto v = sorted_latencies(s);
-  return box_of(v, s.result.input.scenario, s.group);
+  auto box = box_of(v, s.result.input.scenario, s.group);
+  if (const auto& ci = s.result.summary.bootstrap) box.median_ci = ci->median_ms;
+  return box;
 }
 
 BoxData box_of(std::span<const std::int64_t> v, std::string name, std::string group) {

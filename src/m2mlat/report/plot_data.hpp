@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "m2mlat/report/report_model.hpp"
+#include "m2mlat/stats/bootstrap.hpp"
 
 namespace m2mlat::report {
 
@@ -26,6 +27,7 @@ struct BoxData {
   double q1 = 0, median = 0, q3 = 0, whisker_low = 0, whisker_high = 0;  // ms
   std::vector<double> outliers;   // ms; the most extreme ones when there are many
   std::size_t outlier_count = 0;  // all of them
+  std::optional<stats::Interval> median_ci;  // ms: the median's bootstrap confidence interval, if computed
 };
 BoxData box_data(const ScenarioReport& scenario);
 // The same of any sample (ns, sorted ascending), named `name` in group `group`.

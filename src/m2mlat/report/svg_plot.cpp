@@ -142,13 +142,46 @@ void SvgPlot::legend(const std::vector<std::pair<std::string, std::string>>& ent
 void SvgPlot::note(std::string_view text) { note_ = text; }
 
 std::string SvgPlot::render() const {
+  // The legend sits in rows of its own between the title and the frame, never over the data: the
+  // chart grows by their height and everything below them moves down.
+  constexpr int kLegendRow = 16;
+  std::vector<std::pair<double, int>> at;  // each entry's x and row
+  double lx = left_;
+  int rows = legend_.empty() ? 0 : 1;
+  for (const auto& entry : legend_) {
+    const double w = 7.2 * static_cast<double>(entry.first.size()) + 24;
+    if (lx > left_ && lx + w > width_ - right_) lx = left_, ++rows;
+    at.emplace_back(lx, rows - 1);
+    lx += w;
+  }
+  const int shift = rows * kLegendRow;
+  // Labels wider than the space between categories (11 px text: about 6 px a character) go on two
+  // alternating rows; one still wider than two spaces is cut with an ellipsis, its whole name in a
+  // tooltip. So neighbouring labels never overlap; the axis title moves down below a second row.
+  constexpr double kCharPx = 6.0;
+  double slot = static_cast<double>(width_ - left_ - right_);
+  for (std::size_t k = 1; k < categories_.size(); ++k)
+    slot = std::min(slot, std::fabs(px(categories_[k].first) - px(categories_[k - 1].first)));
+  std::size_t widest = 0;
+  for (const auto& category : categories_) widest = std::max(widest, category.second.size());
+  const bool two_rows = !categories_.empty() && static_cast<double>(widest) * kCharPx > slot;
+  const auto fits = static_cast<std::size_t>(std::max(3.0, (two_rows ? 2 * slot : slot) / kCharPx - 1));
+  const int below = two_rows ? 13 : 0;  // px the second row of labels adds under the plot
   std::string s = fmt::format(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"chart\" data-chart=\"{}\" viewBox=\"0 0 {} {}\" "
       "role=\"img\" aria-label=\"{}\">\n<title>{}</title>\n",
-      xml_escape(chart_), width_, height_, xml_escape(title_), xml_escape(title_));
+      xml_escape(chart_), width_, height_ + shift + below, xml_escape(title_), xml_escape(title_));
   s += fmt::format("<text class=\"title\" x=\"{}\" y=\"16\">{}</text>\n", left_, xml_escape(title_));
   if (!note_.empty())
     s += fmt::format("<text class=\"note\" x=\"{}\" y=\"30\">{}</text>\n", left_, xml_escape(note_));
+  for (std::size_t k = 0; k < legend_.size(); ++k) {
+    const double y = top_ - 4 + at[k].second * kLegendRow;
+    s += fmt::format(
+        "<rect x=\"{:.1f}\" y=\"{}\" width=\"10\" height=\"10\" fill=\"{}\"/><text class=\"legend\" "
+        "x=\"{:.1f}\" y=\"{}\">{}</text>\n",
+        at[k].first, y, legend_[k].second, at[k].first + 13, y + 9, xml_escape(legend_[k].first));
+  }
+  s += fmt::format("<g transform=\"translate(0 {})\">\n", shift);
   const double plot_bottom = height_ - bottom_, plot_top = top_;
   // Grid and y ticks.
   const auto yt = nice_ticks(y_lo_, y_hi_, 6);
@@ -167,17 +200,6 @@ std::string SvgPlot::render() const {
           "x=\"{:.1f}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n",
           px(t), plot_top, px(t), plot_bottom, px(t), plot_bottom + 14, tick_label(t, xstep));
   } else {
-    // Labels wider than the space between categories (11 px text: about 6 px a character) go on two
-    // alternating rows; one still wider than two spaces is cut with an ellipsis, its whole name in a
-    // tooltip. So neighbouring labels never overlap.
-    constexpr double kCharPx = 6.0;
-    double slot = static_cast<double>(width_ - left_ - right_);
-    for (std::size_t k = 1; k < categories_.size(); ++k)
-      slot = std::min(slot, std::fabs(px(categories_[k].first) - px(categories_[k - 1].first)));
-    std::size_t widest = 0;
-    for (const auto& category : categories_) widest = std::max(widest, category.second.size());
-    const bool two_rows = static_cast<double>(widest) * kCharPx > slot;
-    const auto fits = static_cast<std::size_t>(std::max(3.0, (two_rows ? 2 * slot : slot) / kCharPx - 1));
     for (std::size_t k = 0; k < categories_.size(); ++k) {
       const auto& [x, name] = categories_[k];
       const bool cut = name.size() > fits;
@@ -193,20 +215,11 @@ std::string SvgPlot::render() const {
                    width_ - left_ - right_, height_ - top_ - bottom_);
   s += "<g class=\"marks\">\n" + marks_ + "</g>\n";
   s += fmt::format("<text class=\"axis\" x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n",
-                   (left_ + width_ - right_) / 2, height_ - 8, xml_escape(x_label_));
+                   (left_ + width_ - right_) / 2, height_ - 8 + below, xml_escape(x_label_));
   s += fmt::format(
       "<text class=\"axis\" transform=\"translate(14 {}) rotate(-90)\" text-anchor=\"middle\">{}</text>\n",
       (top_ + height_ - bottom_) / 2, xml_escape(y_label_));
-  double lx = width_ - right_ - 4;
-  for (auto it = legend_.rbegin(); it != legend_.rend(); ++it) {
-    const double w = 7.2 * static_cast<double>(it->first.size()) + 24;
-    lx -= w;
-    s += fmt::format(
-        "<rect x=\"{:.1f}\" y=\"{}\" width=\"10\" height=\"10\" fill=\"{}\"/><text class=\"legend\" "
-        "x=\"{:.1f}\" y=\"{}\">{}</text>\n",
-        lx, top_ + 4, it->second, lx + 13, top_ + 13, xml_escape(it->first));
-  }
-  return s + "</svg>\n";
+  return s + "</g>\n</svg>\n";
 }
 
 }  // namespace m2mlat::report
