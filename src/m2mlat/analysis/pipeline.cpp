@@ -117,6 +117,28 @@ std::optional<LeanSide> lean_side(const std::string& path, std::optional<formats
   return lean;
 }
 
+// Names for the scenario of --cause-file and --effect-file. A file that names no board (a kernel
+// log) is the board of its file name (operator.log: "operator"), unless both files have the same name
+// ("cause" and "effect" then); the scenario is the one --scenario names, else the folder both files
+// are in, else "<cause>-<effect>".
+struct FilePairNames {
+  std::string cause, effect, scenario;
+};
+FilePairNames file_pair_names(const PipelineInputs& inputs) {
+  const std::filesystem::path cause(inputs.cause_file), effect(inputs.effect_file);
+  FilePairNames names{cause.stem().string(), effect.stem().string(), {}};
+  if (names.cause.empty() || names.effect.empty() || names.cause == names.effect) names.cause = "cause", names.effect = "effect";
+  const auto folder = [](const std::filesystem::path& p) {
+    return std::filesystem::absolute(p).lexically_normal().parent_path();
+  };
+  if (inputs.scenarios.size() == 1)
+    names.scenario = inputs.scenarios.front();
+  else if (folder(cause) == folder(effect) && cause.has_parent_path() && effect.has_parent_path())
+    names.scenario = folder(cause).filename().string();
+  if (names.scenario.empty()) names.scenario = names.cause + "-" + names.effect;
+  return names;
+}
+
 }  // namespace
 
 ScenarioResult analyse_store_scenario(const store::Store& store, const std::string& scenario,
@@ -142,24 +164,25 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
   if (!inputs.cause_file.empty()) {
     // The two files are read side by side (reading is a quarter of `stats` on two large logs); an
     // error in the cause file is still the one reported when both have one.
+    const auto names = file_pair_names(inputs);
+    const auto& scenario = names.scenario;
     auto effect_read = std::async(std::launch::async, lean_side, std::cref(inputs.effect_file), format,
-                                  "effect", std::cref(selection.effect));
-    auto cause = lean_side(inputs.cause_file, format, "cause", selection.cause);
+                                  std::cref(names.effect), std::cref(selection.effect));
+    auto cause = lean_side(inputs.cause_file, format, names.cause, selection.cause);
     auto effect = effect_read.get();
-    const auto scenario = std::filesystem::path(inputs.cause_file).stem().string();
     BoardRecord record;
     if (cause && effect) {
-      record.samples["cause"] = std::move(cause->steps);
-      record.samples["effect"] = std::move(effect->steps);
-      if (record.samples["cause"].empty() && record.samples["effect"].empty()) record.samples.clear();
+      record.samples[names.cause] = std::move(cause->steps);
+      record.samples[names.effect] = std::move(effect->steps);
+      if (record.samples[names.cause].empty() && record.samples[names.effect].empty()) record.samples.clear();
       results.push_back(analyse_with_record(
           from_timestamps(scenario, std::move(cause->side), std::move(effect->side)), record, options));
     } else {
-      import_options.node = "cause";
+      import_options.node = names.cause;
       auto cause_file = formats::import_file(inputs.cause_file, format, import_options);
       add_file_clock(record, cause_file, import_options.node);
       const auto causes = events_of(std::move(cause_file), inputs.cause_file);
-      import_options.node = "effect";
+      import_options.node = names.effect;
       auto effect_file = formats::import_file(inputs.effect_file, format, import_options);
       add_file_clock(record, effect_file, import_options.node);
       const auto effects = events_of(std::move(effect_file), inputs.effect_file);

@@ -7,7 +7,9 @@ namespace m2mlat::cli {
 
 void InputFlags::add_to(CLI::App& sub, bool allow_rematch) {
   sub.add_option("inputs", inputs, "Campaign stores (.db) or data files (one scenario each)");
-  sub.add_option("--scenario", scenarios, "Only these scenarios of the stores (repeatable)");
+  sub.add_option("--scenario", scenarios,
+                 "Only these scenarios of the stores (repeatable); with --cause-file and --effect-file: the "
+                 "scenario's name (default: the folder of both files, else <cause>-<effect>)");
   sub.add_option("--cause-file", cause_file, "A file with the cause edges (with --effect-file)");
   sub.add_option("--effect-file", effect_file, "A file with the effect edges (with --cause-file)");
   sub.add_option("--format", format, "Format of the data files (default: detected)");
