@@ -10,6 +10,7 @@
 #include "m2mlat/capture/kmsg_source.hpp"
 #include "m2mlat/capture/record_config.hpp"
 #include "m2mlat/capture/recorder.hpp"
+#include "m2mlat/capture/sim_gyro.hpp"
 #include "m2mlat/capture/sim_source.hpp"
 #include "m2mlat/cli/duration_flag.hpp"
 #include "m2mlat/cli/output.hpp"
@@ -93,21 +94,36 @@ nlohmann::json open_gyro(const RecordFlags& c, RecordSetup& s) {
   options.cpu = s.cpu;
 
   auto g = std::make_unique<GyroSetup>();
-  g->bus = std::make_unique<capture::I2cBus>(device, capture::parse_i2c_address("--gyro", address));
+  if (c.gyro == "sim") {  // the simulated gyroscope: the register twin (capture/sim_gyro.hpp)
+    device = "sim";
+    address = "0x68";
+    g->bus = capture::make_sim_gyro(c.sim_seed);
+  } else {
+    g->bus = std::make_unique<capture::I2cBus>(device, capture::parse_i2c_address("--gyro", address));
+  }
   g->chip = std::make_unique<capture::Mpu6050>(*g->bus);
   g->chip->configure({});
   g->source = std::make_unique<capture::GyroSource>(*g->chip, options);
   g->channel = std::make_unique<capture::GyroChannel>(c.gyro_channel, core::Clock::realtime,
                                                       capture::mpu6050::kCountsPerDegS, keep);
   GyroSetup* gyro = g.get();
-  s.options.raw_samples = [gyro](std::int64_t session_id, bool final, std::vector<store::RateBlock>& blocks,
-                                 std::vector<store::Loss>& losses) {
-    if (final) {  // the recorder has stopped: so does the sampler, and all it read goes into this round
+  const auto period = options.period;
+  s.options.raw_samples = [gyro, period](const capture::RawRound& round, std::vector<store::RateBlock>& blocks,
+                                         std::vector<store::Loss>& losses) {
+    if (round.final) {  // the recorder has stopped: so does the sampler, and all it read goes into this round
       gyro->source->stop();
       gyro->source->join();
     }
     gyro->channel->add(gyro->source->take(), gyro->source->summary());
-    gyro->channel->collect(session_id, core::realtime_now(), final, blocks, losses);
+    if (round.end && gyro->source->running()) {
+      // A session ends: wait (three read periods at most) for a sample stamped after its end, so that
+      // the one being read at the end goes to this session and not, a straggler, to none.
+      for (int i = 0; i < 12 && gyro->channel->newest_ns().value_or(0) <= round.end->ns(); ++i) {
+        core::sleep_until_ns(CLOCK_MONOTONIC, core::monotonic_now().count() + period.count() / 4);
+        gyro->channel->add(gyro->source->take(), gyro->source->summary());
+      }
+    }
+    gyro->channel->collect(round, core::realtime_now(), blocks, losses);
   };
   nlohmann::json out{{"device", device},
                      {"address", address},
@@ -316,7 +332,8 @@ void add_record_options(CLI::App& sub, RecordFlags& flags) {
   sub.add_option("--chronyc-socket", c->chronyc_socket, "Clock monitor: chronyd's command socket (chronyc -h)");
   sub.add_option("--pmc-socket", c->pmc_socket, "Clock monitor: ptp4l's Unix socket (pmc -s)");
   o["--gyro"] = sub.add_option("--gyro", c->gyro,
-                               "A gyroscope channel: MPU-6050 at /dev/i2c-N[:ADDRESS] (default address 0x68)");
+                               "A gyroscope channel: MPU-6050 at /dev/i2c-N[:ADDRESS] (default address 0x68), "
+                               "or 'sim' (a simulated one: a rotation every 2 s)");
   sub.add_option("--gyro-channel", c->gyro_channel, "The gyroscope's channel name")->capture_default_str();
   sub.add_option("--gyro-keep", c->gyro_keep,
                  "Raw samples kept: all, or window:<ms> around each detected motion")
