@@ -78,12 +78,6 @@ void start_clock_monitor(const RecordFlags& c, const capture::RecordConfig& file
 // here, before the store is touched), makes the sampler and the channel, and sets the recorder's
 // raw_samples hook. Returns the gyroscope's part of the session's configuration.
 nlohmann::json open_gyro(const RecordFlags& c, RecordSetup& s) {
-  std::string device = c.gyro, address = "0x68";
-  if (const auto colon = c.gyro.rfind(':');
-      colon != std::string::npos && c.gyro.find('/', colon) == std::string::npos) {
-    device = c.gyro.substr(0, colon);
-    address = c.gyro.substr(colon + 1);
-  }
   if (c.gyro_channel.empty()) throw core::Error(core::ErrorKind::usage, "--gyro-channel: must not be empty");
   const auto keep = capture::parse_gyro_keep("--gyro-keep", c.gyro_keep);
   capture::GyroSourceOptions options;
@@ -94,13 +88,9 @@ nlohmann::json open_gyro(const RecordFlags& c, RecordSetup& s) {
   options.cpu = s.cpu;
 
   auto g = std::make_unique<GyroSetup>();
-  if (c.gyro == "sim") {  // the simulated gyroscope: the register twin (capture/sim_gyro.hpp)
-    device = "sim";
-    address = "0x68";
-    g->bus = capture::make_sim_gyro(c.sim_seed);
-  } else {
-    g->bus = std::make_unique<capture::I2cBus>(device, capture::parse_i2c_address("--gyro", address));
-  }
+  auto opened = open_gyro_bus("--gyro", c.gyro, c.sim_seed);
+  const auto device = opened.device, address = opened.address;
+  g->bus = std::move(opened.bus);
   g->chip = std::make_unique<capture::Mpu6050>(*g->bus);
   g->chip->configure({});
   g->source = std::make_unique<capture::GyroSource>(*g->chip, options);
@@ -136,6 +126,17 @@ nlohmann::json open_gyro(const RecordFlags& c, RecordSetup& s) {
 }
 
 }  // namespace
+
+GyroBus open_gyro_bus(const std::string& flag, const std::string& text, std::uint64_t seed) {
+  if (text == "sim") return {capture::make_sim_gyro(seed), "sim", "0x68"};
+  GyroBus out{nullptr, text, "0x68"};
+  if (const auto colon = text.rfind(':'); colon != std::string::npos && text.find('/', colon) == std::string::npos) {
+    out.device = text.substr(0, colon);
+    out.address = text.substr(colon + 1);
+  }
+  out.bus = std::make_unique<capture::I2cBus>(out.device, capture::parse_i2c_address(flag, out.address));
+  return out;
+}
 
 void warn_after_run(const RecordSetup& s) {
   for (const auto& note : s.source->notes()) warn(note);

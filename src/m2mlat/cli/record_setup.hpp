@@ -53,6 +53,15 @@ struct RecordFlags {
   bool given(const std::string& name) const { return options.at(name)->count() > 0; }
 };
 
+// A gyroscope's bus from "/dev/i2c-N[:ADDRESS]" (address default 0x68) or "sim" (the simulated
+// gyroscope, capture/sim_gyro.hpp, seeded with `seed`); errors name `flag`. Shared by `record`,
+// `agent` (--gyro) and `led` (--on-gyro).
+struct GyroBus {
+  std::unique_ptr<capture::RegisterBus> bus;
+  std::string device, address;  // as given ("sim", "0x68" for the simulated one)
+};
+GyroBus open_gyro_bus(const std::string& flag, const std::string& text, std::uint64_t seed);
+
 // Registers the shared options on `sub`, writing into `flags` (which must outlive parsing).
 void add_record_options(CLI::App& sub, RecordFlags& flags);
 
