@@ -13,12 +13,6 @@
 
 namespace m2mlat::capture {
 
-namespace {
-
-constexpr std::int64_t kNsPerS = 1'000'000'000;
-
-}  // namespace
-
 GyroSource::GyroSource(Mpu6050& chip, GyroSourceOptions options) : chip_(chip), options_(options) {
   if (options_.period.count() <= 0)
     throw core::Error(core::ErrorKind::usage, "the gyroscope's read period must be positive");

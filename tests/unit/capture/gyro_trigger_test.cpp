@@ -17,21 +17,21 @@
 namespace m2mlat::capture {
 namespace {
 
-GyroTriggerOptions options() {
+GyroTriggerOptions trigger_options() {
   GyroTriggerOptions o;
   o.period = core::Duration{500'000};  // 2 kHz
   return o;
 }
 
 // Polls the trigger until `until` (monotonic ns) or its end; returns its actions' count.
-struct Run {
+struct TriggerRun {
   std::size_t flashes = 0;
   std::int64_t first_flash_ns = 0;  // CLOCK_REALTIME when the first flash was handed over
   bool ended = false;
   std::vector<std::string> refused;
 };
-Run run_until(GyroTrigger& trigger, std::int64_t until) {
-  Run r;
+TriggerRun run_trigger_until(GyroTrigger& trigger, std::int64_t until) {
+  TriggerRun r;
   while (core::monotonic_now().count() < until && !r.ended) {
     pollfd fd{trigger.fd(), POLLIN, 0};
     ::poll(&fd, 1, 10);
@@ -56,14 +56,14 @@ TEST(GyroTrigger, AFlashAtTheRotationsOnsetAndNoneAtRest) {
     const int n = reads++;
     t->set_rates(rate.load(), static_cast<std::int16_t>(n % 3 - 1), 2);  // +-1 count of noise on y
   };
-  GyroTrigger trigger(std::move(twin), "twin", options());
+  GyroTrigger trigger(std::move(twin), "twin", trigger_options());
   const std::int64_t ms = 1'000'000;
-  auto r = run_until(trigger, core::monotonic_now().count() + 300 * ms);  // learning, then rest
+  auto r = run_trigger_until(trigger, core::monotonic_now().count() + 300 * ms);  // learning, then rest
   EXPECT_EQ(r.flashes, 0u);
   EXPECT_GT(trigger.samples(), 300u);
   const std::int64_t began = core::realtime_now().ns();
   rate = 30 * 131;  // 30 deg/s about x
-  r = run_until(trigger, core::monotonic_now().count() + 200 * ms);
+  r = run_trigger_until(trigger, core::monotonic_now().count() + 200 * ms);
   EXPECT_EQ(r.flashes, 1u);
   EXPECT_EQ(trigger.onsets(), 1u);
   EXPECT_GT(r.first_flash_ns, began);
@@ -75,8 +75,8 @@ TEST(GyroTrigger, AnI2cErrorEndsTheTriggerAndIsReported) {
   auto twin = std::make_unique<RegisterTwin>();
   twin->registers[mpu6050::reg::who_am_i] = 0x68;
   twin->fail_after = 200;  // the configuration's transfers, then some reads
-  GyroTrigger trigger(std::move(twin), "twin", options());
-  const auto r = run_until(trigger, core::monotonic_now().count() + 2'000'000'000);
+  GyroTrigger trigger(std::move(twin), "twin", trigger_options());
+  const auto r = run_trigger_until(trigger, core::monotonic_now().count() + 2'000'000'000);
   EXPECT_TRUE(r.ended);
   ASSERT_EQ(r.refused.size(), 1u);
   EXPECT_NE(r.refused[0].find("gyroscope: "), std::string::npos) << r.refused[0];
@@ -86,7 +86,7 @@ TEST(GyroTrigger, AnI2cErrorEndsTheTriggerAndIsReported) {
 TEST(GyroTrigger, AMissingChipFailsAtOnce) {
   auto twin = std::make_unique<RegisterTwin>();
   twin->absent = true;
-  EXPECT_THROW(GyroTrigger trigger(std::move(twin), "twin", options()), core::Error);
+  EXPECT_THROW(GyroTrigger trigger(std::move(twin), "twin", trigger_options()), core::Error);
 }
 
 }  // namespace

@@ -21,7 +21,7 @@ namespace {
 using test::kMs;
 
 // The stamps of the samples at which the detector fired.
-std::vector<std::int64_t> onsets(const core::RateTrace& trace, StreamingOptions o = {}) {
+std::vector<std::int64_t> streaming_onsets(const core::RateTrace& trace, StreamingOptions o = {}) {
   StreamingDetector d(trace.counts_per_deg_s, o);
   std::vector<std::int64_t> out;
   for (const auto& s : trace.samples)
@@ -35,7 +35,7 @@ TEST(StreamingDetector, FiresOncePerMotionAndNeverAtRest) {
                                              sim::hand_motion(3 * s, 200, s / 3, -1),
                                              sim::hand_motion(5 * s, 25, s, 1)};
   const auto trace = sim::simulate_gyro(sim::GyroConfig{}, motions, 0, 7 * s, 3, 0);
-  const auto found = onsets(trace);
+  const auto found = streaming_onsets(trace);
   ASSERT_EQ(found.size(), motions.size());
   for (std::size_t i = 0; i < motions.size(); ++i) {
     EXPECT_GE(found[i], motions[i].onset_ns);  // causal: never before the motion began
@@ -43,7 +43,7 @@ TEST(StreamingDetector, FiresOncePerMotionAndNeverAtRest) {
   }
   // 20 s of rest, noise and bias walk included: nothing.
   const auto still = sim::simulate_gyro(sim::GyroConfig{}, {}, 0, 20 * s, 4, 0);
-  EXPECT_TRUE(onsets(still).empty());
+  EXPECT_TRUE(streaming_onsets(still).empty());
 }
 
 TEST(StreamingDetector, LearnsOnlyAtRestAndReArmsAfterTheQuietTime) {
@@ -109,7 +109,7 @@ TEST(StreamingDetector, DelayAfterTheTrueOnsetPerSpeedClass) {
         const std::vector<sim::RateMotion> ms{m};
         const auto trace = sim::simulate_gyro(sim::GyroConfig{}, ms, 0, m.end_ns() + 300 * kMs, 11,
                                               static_cast<std::uint64_t>(i));
-        const auto found = onsets(trace);
+        const auto found = streaming_onsets(trace);
         if (found.empty()) {
           ++missed;
           continue;
