@@ -11,6 +11,9 @@
 //                                          configured the chip); exit 1 on timeout
 //   steps --device DEV --address ADDR --from K --count N --gap-us G --log OUT [--append]
 //       writes the rates of steps K..K+N-1, G us apart; logs "k before_ns after_ns x y z" per step
+//   motion --device DEV --address ADDR --count N --rate COUNTS --rest-ms R --move-ms M --log OUT
+//       rest (all rates 0) for R ms, then a rotation about x at COUNTS for M ms, N times, and rest
+//       again; logs "k before_ns after_ns" of each rotation's first write (its onset)
 //   verify --log LOG --trace CSV
 //       holds an m2mlat-gyro/1 trace against the steps: every sample one of the steps' values, in
 //       step order; every step after the first seen; the change to each step bracketed by the trace
@@ -182,6 +185,34 @@ int cmd_steps(const std::map<std::string, std::string>& o) {
   return log ? 0 : 1;
 }
 
+void sleep_until(std::int64_t monotonic_ns) {
+  const timespec ts{static_cast<time_t>(monotonic_ns / kNsPerS), static_cast<long>(monotonic_ns % kNsPerS)};
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  }
+}
+
+int cmd_motion(const std::map<std::string, std::string>& o) {
+  Chip chip(required(o, "device"), parse_int(required(o, "address"), "--address"));
+  const std::int64_t count = parse_int(required(o, "count"), "--count");
+  const auto rate = static_cast<std::int16_t>(parse_int(required(o, "rate"), "--rate"));
+  const std::int64_t rest_ns = parse_int(required(o, "rest-ms"), "--rest-ms") * 1000000;
+  const std::int64_t move_ns = parse_int(required(o, "move-ms"), "--move-ms") * 1000000;
+  std::vector<std::array<std::int64_t, 2>> onsets;
+  chip.write_rates({0, 0, 0});
+  std::int64_t next = clock_ns(CLOCK_MONOTONIC);
+  for (std::int64_t k = 0; k < count; ++k) {
+    sleep_until(next += rest_ns);
+    const std::int64_t before = clock_ns(CLOCK_REALTIME);
+    chip.write_rates({rate, 0, 0});
+    onsets.push_back({before, clock_ns(CLOCK_REALTIME)});
+    sleep_until(next += move_ns);
+    chip.write_rates({0, 0, 0});
+  }
+  std::ofstream log(required(o, "log"));
+  for (std::size_t k = 0; k < onsets.size(); ++k) log << k << ' ' << onsets[k][0] << ' ' << onsets[k][1] << '\n';
+  return log ? 0 : 1;
+}
+
 struct Sample {
   std::int64_t time = 0, bound = 0;
   std::array<std::int64_t, 3> raw{};
@@ -284,7 +315,7 @@ int cmd_verify(const std::map<std::string, std::string>& o) {
 
 int main(int argc, char** argv) {
   try {
-    if (argc < 2) throw UsageError("usage: m2mlat-vm-gyro set|wait-reg|steps|verify ...");
+    if (argc < 2) throw UsageError("usage: m2mlat-vm-gyro set|wait-reg|steps|motion|verify ...");
     const std::string command = argv[1];
     if (command == "set" || command == "wait-reg") {
       if (argc != (command == "set" ? 6 : 7))
@@ -300,6 +331,7 @@ int main(int argc, char** argv) {
     }
     if (command == "steps") return cmd_steps(parse_options(argc, argv, 2));
     if (command == "verify") return cmd_verify(parse_options(argc, argv, 2));
+    if (command == "motion") return cmd_motion(parse_options(argc, argv, 2));
     throw UsageError("unknown command '" + command + "'");
   } catch (const UsageError& e) {
     std::fprintf(stderr, "m2mlat-vm-gyro: %s\n", e.what());

@@ -55,54 +55,63 @@ void GyroChannel::emit(std::int64_t session_id, std::size_t from, std::size_t to
   counters_.stored += to - from;
 }
 
-void GyroChannel::collect(std::int64_t session_id, core::TimePoint now, bool final,
-                          std::vector<store::RateBlock>& blocks, std::vector<store::Loss>& losses) {
+void GyroChannel::collect(const RawRound& round, core::TimePoint now, std::vector<store::RateBlock>& blocks,
+                          std::vector<store::Loss>& losses) {
+  constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
   for (auto& loss : new_losses_) {
-    loss.session_id = session_id;
+    if (round.session_id == 0) break;  // no session to hold them: kept for the next one
+    loss.session_id = round.session_id;
     loss.detected_at = now;
     losses.push_back(std::move(loss));
   }
-  new_losses_.clear();
-  const std::size_t first_undecided = static_cast<std::size_t>(decided_ - pending_first_);
-  if (pending_.size() == first_undecided) return;
+  if (round.session_id != 0) new_losses_.clear();
 
-  if (keep_.window.count() == 0) {  // all: every sample is decided at once
-    emit(session_id, first_undecided, pending_.size(), blocks);
-    decided_ = pending_first_ + pending_.size();
+  // Samples stamped before the session began (all of them while none is open) are no session's.
+  const std::int64_t start = round.session_id == 0 ? kNever : round.session_start.ns();
+  std::size_t i = static_cast<std::size_t>(decided_ - pending_first_);
+  const std::size_t first_undecided = i;
+  while (i < pending_.size() && pending_[i].time_ns < start) ++i;
+  counters_.outside_session += i - first_undecided;
+  decided_ = pending_first_ + i;
+  if (pending_.empty()) return;
+
+  const std::int64_t window = keep_.window.count();
+  const std::int64_t newest = pending_.back().time_ns;
+  std::int64_t decide_to = window == 0 ? kNever : newest - window - kDecisionDelay.count();
+  if (round.end) decide_to = round.end->ns();
+  if (round.final) decide_to = kNever;
+
+  if (window == 0) {  // all: every sample up to decide_to is stored, and nothing decided is kept
+    std::size_t j = i;
+    while (j < pending_.size() && pending_[j].time_ns <= decide_to) ++j;
+    emit(round.session_id, i, j, blocks);
+    decided_ = pending_first_ + j;
+    pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(j));
     pending_first_ = decided_;
-    pending_.clear();
     return;
   }
 
   // Keep window: the detector over what is in memory gives the intervals to keep.
-  const std::int64_t window = keep_.window.count();
   core::RateTrace trace{clock_, counts_per_deg_s_, pending_};
   const auto detection = onset::detector("flank").detect(trace);
   std::vector<std::pair<std::int64_t, std::int64_t>> keep;  // [from, to] ns
   for (const auto& m : detection.motions)
-    keep.emplace_back(m.onset_ns - window,
-                      m.ended ? m.end_ns + window : std::numeric_limits<std::int64_t>::max());
-  // The samples in memory begin in a motion only at the session's start (history is never cut
+    keep.emplace_back(m.onset_ns - window, m.ended ? m.end_ns + window : kNever);
+  // The samples in memory begin in a motion only at the sampler's start (history is never cut
   // inside a motion, below): its onset was before the recording; keep up to the first onset seen.
   if (detection.began_in_motion)
-    keep.emplace_back(std::numeric_limits<std::int64_t>::min(), detection.motions.empty()
-                                                                    ? std::numeric_limits<std::int64_t>::max()
-                                                                    : detection.motions.front().onset_ns);
+    keep.emplace_back(std::numeric_limits<std::int64_t>::min(),
+                      detection.motions.empty() ? kNever : detection.motions.front().onset_ns);
   const auto kept = [&](std::int64_t t) {
-    return std::any_of(keep.begin(), keep.end(),
-                       [t](const auto& k) { return t >= k.first && t <= k.second; });
+    return std::any_of(keep.begin(), keep.end(), [t](const auto& k) { return t >= k.first && t <= k.second; });
   };
 
-  const std::int64_t newest = pending_.back().time_ns;
-  const std::int64_t decide_to =
-      final ? std::numeric_limits<std::int64_t>::max() : newest - window - kDecisionDelay.count();
-  std::size_t i = first_undecided;
   while (i < pending_.size() && pending_[i].time_ns <= decide_to) {
     const bool in = kept(pending_[i].time_ns);
     std::size_t j = i;
     while (j < pending_.size() && pending_[j].time_ns <= decide_to && kept(pending_[j].time_ns) == in) ++j;
     if (in)
-      emit(session_id, i, j, blocks);
+      emit(round.session_id, i, j, blocks);
     else
       counters_.left_out += j - i;
     i = j;
@@ -112,15 +121,15 @@ void GyroChannel::collect(std::int64_t session_id, core::TimePoint now, bool fin
   // Forget decided samples older than the detector's history, but never cut into a motion or the
   // history after it: the detector must see each motion whole, from the rest before it, or it would
   // take a motion's tail for the start of the trace.
-  std::int64_t forget_before = decide_to - kDetectorHistory.count();
+  const std::int64_t decided_to = i < pending_.size() ? pending_[i].time_ns : newest;
+  std::int64_t forget_before = decided_to - kDetectorHistory.count();
   for (const auto& m : detection.motions) {
-    const std::int64_t after =
-        m.ended ? m.end_ns + window + kDetectorHistory.count() : std::numeric_limits<std::int64_t>::max();
+    const std::int64_t after = m.ended ? m.end_ns + window + kDetectorHistory.count() : kNever;
     if (forget_before > m.onset_ns - window && forget_before <= after) forget_before = m.onset_ns - window;
   }
   std::size_t drop = 0;
   while (drop < i && pending_[drop].time_ns < forget_before) ++drop;
-  if (final) drop = pending_.size();
+  if (round.final) drop = pending_.size();
   pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(drop));
   pending_first_ += drop;
 }

@@ -10,14 +10,20 @@
 // newest by window + kDecisionDelay (the time the detector may need to see a slow onset), so up to
 // that much (at 8 kHz, ~3 s: 24,000 samples) waits in memory; the last round decides everything.
 // Samples left out show in the stored blocks as a jump of first_index.
+//
+// Sessions (the agent begins and ends them while the sampler runs): a sample is stored in the session
+// it was sampled in; a block never crosses a session's end (raw_round.hpp). Numbers go on across
+// sessions, so a session's first block need not start at 0.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "m2mlat/capture/gyro_source.hpp"
+#include "m2mlat/capture/raw_round.hpp"
 #include "m2mlat/core/rate_sample.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/store/records.hpp"
@@ -42,6 +48,7 @@ struct GyroChannelCounters {
   std::uint64_t read = 0;      // samples the sampler took
   std::uint64_t stored = 0;    // samples put into blocks
   std::uint64_t left_out = 0;  // samples outside every window (keep window only)
+  std::uint64_t outside_session = 0;  // sampled while no session was open: not stored
   std::uint64_t missed_periods = 0;
   std::uint64_t i2c_errors = 0;
 };
@@ -52,11 +59,18 @@ class GyroChannel {
 
   // Takes the samples the sampler read since the last call (oldest first) and its counts so far.
   void add(std::vector<core::RateSample> samples, const GyroSummary& summary);
-  // Moves the decided samples into blocks for `session_id` and the new losses (detected at `now`)
-  // into `losses`. `final`: the sampler has stopped; decide everything.
-  void collect(std::int64_t session_id, core::TimePoint now, bool final,
-               std::vector<store::RateBlock>& blocks, std::vector<store::Loss>& losses);
+  // Moves the decided samples into blocks for the round's session and the new losses (detected at
+  // `now`) into `losses`. Samples stamped before the session's start (or while none is open) are
+  // no session's: counted as outside_session, not stored. With the round's end set, every sample
+  // stamped up to it is decided now (the window detector sees what it has so far), later ones wait.
+  // `final`: the sampler has stopped; decide everything.
+  void collect(const RawRound& round, core::TimePoint now, std::vector<store::RateBlock>& blocks,
+               std::vector<store::Loss>& losses);
 
+  // The newest sample's stamp taken so far (none yet: nullopt), ns.
+  std::optional<std::int64_t> newest_ns() const {
+    return pending_.empty() ? std::nullopt : std::optional(pending_.back().time_ns);
+  }
   const std::string& channel() const { return channel_; }
   const GyroChannelCounters& counters() const { return counters_; }
 

@@ -1,6 +1,7 @@
 #include "m2mlat/capture/gyro_source.hpp"
 
 #include <time.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -11,12 +12,6 @@
 #include "m2mlat/rt/scheduling.hpp"
 
 namespace m2mlat::capture {
-
-namespace {
-
-constexpr std::int64_t kNsPerS = 1'000'000'000;
-
-}  // namespace
 
 GyroSource::GyroSource(Mpu6050& chip, GyroSourceOptions options) : chip_(chip), options_(options) {
   if (options_.period.count() <= 0)
@@ -106,6 +101,7 @@ void GyroSource::loop() {
       summary_.min_read = std::min(summary_.min_read, core::Duration{took});
       summary_.max_read = std::max(summary_.max_read, core::Duration{took});
     }
+    notify();
     // The next deadline; those already past (a slow read, a late wake-up) are skipped and counted.
     deadline += period;
     const std::int64_t now = core::now_ns(CLOCK_MONOTONIC);
@@ -119,10 +115,20 @@ void GyroSource::loop() {
       summary_.missed_periods += static_cast<std::uint64_t>(missed);
     }
   }
-  std::lock_guard lock(mutex_);
-  if (summary_.reads == 0) summary_.min_read = core::Duration{0};
-  summary_.stop_reason = reason;
-  running_ = false;
+  {
+    std::lock_guard lock(mutex_);
+    if (summary_.reads == 0) summary_.min_read = core::Duration{0};
+    summary_.stop_reason = reason;
+    running_ = false;
+  }
+  notify();
+}
+
+void GyroSource::notify() const {
+  if (options_.notify_fd < 0) return;
+  const std::uint64_t one = 1;
+  // A full counter or pipe means the consumer has not read yet: it will see the samples anyway.
+  if (::write(options_.notify_fd, &one, sizeof one) < 0) return;
 }
 
 }  // namespace m2mlat::capture

@@ -36,6 +36,9 @@ struct GyroSourceOptions {
   core::Duration chip_output_period{125'000};
   int rt_priority = 0;  // SCHED_FIFO 1..99 for the sampling thread; 0: leave it
   int cpu = -1;         // run the sampling thread on this CPU; -1: leave it
+  // An eventfd (or pipe) written after each sample is taken and when the thread ends, so that a
+  // consumer acting on the samples at once (the LED's onset trigger) can poll it; -1: none.
+  int notify_fd = -1;
 };
 
 struct GyroSummary {
@@ -68,6 +71,7 @@ class GyroSource {
 
  private:
   void loop();
+  void notify() const;  // writes options_.notify_fd, if any
 
   Mpu6050& chip_;
   GyroSourceOptions options_;

@@ -72,6 +72,7 @@ class Recorder::Run {
   void add_gaps(const std::vector<Gap>& gaps);
   void add_events(const std::vector<core::Event>& events);
   void add_clock_samples(bool final = false);
+  void add_raw_samples(bool final, std::optional<core::TimePoint> end);
   void notify_commit();
   void check_reader();
   // The loop, the drain and the end.
@@ -97,6 +98,7 @@ class Recorder::Run {
   std::optional<store::EventWriter> writer_;  // the open session's; empty while none is open (agent)
   std::int64_t last_committed_ = 0;
   std::int64_t ended_session_ = 0;  // reported once run() returns
+  core::TimePoint session_start_;   // the open session's start
   core::Duration started_{0}, last_progress_{0}, last_round_{0};
   bool limit_reached_ = false;
   bool finished_ = false;
@@ -163,16 +165,20 @@ void Recorder::Run::open_first_session() {
 
 void Recorder::Run::begin_session(const store::Session& session) {
   counters_.session_id = recorder_.begin(session);
+  session_start_ = recorder_.store_.session(counters_.session_id)->start;
   writer_.emplace(recorder_.store_, counters_.session_id, writer_options_);
 }
 
 // Commits the open session's batch and ends it; returns it as stored.
 std::optional<store::Session> Recorder::Run::end_open() {
   if (!writer_) return std::nullopt;
+  // The end is taken first: the raw samples stamped up to it are the session's, in its last commit.
+  const auto end = core::realtime_now();
+  add_raw_samples(false, end);
   writer_->flush();
   last_committed_ = std::max(last_committed_, writer_->last_committed_seq());
   writer_.reset();
-  recorder_.store_.end_session(counters_.session_id, core::realtime_now());
+  recorder_.store_.end_session(counters_.session_id, end);
   ended_session_ = counters_.session_id;
   auto ended = recorder_.store_.session(counters_.session_id);
   counters_.session_id = 0;
@@ -253,19 +259,31 @@ void Recorder::Run::add_events(const std::vector<core::Event>& events) {
 // The clock monitor's samples and the raw rate samples for the open session, committed with the
 // round; `final`: the last round, after the stop.
 void Recorder::Run::add_clock_samples(bool final) {
-  if (!writer_) return;
-  if (options_.before_commit) {
+  if (writer_ && options_.before_commit) {
     std::vector<store::ClockSample> samples;
     options_.before_commit(counters_.session_id, samples);
     for (const auto& sample : samples) writer_->add(sample);
   }
-  if (options_.raw_samples) {
-    std::vector<store::RateBlock> blocks;
-    std::vector<store::Loss> losses;
-    options_.raw_samples(counters_.session_id, final, blocks, losses);
-    for (const auto& block : blocks) writer_->add(block);
-    for (const auto& loss : losses) writer_->add(loss);
+  add_raw_samples(final, std::nullopt);
+}
+
+// The raw-sample hook's round for the open session (none: what it sampled is let go), up to `end`
+// when the session ends.
+void Recorder::Run::add_raw_samples(bool final, std::optional<core::TimePoint> end) {
+  if (!options_.raw_samples) return;
+  RawRound round;
+  round.final = final;
+  round.end = end;
+  if (writer_) {
+    round.session_id = counters_.session_id;
+    round.session_start = session_start_;
   }
+  std::vector<store::RateBlock> blocks;
+  std::vector<store::Loss> losses;
+  options_.raw_samples(round, blocks, losses);
+  if (!writer_) return;
+  for (const auto& block : blocks) writer_->add(block);
+  for (const auto& loss : losses) writer_->add(loss);
 }
 
 void Recorder::Run::notify_commit() {
@@ -311,7 +329,7 @@ void Recorder::Run::record_until_stop() {
 // Without events too, a round every commit interval gives the clock monitor its turn (it stores a
 // sample when one is due, and its state even while no edge comes).
 bool Recorder::Run::round_due(core::Duration now, const SourceReader::Status& queued) const {
-  const bool monitor_due = writer_ && (options_.before_commit || options_.raw_samples) &&
+  const bool monitor_due = (options_.raw_samples || (writer_ && options_.before_commit)) &&
                            now - last_round_ >= options_.commit_interval;
   return queued.ended || queued.events >= writer_options_.max_batch || monitor_due ||
          (queued.first && now - *queued.first >= options_.commit_interval);
@@ -335,7 +353,7 @@ bool Recorder::Run::stops_after_round(const SourceReader::Status& queued) {
 std::optional<core::Duration> Recorder::Run::wait_timeout(core::Duration now) {
   auto timeout = options_.progress_interval - (now - last_progress_);
   if (!options_.on_progress) timeout = std::chrono::hours(1);
-  if (writer_ && (options_.before_commit || options_.raw_samples))
+  if (options_.raw_samples || (writer_ && options_.before_commit))
     timeout = std::min(timeout, last_round_ + options_.commit_interval - now);
   if (const auto first = reader_->status().first)
     timeout = std::min(timeout, *first + options_.commit_interval - now);

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "m2mlat/capture/latency_histogram.hpp"
+#include "m2mlat/capture/raw_round.hpp"
 #include "m2mlat/capture/refractory_gate.hpp"
 #include "m2mlat/capture/session_control.hpp"
 #include "m2mlat/capture/source.hpp"
@@ -74,12 +75,12 @@ struct RecorderOptions {
   // session's id: may append clock samples for that session, which are committed with the events.
   // Not called without a session.
   std::function<void(std::int64_t session_id, std::vector<store::ClockSample>&)> before_commit;
-  // Called beside before_commit (every round, and once more after the stop with `final` set) with the
-  // open session's id: may add blocks of raw rate samples and losses for that session (the
-  // gyroscope channel, gyro_channel.hpp), committed with the round's events.
-  std::function<void(std::int64_t session_id, bool final, std::vector<store::RateBlock>&,
-                     std::vector<store::Loss>&)>
-      raw_samples;
+  // Called beside before_commit (every round, once more when a session ends, with its end time,
+  // and once after the stop with `final` set; raw_round.hpp): may add blocks of raw rate samples and
+  // losses for the round's session (the gyroscope channel, gyro_channel.hpp), committed with the
+  // round's events. Also called every commit interval while no session is open (session_id 0),
+  // when whatever it adds is not stored.
+  std::function<void(const RawRound&, std::vector<store::RateBlock>&, std::vector<store::Loss>&)> raw_samples;
   // Called after a round that committed, with the store's new acknowledged seq (to wake readers).
   std::function<void(std::int64_t last_committed_seq)> on_commit;
 };

@@ -1,6 +1,8 @@
 // `m2mlat agent`: one node's recorder with the agent HTTP API (docs/api.md). Takes the options of
 // `m2mlat record` (a TOML configuration or flags; the sim source is always paced and, unless
 // --sim-set manoeuvres=N says otherwise, practically endless) plus where to listen, the bearer token and TLS.
+// With --gyro, the gyroscope's raw samples are stored in the session they were sampled in and served
+// as rate blocks (/v1/rate-blocks).
 // Prints `listening HOST:PORT` on stdout once the port is bound (--listen 127.0.0.1:0 picks a free
 // one; --port-file also writes the port), and stops cleanly on SIGINT/SIGTERM, committing what it has.
 #include <fmt/format.h>
@@ -55,8 +57,6 @@ int run_agent(AgentCommand& c) {
   auto& flags = c.record;
   flags.sim_paced = true;  // an agent is live: the simulated rig runs in real time
   flags.sim_set.insert(flags.sim_set.begin(), "manoeuvres=1000000000");  // years of manoeuvres
-  if (!flags.gyro.empty())  // its samples would cross the agent's session boundaries: not built yet
-    throw core::Error(core::ErrorKind::usage, "--gyro: the agent does not take a gyroscope yet; use `m2mlat record`");
   auto setup = prepare_record(flags);
   if (!flags.quiet)
     for (const auto& line : setup.source->describe())
@@ -75,6 +75,9 @@ int run_agent(AgentCommand& c) {
   options.server.max_connections = c.max_connections;
 
   capture::StopSignal stop;  // before any thread starts, so that every thread blocks the signals
+  // The gyroscope's sampler runs across sessions; its samples go to the session they were sampled
+  // in (capture/raw_round.hpp), those between sessions to none.
+  if (setup.gyro) setup.gyro->start();
   agent::Agent agent(options, *setup.source);
   agent.start();
   if (!c.port_file.empty()) {

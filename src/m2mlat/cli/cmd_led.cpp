@@ -1,6 +1,6 @@
 // `m2mlat led`: the glass-to-glass LED. Switches an output line (the LED in the camera's view) on a
-// schedule, on commands (lines on stdin, UDP datagrams) or at each edge of an input line (the
-// vehicle's motion onset), and records every switch (channel "led", flag commanded, its time the
+// schedule, on commands (lines on stdin, UDP datagrams), at each edge of an input line (the
+// vehicle's motion onset) or at each motion onset a gyroscope's streaming detector finds, and records every switch (channel "led", flag commanded, its time the
 // middle of the clock readings just before and just after the ioctl) into a store and/or an events
 // file, so that `stats --cause vehicle/led --effect operator/photo` gives glass-to-glass latency.
 #include <fmt/format.h>
@@ -11,12 +11,14 @@
 
 #include "m2mlat/capture/channel.hpp"
 #include "m2mlat/capture/gpio_device.hpp"
+#include "m2mlat/capture/gyro_trigger.hpp"
 #include "m2mlat/capture/led_trigger.hpp"
 #include "m2mlat/capture/pulse.hpp"
 #include "m2mlat/capture/recorder.hpp"
 #include "m2mlat/capture/stop_signal.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
+#include "m2mlat/cli/record_setup.hpp"
 #include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/output_file.hpp"
@@ -32,7 +34,8 @@ namespace m2mlat::cli {
 namespace {
 
 struct LedCommand {
-  std::string chip, line, channel = "led", period, on_for = "100ms", duration, listen, on_edge;
+  std::string chip, line, channel = "led", period, on_for = "100ms", duration, listen, on_edge, on_gyro;
+  std::string gyro_period = "1ms";
   std::string edges = "falling", bias = "as-is";
   std::string store_path, events_path, node, scenario = "g2g", role = "cause";
   std::uint64_t count = 0;
@@ -54,12 +57,12 @@ struct BoundTally {
 
 int run_led(const LedCommand& c) {
   const int triggers = (c.period.empty() ? 0 : 1) + (c.from_stdin ? 1 : 0) + (c.listen.empty() ? 0 : 1) +
-                       (c.on_edge.empty() ? 0 : 1);
+                       (c.on_edge.empty() ? 0 : 1) + (c.on_gyro.empty() ? 0 : 1);
   if (triggers != 1)
     throw core::Error(
         core::ErrorKind::usage,
-        "choose one trigger: --period (a schedule), --stdin or --listen (commands), or --on-edge "
-        "(an input line's edges)");
+        "choose one trigger: --period (a schedule), --stdin or --listen (commands), --on-edge "
+        "(an input line's edges) or --on-gyro (a gyroscope's motion onsets)");
   if ((!c.store_path.empty() || !c.events_path.empty()) && c.node.empty())
     throw core::Error(core::ErrorKind::usage, "--store and --events need --node (the board the LED is on)");
   if (c.period.empty() && (c.count > 0 || !c.duration.empty()))
@@ -81,7 +84,22 @@ int run_led(const LedCommand& c) {
   auto devices = capture::linux_gpio_devices();
   capture::PulseGenerator led(*devices, options);
 
+  // Before any thread starts (the gyroscope's sampler), so that every thread blocks the signals.
+  capture::StopSignal stop;
   std::unique_ptr<capture::LedTrigger> trigger;
+  capture::GyroTrigger* gyro = nullptr;
+  if (!c.on_gyro.empty()) {
+    capture::GyroTriggerOptions go;
+    go.period = core::parse_duration(c.gyro_period, 1'000'000);
+    if (go.period.count() <= 0) throw core::Error(core::ErrorKind::usage, "--gyro-period: must be positive");
+    go.rt_priority = c.rt_priority;
+    go.cpu = c.cpu;
+    auto opened = open_gyro_bus("--on-gyro", c.on_gyro, 1);
+    auto t = std::make_unique<capture::GyroTrigger>(
+        std::move(opened.bus), fmt::format("{} address {}", opened.device, opened.address), go);
+    gyro = t.get();
+    trigger = std::move(t);
+  }
   if (c.from_stdin) trigger = capture::stream_trigger(0, "stdin");
   if (!c.listen.empty()) trigger = std::make_unique<capture::DatagramTrigger>(c.listen);
   if (!c.on_edge.empty()) {
@@ -141,7 +159,6 @@ int run_led(const LedCommand& c) {
       progress(fmt::format("led: {} switches, last {} {} (ioctl {})", bound.n, core::to_string(edge.edge),
                            core::format_seconds(edge.commanded.ns()), core::format_duration(edge.bound())));
   };
-  capture::StopSignal stop;
   std::string stop_reason;
   std::uint64_t refused = 0, trigger_edges = 0;
   core::Duration max_late{0};
@@ -187,6 +204,14 @@ int run_led(const LedCommand& c) {
                      {"event_error_max_ns", (bound.max / 2).count()},
                      {"stop_reason", stop_reason}};
     if (!trigger) j["max_late_ns"] = max_late.count();
+    if (gyro) {
+      const auto summary = gyro->summary();
+      j["gyro"] = {{"samples", gyro->samples()},
+                   {"onsets", gyro->onsets()},
+                   {"threshold_deg_s", gyro->threshold_deg_s()},
+                   {"missed_periods", summary.missed_periods},
+                   {"i2c_errors", summary.i2c_errors}};
+    }
     if (store) {
       j["store"] = c.store_path;
       j["session"] = session_id;
@@ -204,6 +229,9 @@ int run_led(const LedCommand& c) {
                  session_id, core::printable(c.node), core::printable(c.channel),
                  core::printable(c.scenario));
     if (!c.events_path.empty()) fmt::print("{}: {} events\n", core::printable(c.events_path), kept.size());
+    if (gyro)
+      fmt::print("gyroscope: {} samples, {} motion onsets (threshold {:.3f} deg/s), {} missed periods\n",
+                 gyro->samples(), gyro->onsets(), gyro->threshold_deg_s(), gyro->summary().missed_periods);
   }
   return 0;
 }
@@ -221,6 +249,10 @@ Runner attach_led(CLI::App& sub) {
   sub.add_flag("--stdin", c->from_stdin, "Trigger: commands on stdin, one a line (on, off, flash)");
   sub.add_option("--listen", c->listen, "Trigger: commands as UDP datagrams on HOST:PORT");
   sub.add_option("--on-edge", c->on_edge, "Trigger: a flash at each edge of an input line, NAME=CHIP:LINE");
+  sub.add_option("--on-gyro", c->on_gyro,
+                 "Trigger: a flash at each motion onset a gyroscope sees, /dev/i2c-N[:ADDRESS] or sim");
+  sub.add_option("--gyro-period", c->gyro_period, "--on-gyro: the gyroscope's read period")
+      ->capture_default_str();
   sub.add_option("--edges", c->edges, "--on-edge: falling, rising or both")->capture_default_str();
   sub.add_option("--bias", c->bias, "--on-edge: as-is, pull-up, pull-down or disabled")
       ->capture_default_str();

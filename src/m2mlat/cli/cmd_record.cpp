@@ -33,6 +33,7 @@ nlohmann::json gyro_json(const GyroSetup& gyro) {
   const auto summary = gyro.source->summary();
   return {{"channel", gyro.channel->channel()}, {"read", g.read},
           {"stored", g.stored},                 {"left_out", g.left_out},
+          {"outside_session", g.outside_session},
           {"missed_periods", g.missed_periods}, {"i2c_errors", g.i2c_errors},
           {"stop_reason", summary.stop_reason}, {"error", summary.error}};
 }
@@ -93,9 +94,10 @@ int run_record(RecordFlags& c) {
     if (setup.gyro) {
       const auto& g = setup.gyro->channel->counters();
       const auto summary = setup.gyro->source->summary();
-      fmt::print("  gyroscope {}: {} samples read, {} stored, {} outside the keep window, {} missed periods, "
-                 "{} I2C errors{}\n",
-                 core::printable(setup.gyro->channel->channel()), g.read, g.stored, g.left_out, g.missed_periods,
+      fmt::print("  gyroscope {}: {} samples read, {} stored, {} outside the keep window, {} before the session "
+                 "began, {} missed periods, {} I2C errors{}\n",
+                 core::printable(setup.gyro->channel->channel()), g.read, g.stored, g.left_out,
+                 g.outside_session, g.missed_periods,
                  g.i2c_errors, summary.error.empty() ? "" : " (" + core::printable(summary.error) + ")");
     }
     if (counters.node_lost > 0) fmt::print("  {} kernel-log records lost (node-wide)\n", counters.node_lost);

@@ -10,6 +10,7 @@
 #include "m2mlat/capture/kmsg_source.hpp"
 #include "m2mlat/capture/record_config.hpp"
 #include "m2mlat/capture/recorder.hpp"
+#include "m2mlat/capture/sim_gyro.hpp"
 #include "m2mlat/capture/sim_source.hpp"
 #include "m2mlat/cli/duration_flag.hpp"
 #include "m2mlat/cli/output.hpp"
@@ -77,12 +78,6 @@ void start_clock_monitor(const RecordFlags& c, const capture::RecordConfig& file
 // here, before the store is touched), makes the sampler and the channel, and sets the recorder's
 // raw_samples hook. Returns the gyroscope's part of the session's configuration.
 nlohmann::json open_gyro(const RecordFlags& c, RecordSetup& s) {
-  std::string device = c.gyro, address = "0x68";
-  if (const auto colon = c.gyro.rfind(':');
-      colon != std::string::npos && c.gyro.find('/', colon) == std::string::npos) {
-    device = c.gyro.substr(0, colon);
-    address = c.gyro.substr(colon + 1);
-  }
   if (c.gyro_channel.empty()) throw core::Error(core::ErrorKind::usage, "--gyro-channel: must not be empty");
   const auto keep = capture::parse_gyro_keep("--gyro-keep", c.gyro_keep);
   capture::GyroSourceOptions options;
@@ -93,21 +88,32 @@ nlohmann::json open_gyro(const RecordFlags& c, RecordSetup& s) {
   options.cpu = s.cpu;
 
   auto g = std::make_unique<GyroSetup>();
-  g->bus = std::make_unique<capture::I2cBus>(device, capture::parse_i2c_address("--gyro", address));
+  auto opened = open_gyro_bus("--gyro", c.gyro, c.sim_seed);
+  const auto device = opened.device, address = opened.address;
+  g->bus = std::move(opened.bus);
   g->chip = std::make_unique<capture::Mpu6050>(*g->bus);
   g->chip->configure({});
   g->source = std::make_unique<capture::GyroSource>(*g->chip, options);
   g->channel = std::make_unique<capture::GyroChannel>(c.gyro_channel, core::Clock::realtime,
                                                       capture::mpu6050::kCountsPerDegS, keep);
   GyroSetup* gyro = g.get();
-  s.options.raw_samples = [gyro](std::int64_t session_id, bool final, std::vector<store::RateBlock>& blocks,
-                                 std::vector<store::Loss>& losses) {
-    if (final) {  // the recorder has stopped: so does the sampler, and all it read goes into this round
+  const auto period = options.period;
+  s.options.raw_samples = [gyro, period](const capture::RawRound& round, std::vector<store::RateBlock>& blocks,
+                                         std::vector<store::Loss>& losses) {
+    if (round.final) {  // the recorder has stopped: so does the sampler, and all it read goes into this round
       gyro->source->stop();
       gyro->source->join();
     }
     gyro->channel->add(gyro->source->take(), gyro->source->summary());
-    gyro->channel->collect(session_id, core::realtime_now(), final, blocks, losses);
+    if (round.end && gyro->source->running()) {
+      // A session ends: wait (three read periods at most) for a sample stamped after its end, so that
+      // the one being read at the end goes to this session and not, a straggler, to none.
+      for (int i = 0; i < 12 && gyro->channel->newest_ns().value_or(0) <= round.end->ns(); ++i) {
+        core::sleep_until_ns(CLOCK_MONOTONIC, core::monotonic_now().count() + period.count() / 4);
+        gyro->channel->add(gyro->source->take(), gyro->source->summary());
+      }
+    }
+    gyro->channel->collect(round, core::realtime_now(), blocks, losses);
   };
   nlohmann::json out{{"device", device},
                      {"address", address},
@@ -120,6 +126,17 @@ nlohmann::json open_gyro(const RecordFlags& c, RecordSetup& s) {
 }
 
 }  // namespace
+
+GyroBus open_gyro_bus(const std::string& flag, const std::string& text, std::uint64_t seed) {
+  if (text == "sim") return {capture::make_sim_gyro(seed), "sim", "0x68"};
+  GyroBus out{nullptr, text, "0x68"};
+  if (const auto colon = text.rfind(':'); colon != std::string::npos && text.find('/', colon) == std::string::npos) {
+    out.device = text.substr(0, colon);
+    out.address = text.substr(colon + 1);
+  }
+  out.bus = std::make_unique<capture::I2cBus>(out.device, capture::parse_i2c_address(flag, out.address));
+  return out;
+}
 
 void warn_after_run(const RecordSetup& s) {
   for (const auto& note : s.source->notes()) warn(note);
@@ -316,7 +333,8 @@ void add_record_options(CLI::App& sub, RecordFlags& flags) {
   sub.add_option("--chronyc-socket", c->chronyc_socket, "Clock monitor: chronyd's command socket (chronyc -h)");
   sub.add_option("--pmc-socket", c->pmc_socket, "Clock monitor: ptp4l's Unix socket (pmc -s)");
   o["--gyro"] = sub.add_option("--gyro", c->gyro,
-                               "A gyroscope channel: MPU-6050 at /dev/i2c-N[:ADDRESS] (default address 0x68)");
+                               "A gyroscope channel: MPU-6050 at /dev/i2c-N[:ADDRESS] (default address 0x68), "
+                               "or 'sim' (a simulated one: a rotation every 2 s)");
   sub.add_option("--gyro-channel", c->gyro_channel, "The gyroscope's channel name")->capture_default_str();
   sub.add_option("--gyro-keep", c->gyro_keep,
                  "Raw samples kept: all, or window:<ms> around each detected motion")

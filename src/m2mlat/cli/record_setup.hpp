@@ -44,7 +44,7 @@ struct RecordFlags {
   bool no_clock_monitor = false;
   std::string kernel_interval = "1s", chrony_interval = "8s", ptp_interval = "0";
   std::string chronyc_socket, pmc_socket;  // other daemons than the system's (chronyc -h, pmc -s)
-  // The gyroscope channel: "/dev/i2c-N[:ADDRESS]" (empty: none), its channel name, what to keep of
+  // The gyroscope channel: "/dev/i2c-N[:ADDRESS]" or "sim" (capture/sim_gyro.hpp; empty: none), its channel name, what to keep of
   // its raw samples ("all" or "window:<ms>") and the read period.
   std::string gyro, gyro_channel = "gyro", gyro_keep = "all", gyro_period = "1ms";
   // Which of the flags above were given (a flag overrides the file; a file's channel key overrides
@@ -52,6 +52,15 @@ struct RecordFlags {
   std::map<std::string, CLI::Option*> options;
   bool given(const std::string& name) const { return options.at(name)->count() > 0; }
 };
+
+// A gyroscope's bus from "/dev/i2c-N[:ADDRESS]" (address default 0x68) or "sim" (the simulated
+// gyroscope, capture/sim_gyro.hpp, seeded with `seed`); errors name `flag`. Shared by `record`,
+// `agent` (--gyro) and `led` (--on-gyro).
+struct GyroBus {
+  std::unique_ptr<capture::RegisterBus> bus;
+  std::string device, address;  // as given ("sim", "0x68" for the simulated one)
+};
+GyroBus open_gyro_bus(const std::string& flag, const std::string& text, std::uint64_t seed);
 
 // Registers the shared options on `sub`, writing into `flags` (which must outlive parsing).
 void add_record_options(CLI::App& sub, RecordFlags& flags);
@@ -61,7 +70,7 @@ void add_record_options(CLI::App& sub, RecordFlags& flags);
 // once the stop signal is set up (the thread inherits the blocked signals); the recorder's
 // raw_samples hook stops it in the last round, so everything it read is committed.
 struct GyroSetup {
-  std::unique_ptr<capture::I2cBus> bus;
+  std::unique_ptr<capture::RegisterBus> bus;  // /dev/i2c-N, or the simulated gyroscope's twin
   std::unique_ptr<capture::Mpu6050> chip;
   std::unique_ptr<capture::GyroSource> source;
   std::unique_ptr<capture::GyroChannel> channel;

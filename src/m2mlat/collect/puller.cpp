@@ -8,6 +8,7 @@
 
 #include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/net/wire.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::collect {
@@ -147,8 +148,9 @@ const store::Session* Puller::lookup(std::int64_t session_id) {
 }
 
 void Puller::ingest(store::Store& store, std::vector<store::StoredEvent> events,
-                    std::vector<store::StoredClockSample> samples, std::vector<store::StoredLoss> losses) {
-  if (events.empty() && samples.empty() && losses.empty() && unsent_.empty()) return;
+                    std::vector<store::StoredClockSample> samples, std::vector<store::StoredLoss> losses,
+                    std::vector<store::StoredRateBlock> blocks) {
+  if (events.empty() && samples.empty() && losses.empty() && blocks.empty() && unsent_.empty()) return;
   store::IngestBatch batch;
   batch.origin = origin_;
   // The sessions the items name (a cheap guarantee that the store knows them) and those changed.
@@ -156,6 +158,7 @@ void Puller::ingest(store::Store& store, std::vector<store::StoredEvent> events,
   for (const auto& e : events) named.insert(e.session_id);
   for (const auto& s : samples) named.insert(s.sample.session_id);
   for (const auto& l : losses) named.insert(l.loss.session_id);
+  for (const auto& b : blocks) named.insert(b.block.session_id);
   for (auto id : named) {
     const auto* session = lookup(id);
     if (session == nullptr)
@@ -167,6 +170,7 @@ void Puller::ingest(store::Store& store, std::vector<store::StoredEvent> events,
   batch.events = std::move(events);
   batch.clock_samples = std::move(samples);
   batch.losses = std::move(losses);
+  batch.rate_blocks = std::move(blocks);
   cursor_ = store.ingest(batch);
   unsent_.clear();
   tracker_->stored(new_events, cursor_.events, core::now_ns(CLOCK_REALTIME));
@@ -206,7 +210,18 @@ void Puller::catch_up(store::Store& store) {
     ingest(store, {}, {}, std::move(losses));
     if (!full) break;
   }
+  if (!halted()) take_rate_blocks(store);
   ingest(store, {}, {}, {});  // sessions whose end became known
+}
+
+void Puller::take_rate_blocks(store::Store& store) {
+  const auto page = std::min(options_.page, net::kMaxRateBlocksPerPage);
+  while (!stopping() || draining_) {
+    auto blocks = control_.rate_blocks_after(cursor_.rate_blocks, page);
+    const bool full = blocks.size() == page;
+    ingest(store, {}, {}, {}, std::move(blocks));
+    if (!full) break;
+  }
 }
 
 void Puller::side_poll(store::Store& store) {
@@ -214,6 +229,7 @@ void Puller::side_poll(store::Store& store) {
   auto samples = control_.clock_samples_after(cursor_.clock_samples, options_.page);
   auto losses = control_.losses_after(cursor_.losses, options_.page);
   ingest(store, {}, std::move(samples), std::move(losses));
+  take_rate_blocks(store);
 }
 
 void Puller::pull(store::Store& store) {

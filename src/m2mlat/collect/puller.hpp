@@ -3,10 +3,11 @@
 //
 // A pull: /v1/status gives the agent's store_id (the origin); the campaign store's cursor for that
 // origin says where to resume; /v1/sessions gives the sessions the items name; pages of
-// /v1/events (10000 at a time), /v1/clock-samples and /v1/losses are ingested until caught up;
-// then the puller follows /v1/events/stream, committing what each arrival brought, and every
-// second also takes new clock samples, losses, the status (for the health view) and the sessions
-// when the open one changed. An event naming an unknown session makes it re-read the sessions.
+// /v1/events (10000 at a time), /v1/clock-samples, /v1/losses and /v1/rate-blocks (a gyroscope's
+// raw samples, 16 blocks a page) are ingested until caught up; then the puller follows
+// /v1/events/stream, committing what each arrival brought, and every second also takes new clock
+// samples, losses, rate blocks, the status (for the health view) and the sessions when the open
+// one changed. An event naming an unknown session makes it re-read the sessions.
 // Any error marks the node unreachable, waits (100 ms doubling to 2 s) and starts a new pull from
 // the store's cursor: since the cursor advances in the same transaction as the items, nothing is
 // stored twice or skipped, whether the agent, the network or the coordinator went away.
@@ -82,7 +83,9 @@ class Puller {
   const store::Session* lookup(std::int64_t session_id);
   void note_status(const net::Status& status);
   void ingest(store::Store& store, std::vector<store::StoredEvent> events,
-              std::vector<store::StoredClockSample> samples, std::vector<store::StoredLoss> losses);
+              std::vector<store::StoredClockSample> samples, std::vector<store::StoredLoss> losses,
+              std::vector<store::StoredRateBlock> blocks = {});
+  void take_rate_blocks(store::Store& store);  // pages of /v1/rate-blocks until caught up
   bool wait(std::chrono::milliseconds d);  // false if stopping
   bool stopping() const { return stop_.load(); }
 

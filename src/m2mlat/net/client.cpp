@@ -313,6 +313,21 @@ std::vector<store::StoredLoss> AgentClient::losses_after(std::int64_t after, std
   return out;
 }
 
+std::vector<store::StoredRateBlock> AgentClient::rate_blocks_after(std::int64_t after, std::size_t limit) {
+  check_limit(limit, url_);
+  auto out = ndjson<store::StoredRateBlock>(
+      fmt::format("/v1/rate-blocks?after={}&limit={}", after, limit),
+      [](const nlohmann::json& json, const std::string& where) { return rate_block_from_json(json, where); });
+  std::int64_t previous = after;
+  for (const auto& b : out) {
+    if (b.id <= previous)
+      throw core::Error(core::ErrorKind::data,
+                        fmt::format("{}/v1/rate-blocks: id {} does not follow {}", url_, b.id, previous));
+    previous = b.id;
+  }
+  return out;
+}
+
 store::Session AgentClient::start_session(const std::string& label, const std::string& scenario) {
   const std::string path = "/v1/sessions";
   const auto what = fmt::format("POST {}{}", url_, path);

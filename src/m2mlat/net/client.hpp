@@ -85,6 +85,8 @@ class AgentClient {
   EventPage decode_events(const RawEventPage& page, const SessionLookup& lookup) const;
   std::vector<store::StoredClockSample> clock_samples_after(std::int64_t after, std::size_t limit);
   std::vector<store::StoredLoss> losses_after(std::int64_t after, std::size_t limit);
+  // GET /v1/rate-blocks: at most kMaxRateBlocksPerPage blocks whatever the limit (1 .. 10000).
+  std::vector<store::StoredRateBlock> rate_blocks_after(std::int64_t after, std::size_t limit);
   // POST /v1/sessions: ends the agent's open session and begins a new one; returns it.
   store::Session start_session(const std::string& label, const std::string& scenario);
   // POST /v1/sessions/current/stop: returns the ended session; std::nullopt if none was open (409).

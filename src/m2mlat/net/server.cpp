@@ -42,6 +42,7 @@ constexpr std::array kRoutes{
     Route{"/v1/sessions/current/stop", false, true},
     Route{"/v1/clock-samples", true, false},
     Route{"/v1/losses", true, false},
+    Route{"/v1/rate-blocks", true, false},
     Route{"/metrics", true, false},
 };
 
@@ -282,6 +283,11 @@ struct AgentServer::Impl {
           }));
     s.Get("/v1/losses", wrap([this](const httplib::Request& req, httplib::Response& res) {
             id_page(req, res, &store::Store::losses_after);
+          }));
+    s.Get("/v1/rate-blocks", wrap([this](const httplib::Request& req, httplib::Response& res) {
+            const auto after = parse_after(param(req, "after"));
+            const auto limit = std::min(parse_limit(param(req, "limit")), kMaxRateBlocksPerPage);
+            res.set_content(ndjson(reader()->rate_blocks_after(after, limit)), kNdjson);
           }));
     s.Get("/metrics", wrap([this](const httplib::Request&, httplib::Response& res) {
             res.set_content(render_metrics(status(), http.counts()),

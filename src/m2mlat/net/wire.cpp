@@ -6,10 +6,12 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <iterator>
 #include <limits>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/store/rate_block.hpp"
 
 namespace m2mlat::net {
 
@@ -263,6 +265,18 @@ json to_json(const store::StoredLoss& l) {
           {"kind", l.loss.kind}};
 }
 
+json to_json(const store::StoredRateBlock& b) {
+  json samples = json::array();
+  for (const auto& x : b.block.samples) samples.push_back({x.time_ns, x.bound_ns, x.raw[0], x.raw[1], x.raw[2]});
+  return {{"id", b.id},
+          {"session", b.block.session_id},
+          {"channel", b.block.channel},
+          {"clock", core::to_string(b.block.clock)},
+          {"counts_per_deg_s", b.block.counts_per_deg_s},
+          {"first_index", b.block.first_index},
+          {"samples", std::move(samples)}};
+}
+
 json to_json(const Status& s) {
   json channels = json::array();
   for (const auto& c : s.channels)
@@ -343,6 +357,50 @@ store::StoredLoss loss_from_json(const json& j, std::string_view where) {
       std::end(store::kLossKinds))
     refuse(where, "kind", fmt::format("'{}': unknown", l.loss.kind));
   return l;
+}
+
+store::StoredRateBlock rate_block_from_json(const json& j, std::string_view where) {
+  store::StoredRateBlock b;
+  b.id = get_int(j, where, "id", 1);
+  b.block.session_id = get_int(j, where, "session", 1);
+  b.block.channel = get_string(j, where, "channel", true);
+  b.block.clock = get_clock(j, where);
+  const auto& scale = member(j, where, "counts_per_deg_s");
+  if (!scale.is_number() || !(scale.get<double>() > 0) || !std::isfinite(scale.get<double>()))
+    refuse(where, "counts_per_deg_s", "not a positive number");
+  b.block.counts_per_deg_s = scale.get<double>();
+  b.block.first_index = get_uint(j, where, "first_index");
+  const auto& samples = member(j, where, "samples");
+  if (!samples.is_array() || samples.empty() || samples.size() > store::rate_block::kMaxSamples)
+    refuse(where, "samples", fmt::format("not an array of 1 to {} samples", store::rate_block::kMaxSamples));
+  b.block.samples.reserve(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const auto& x = samples[i];
+    const auto bad = [&](std::string_view problem) {
+      refuse(where, fmt::format("samples[{}]", i), problem);
+    };
+    if (!x.is_array() || x.size() != 5 || !std::all_of(x.begin(), x.end(), [](const json& v) {
+          return v.is_number_integer();
+        }))
+      bad("not [time_ns, bound_ns, x, y, z] of integers");
+    const auto in = [&](const json& v, std::int64_t lo, std::int64_t hi) {
+      if (v.is_number_unsigned() && v.get<std::uint64_t>() > static_cast<std::uint64_t>(hi)) return false;
+      const auto n = v.get<std::int64_t>();
+      return n >= lo && n <= hi;
+    };
+    constexpr auto i64 = std::numeric_limits<std::int64_t>::max();
+    if (!in(x[0], std::numeric_limits<std::int64_t>::min(), i64)) bad("time_ns out of range (int64)");
+    if (!in(x[1], 0, std::numeric_limits<std::int32_t>::max())) bad("bound_ns out of 0..2^31-1");
+    for (int k = 2; k < 5; ++k)
+      if (!in(x[k], -32768, 32767)) bad("a rate out of the int16 range");
+    core::RateSample r;
+    r.time_ns = x[0].get<std::int64_t>();
+    r.bound_ns = static_cast<std::int32_t>(x[1].get<std::int64_t>());
+    for (int k = 0; k < 3; ++k) r.raw[k] = static_cast<std::int16_t>(x[k + 2].get<std::int64_t>());
+    if (i > 0 && r.time_ns < b.block.samples.back().time_ns) bad("stamped before the sample before it");
+    b.block.samples.push_back(r);
+  }
+  return b;
 }
 
 Status status_from_json(const json& j, std::string_view where) {

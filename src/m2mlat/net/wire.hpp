@@ -1,10 +1,11 @@
 // The agent API's wire format, version 1 (docs/api.md): JSON objects for sessions, events, clock
-// samples, losses and the agent's status, kept apart from the in-memory types so either can change
+// samples, losses, blocks of raw rate samples and the agent's status, kept apart from the in-memory types so either can change
 // without the other. The server encodes with these; the coordinator's client decodes with them.
 // Decoding refuses a missing, mistyped or out-of-range field with core::Error(data) naming `where`
 // (e.g. "http://10.0.0.2:8470/v1/events line 12") and the field.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -19,6 +20,9 @@ namespace m2mlat::net {
 inline constexpr std::string_view kApiName = "m2mlat-agent/1";
 inline constexpr std::string_view kApiHeader = "X-M2mlat-Api";  // value "1" on every response
 inline constexpr std::string_view kLastSeqHeader = "X-M2mlat-Last-Seq";
+// Rate blocks per /v1/rate-blocks page at most, whatever the limit asked: a block holds up to 4096
+// samples, about 180 KB of JSON, so a page stays under 3 MB.
+inline constexpr std::size_t kMaxRateBlocksPerPage = 16;
 
 struct ChannelStatus {
   std::string name;
@@ -55,6 +59,8 @@ nlohmann::json to_json(const store::StoredEvent& event);  // node and role are t
 void append_json(std::string& out, const store::StoredEvent& event);
 nlohmann::json to_json(const store::StoredClockSample& sample);
 nlohmann::json to_json(const store::StoredLoss& loss);
+// A block of raw rate samples: its fields and "samples": [[time_ns, bound_ns, x, y, z], ...].
+nlohmann::json to_json(const store::StoredRateBlock& block);
 nlohmann::json to_json(const Status& status);
 
 store::Session session_from_json(const nlohmann::json& json, std::string_view where);
@@ -68,6 +74,9 @@ store::StoredEvent event_from_json(const nlohmann::json& json, std::string_view 
                                    const std::string& node, core::Role role);
 store::StoredClockSample clock_sample_from_json(const nlohmann::json& json, std::string_view where);
 store::StoredLoss loss_from_json(const nlohmann::json& json, std::string_view where);
+// Refuses a block of no or more than rate_block::kMaxSamples samples, a sample that is not five
+// integers in range (bound >= 0 in int32, x, y, z in int16) or a stamp before the one before it.
+store::StoredRateBlock rate_block_from_json(const nlohmann::json& json, std::string_view where);
 Status status_from_json(const nlohmann::json& json, std::string_view where);
 
 // {"error":{"status":N,"message":"..."}}

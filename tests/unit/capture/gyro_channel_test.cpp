@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <vector>
 
 #include "m2mlat/core/error.hpp"
@@ -30,7 +31,7 @@ TEST(GyroChannel, KeepsEverySampleNumberedAndRecordsTheSamplersLosses) {
   channel.add(still(5000, 0), summary);
   std::vector<store::RateBlock> blocks;
   std::vector<store::Loss> losses;
-  channel.collect(7, rt(1), false, blocks, losses);
+  channel.collect({7, rt(0), {}, false}, rt(1), blocks, losses);
   ASSERT_EQ(blocks.size(), 2u);  // 4096 + 904
   EXPECT_EQ(blocks[0].samples.size(), store::rate_block::kMaxSamples);
   EXPECT_EQ(blocks[1].first_index, store::rate_block::kMaxSamples);
@@ -41,7 +42,7 @@ TEST(GyroChannel, KeepsEverySampleNumberedAndRecordsTheSamplersLosses) {
   summary.i2c_errors = 1;
   channel.add(still(10, 5000 * 125'000), summary);
   blocks.clear();
-  channel.collect(7, rt(2), true, blocks, losses);
+  channel.collect({7, rt(0), {}, true}, rt(2), blocks, losses);
   ASSERT_EQ(blocks.size(), 1u);
   EXPECT_EQ(blocks[0].first_index, 5000u);
   ASSERT_EQ(losses.size(), 2u);
@@ -53,6 +54,66 @@ TEST(GyroChannel, KeepsEverySampleNumberedAndRecordsTheSamplersLosses) {
   EXPECT_EQ(losses[1].kind, "i2c_error");
   EXPECT_EQ(channel.counters().stored, 5010u);
   EXPECT_EQ(channel.counters().left_out, 0u);
+}
+
+// The agent's sessions: a sample goes to the session it was sampled in. Session 3 runs from 0 to
+// 1 s; nothing is open from 1 s to 1.5 s; session 4 begins at 1.5 s. The samples come in rounds that
+// straddle the boundaries, as the sampler hands them over.
+TEST(GyroChannel, EachSampleGoesToTheSessionItWasSampledInAndNoneBetweenSessions) {
+  const std::int64_t ms = 1'000'000;
+  for (const std::int64_t window : {std::int64_t{0}, 200 * ms}) {
+    GyroChannel channel("gyro", core::Clock::realtime, 131.0, {core::Duration{window}});
+    std::vector<store::RateBlock> blocks;
+    std::vector<store::Loss> losses;
+    const auto samples = still(24'000, 0);  // 3 s at 8 kHz
+    const auto feed = [&](std::int64_t to_ns) {
+      std::vector<core::RateSample> part;
+      for (const auto& x : samples)
+        if (x.time_ns >= to_ns - 100 * ms && x.time_ns < to_ns) part.push_back(x);
+      channel.add(std::move(part), {});
+    };
+    for (std::int64_t t = 100 * ms; t <= 1000 * ms; t += 100 * ms) {
+      feed(t);
+      channel.collect({3, rt(0), {}, false}, rt(t), blocks, losses);
+    }
+    feed(1100 * ms);  // the end's round: samples after the end wait
+    channel.collect({3, rt(0), rt(1000 * ms - 1), false}, rt(1100 * ms), blocks, losses);
+    for (std::int64_t t = 1200 * ms; t <= 1500 * ms; t += 100 * ms) {
+      feed(t);
+      channel.collect({0, {}, {}, false}, rt(t), blocks, losses);  // no session open
+    }
+    for (std::int64_t t = 1600 * ms; t <= 3000 * ms; t += 100 * ms) {
+      feed(t);
+      channel.collect({4, rt(1500 * ms), {}, t == 3000 * ms}, rt(t), blocks, losses);
+    }
+    std::map<std::int64_t, std::pair<std::int64_t, std::int64_t>> span;  // session -> first, last ns
+    std::map<std::int64_t, std::uint64_t> count;
+    for (const auto& b : blocks) {
+      auto& [first, last] = span.try_emplace(b.session_id, b.samples.front().time_ns, 0).first->second;
+      first = std::min(first, b.samples.front().time_ns);
+      last = std::max(last, b.samples.back().time_ns);
+      count[b.session_id] += b.samples.size();
+      EXPECT_EQ(b.samples.front().time_ns, static_cast<std::int64_t>(b.first_index) * 125'000);
+    }
+    EXPECT_EQ(channel.counters().stored + channel.counters().left_out + channel.counters().outside_session,
+              24'000u);
+    for (const auto& [session, first_last] : span) {
+      EXPECT_TRUE(session == 3 ? first_last.second < 1000 * ms : first_last.first >= 1500 * ms)
+          << "window " << window << ": a block of session " << session << " crosses a boundary";
+    }
+    if (window > 0) {  // the rest is all still: the window keeps nothing
+      EXPECT_TRUE(blocks.empty());
+      continue;
+    }
+    ASSERT_EQ(span.size(), 2u);
+    EXPECT_EQ(span[3].first, 0);
+    EXPECT_EQ(span[3].second, 1000 * ms - 125'000);
+    EXPECT_EQ(span[4].first, 1500 * ms);
+    EXPECT_EQ(span[4].second, 3000 * ms - 125'000);
+    EXPECT_EQ(count[3], 8000u);
+    EXPECT_EQ(count[4], 12'000u);
+    EXPECT_EQ(channel.counters().outside_session, 4000u);  // 1 s .. 1.5 s
+  }
 }
 
 TEST(GyroChannel, TheKeepFlagIsAllOrAWindowInMilliseconds) {
@@ -79,7 +140,7 @@ TEST(GyroChannel, TheKeepWindowStoresEverythingAroundEachMotionAndLeavesOutTheSt
     while (at < trace.samples.size() && trace.samples[at].time_ns < round_end)
       part.push_back(trace.samples[at++]);
     channel.add(std::move(part), {});
-    channel.collect(1, rt(round_end), at == trace.samples.size(), blocks, losses);
+    channel.collect({1, rt(0), {}, at == trace.samples.size()}, rt(round_end), blocks, losses);
   }
   EXPECT_TRUE(losses.empty());
   EXPECT_EQ(channel.counters().stored + channel.counters().left_out, trace.samples.size());

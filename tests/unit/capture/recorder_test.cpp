@@ -300,16 +300,16 @@ TEST_F(RecorderTest, TheRawSampleHookStoresEverySampleTheGyroscopeReadByTheStop)
   o.commit_interval = std::chrono::milliseconds(20);
   o.max_duration = std::chrono::milliseconds(300);
   int rounds = 0, finals = 0;
-  o.raw_samples = [&](std::int64_t session, bool final, std::vector<store::RateBlock>& blocks,
+  o.raw_samples = [&](const RawRound& round, std::vector<store::RateBlock>& blocks,
                       std::vector<store::Loss>& losses) {
     ++rounds;
-    if (final) {
+    if (round.final) {
       ++finals;
       gyro.stop();
       gyro.join();
     }
     channel.add(gyro.take(), gyro.summary());
-    channel.collect(session, core::realtime_now(), final, blocks, losses);
+    channel.collect(round, core::realtime_now(), blocks, losses);
   };
   gyro.start();
   Recorder recorder(store, source, o);
@@ -318,9 +318,14 @@ TEST_F(RecorderTest, TheRawSampleHookStoresEverySampleTheGyroscopeReadByTheStop)
   EXPECT_GE(rounds, 5);  // about every 20 ms, without any edge
   const auto read = gyro.summary().reads;
   EXPECT_GT(read, 100u);
+  // The sampler started before the session: what it read before the session began is no session's.
   const auto trace = store.rate_trace(counters.session_id, "wheel_gyro");
-  EXPECT_EQ(trace.samples.size(), read);
-  EXPECT_EQ(channel.counters().stored, read);
+  EXPECT_EQ(trace.samples.size(), channel.counters().stored);
+  EXPECT_EQ(channel.counters().stored + channel.counters().outside_session, read);
+  EXPECT_LT(channel.counters().outside_session, 20u);
+  const auto session = store.session(counters.session_id);
+  EXPECT_GE(trace.samples.front().time_ns, session->start.ns());
+  EXPECT_LE(trace.samples.back().time_ns, session->end->ns());
   for (std::size_t i = 0; i < trace.samples.size(); ++i) {
     EXPECT_EQ(trace.samples[i].raw, (std::array<std::int16_t, 3>{100, -200, 300}));
     if (i > 0) {

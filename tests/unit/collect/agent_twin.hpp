@@ -1,5 +1,5 @@
 // An in-process twin of `m2mlat agent`'s HTTP API for the coordinator's tests: an httplib::Server
-// on 127.0.0.1 serving a real origin store's sessions, events, clock samples and losses in the
+// on 127.0.0.1 serving a real origin store's sessions, events, clock samples, losses and rate blocks in the
 // wire format of docs/api.md (encoded with net::to_json), with switchable faults: drop the
 // connection in the middle of a response, answer garbage, freeze, refuse the token.
 #pragma once
@@ -103,6 +103,18 @@ class AgentTwin {
     l.kind = "seqno_gap";
     std::lock_guard lock(store_mutex_);
     store_->append_losses(std::span<const store::Loss>(&l, 1));
+  }
+  // A block of `count` raw rate samples of the open session, numbered from `first`.
+  void append_rate_block(std::uint64_t first, std::size_t count) {
+    store::RateBlock b;
+    b.session_id = session_;
+    b.channel = "gyro";
+    b.first_index = first;
+    for (std::size_t i = 0; i < count; ++i)
+      b.samples.push_back({1'700'000'000'000'000'000 + static_cast<std::int64_t>(first + i) * 125'000, 60'000,
+                           {static_cast<std::int16_t>(i), 0, -1}});
+    std::lock_guard lock(store_mutex_);
+    store_->append_rate_blocks(std::span<const store::RateBlock>(&b, 1));
   }
   // Ends the open session and begins another (as POST /v1/sessions does).
   std::int64_t new_session(const std::string& label) {
@@ -294,6 +306,16 @@ class AgentTwin {
       for (const auto& l :
            store_->losses_after(param(req, "after", 0), static_cast<std::size_t>(param(req, "limit", 1000))))
         body += net::to_json(l).dump() + "\n";
+      res.set_content(body, "application/x-ndjson");
+    });
+    server_.Get("/v1/rate-blocks", [this](const httplib::Request& req, httplib::Response& res) {
+      take_fault(req.path);
+      if (!authorised(req, res)) return;
+      std::string body;
+      std::lock_guard lock(store_mutex_);
+      const auto limit = std::min(static_cast<std::size_t>(param(req, "limit", 1000)), net::kMaxRateBlocksPerPage);
+      for (const auto& b : store_->rate_blocks_after(param(req, "after", 0), limit))
+        body += net::to_json(b).dump() + "\n";
       res.set_content(body, "application/x-ndjson");
     });
     server_.Get("/v1/events/stream", [this](const httplib::Request& req, httplib::Response& res) {

@@ -237,6 +237,38 @@ TEST(Puller, ANewPullerResumesFromTheStoresCursor) {
   expect_exactly_once(campaign, {&twin});
 }
 
+// A gyroscope's raw samples: more blocks than a page holds, over two sessions, taken exactly once
+// by a first puller and the rest (with new ones) by a second that resumes from the store's cursor.
+TEST(Puller, TakesRateBlocksByPagesExactlyOnceAcrossPullers) {
+  TempDir dir;
+  AgentTwin twin(dir.file("vehicle.db"), "vehicle", core::Role::effect);
+  twin.append(10);
+  for (std::uint64_t i = 0; i < 20; ++i) twin.append_rate_block(i * 100, 100);
+  const auto campaign = make_campaign(dir);
+  {
+    Puller first(options_for(twin, campaign), std::make_shared<NodeTracker>(twin.url(), std::chrono::seconds(3)),
+                 nullptr);
+    first.catch_up_once();
+  }
+  EXPECT_EQ(twin.requests("/v1/rate-blocks"), 2);  // 16 + 4
+  twin.new_session("second");
+  for (std::uint64_t i = 20; i < 23; ++i) twin.append_rate_block(i * 100, 100);
+  Puller second(options_for(twin, campaign), std::make_shared<NodeTracker>(twin.url(), std::chrono::seconds(3)),
+                nullptr);
+  second.catch_up_once();
+  second.catch_up_once();  // nothing new: nothing stored twice
+
+  const auto store = store::Store::open(campaign, {store::Durability::normal, false});
+  const auto channels = store.rate_channels();
+  ASSERT_EQ(channels.size(), 2u);
+  EXPECT_EQ(channels[0].samples, 2000);
+  EXPECT_EQ(channels[1].samples, 300);
+  const auto first_trace = store.rate_trace(channels[0].session_id, "gyro");
+  for (std::size_t i = 0; i < first_trace.samples.size(); ++i)
+    ASSERT_EQ(first_trace.samples[i].time_ns, 1'700'000'000'000'000'000 + static_cast<std::int64_t>(i) * 125'000);
+  EXPECT_EQ(store.ingest_cursor(twin.store_id()).rate_blocks, 23);
+}
+
 TEST(Coordinator, PullsTwoAgentsStartsAndStopsTheirSessions) {
   TempDir dir;
   AgentTwin op(dir.file("operator.db"), "operator", core::Role::cause);

@@ -2,6 +2,7 @@
 // store, driven by httplib::Client: every route, the error statuses, the token rule, the SSE stream.
 #include "m2mlat/net/server.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
 #include <unistd.h>
@@ -203,6 +204,38 @@ TEST_F(ServerTest, SessionsSamplesAndLosses) {
   EXPECT_EQ(loss_from_json(lines(r->body)[0], "t").loss, loss);
   r = c.Get("/v1/losses?after=1");
   EXPECT_TRUE(r->body.empty());
+}
+
+// Raw rate blocks resume by id like losses, and a page holds at most kMaxRateBlocksPerPage blocks
+// whatever the limit asked.
+TEST_F(ServerTest, RateBlocksArePagedByIdAndCapped) {
+  add_events(1);
+  std::vector<store::RateBlock> blocks;
+  for (int i = 0; i < 20; ++i) {
+    store::RateBlock b;
+    b.session_id = *session_;
+    b.channel = "gyro";
+    b.first_index = static_cast<std::uint64_t>(i) * 2;
+    b.samples = {{1000 + i * 10, 5, {static_cast<std::int16_t>(i), 0, 0}}, {1005 + i * 10, 5, {0, 0, 0}}};
+    blocks.push_back(b);
+  }
+  store_->append_rate_blocks(blocks);
+  start();
+  auto c = client();
+  auto r = c.Get("/v1/rate-blocks?after=0&limit=10000");
+  ASSERT_TRUE(r);
+  auto page = lines(r->body);
+  ASSERT_EQ(page.size(), kMaxRateBlocksPerPage);
+  const auto last = rate_block_from_json(page.back(), "t");
+  EXPECT_EQ(last.block.first_index, 2 * (kMaxRateBlocksPerPage - 1));
+  r = c.Get(fmt::format("/v1/rate-blocks?after={}&limit=3", last.id));
+  page = lines(r->body);
+  ASSERT_EQ(page.size(), 3u);
+  const auto next = rate_block_from_json(page.front(), "t");
+  EXPECT_GT(next.id, last.id);
+  EXPECT_EQ(next.block.samples.front().raw[0], static_cast<std::int16_t>(kMaxRateBlocksPerPage));
+  EXPECT_EQ(next.block.session_id, *session_);
+  EXPECT_EQ(c.Get("/v1/rate-blocks?limit=0")->status, 400);
 }
 
 TEST_F(ServerTest, SessionControlGoesToTheBackend) {

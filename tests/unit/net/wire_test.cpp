@@ -266,3 +266,66 @@ TEST(Wire, ErrorBodiesAreJsonEvenForBytesThatAreNotUtf8) {
 
 }  // namespace
 }  // namespace m2mlat::net
+
+namespace m2mlat::net {
+namespace {
+
+store::StoredRateBlock rate_block() {
+  store::StoredRateBlock b;
+  b.id = 12;
+  b.block.session_id = 3;
+  b.block.channel = "wheel_gyro";
+  b.block.clock = core::Clock::realtime;
+  b.block.counts_per_deg_s = 131.0;
+  b.block.first_index = 4096;
+  b.block.samples = {{1'780'304'400'000'000'000, 62'500, {-32768, 0, 32767}},
+                     {1'780'304'400'001'000'000, 0, {5, -6, 7}},
+                     {1'780'304'400'001'000'000, 2'147'483'647, {0, 0, 0}}};
+  return b;
+}
+
+TEST(Wire, ARateBlockSurvivesTheWireAndEveryFieldIsChecked) {
+  const auto b = rate_block();
+  const auto back = rate_block_from_json(json::parse(to_json(b).dump()), "t");
+  EXPECT_EQ(back.id, b.id);
+  EXPECT_EQ(back.block.session_id, b.block.session_id);
+  EXPECT_EQ(back.block.channel, b.block.channel);
+  EXPECT_EQ(back.block.clock, b.block.clock);
+  EXPECT_EQ(back.block.counts_per_deg_s, b.block.counts_per_deg_s);
+  EXPECT_EQ(back.block.first_index, b.block.first_index);
+  ASSERT_EQ(back.block.samples.size(), b.block.samples.size());
+  for (std::size_t i = 0; i < b.block.samples.size(); ++i) {
+    EXPECT_EQ(back.block.samples[i].time_ns, b.block.samples[i].time_ns);
+    EXPECT_EQ(back.block.samples[i].bound_ns, b.block.samples[i].bound_ns);
+    EXPECT_EQ(back.block.samples[i].raw, b.block.samples[i].raw);
+  }
+  every_field_refused(to_json(b), [](const json& x) { rate_block_from_json(x, "where-42"); },
+                      {{"id", 0},
+                       {"session", 0},
+                       {"channel", ""},
+                       {"clock", "wall"},
+                       {"counts_per_deg_s", 0},
+                       {"first_index", -1},
+                       {"samples", json::array()}});
+  // One sample wrong: the message names the sample.
+  const std::vector<std::pair<json, std::string>> bad_samples{
+      {json::array({1, 2, 3, 4}), "samples[1]"},
+      {json::array({1'780'304'400'001'000'000, -1, 0, 0, 0}), "bound_ns"},
+      {json::array({1'780'304'400'001'000'000, 0, 32768, 0, 0}), "int16"},
+      {json::array({1'780'304'400'001'000'000, 0, 0, 0, 1.5}), "integers"},
+      {json::array({1'780'304'399'000'000'000, 0, 0, 0, 0}), "before the sample before"}};
+  for (const auto& [sample, expected] : bad_samples) {
+    auto j = to_json(b);
+    j["samples"][1] = sample;
+    const auto message = refusal([&] { rate_block_from_json(j, "where-42"); });
+    EXPECT_NE(message.find("where-42"), std::string::npos) << message;
+    EXPECT_NE(message.find(expected), std::string::npos) << message;
+  }
+  auto j = to_json(b);
+  j["samples"] = json::array();
+  for (int i = 0; i < 4097; ++i) j["samples"].push_back({i, 0, 0, 0, 0});
+  EXPECT_NE(refusal([&] { rate_block_from_json(j, "where-42"); }).find("4096"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace m2mlat::net

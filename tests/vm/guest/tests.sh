@@ -533,6 +533,68 @@ t_g2g_onset() {
   return $rc
 }
 
+# ---- the LED at the gyroscope's own motion onset, and the raw trace beside it ----------------------
+#
+# One vehicle board, one chip, two programs (docs/capture.md): `record --gyro` keeps the stub's raw
+# samples in a store while `led --on-gyro` reads the same chip and flashes line 3 at each rotation
+# m2mlat-vm-gyro writes (rest, then 30 deg/s about x for 300 ms, GYRO_LED_N times, 400 ms apart).
+# Each LED switch-on lies after the write that began its rotation, by at most GYRO_LED_BOUND_US (the
+# streaming detector's stated p95 delay on fast motions, docs/onset.md; a rate step is seen within a
+# read period or two); the onsets in `export --what gyro`'s trace (the first sample of the new rate)
+# lie where the writes put them (within a read period, a read and the guest's stalls of the write).
+GYRO_LED_N=${GYRO_LED_N:-3}
+GYRO_LED_BOUND_US=${GYRO_LED_BOUND_US:-19000}
+
+t_gyro_led() {
+  have_gyro || { info "skipped: this m2mlat has no 'gyro' subcommand"; return 77; }
+  "$M2MLAT" led --help 2>/dev/null | grep -q -- '--on-gyro' || { info "skipped: led has no --on-gyro"; return 77; }
+  load_i2c_stub || return 1
+  "$GYRO" set "$GYRO_DEV" 0x68 0x75 0x68 || return 1  # WHO_AM_I
+  "$GYRO" motion --device "$GYRO_DEV" --address 0x68 --count 0 --rate 0 --rest-ms 0 --move-ms 0 \
+    --log /dev/null || return 1  # the rates at rest
+  local rec led rc=0
+  "$M2MLAT" record --store gyro-led.db --node guest --role effect --channel "spare=$CHIP:5" \
+    --gyro "$GYRO_DEV" --gyro-period 1ms --json --quiet >gl-record.json 2>gl-record.err &
+  rec=$!
+  "$DRIVER" wait-used "/dev/$CHIP" 5 20000 >/dev/null || { show gl-record.err; return 1; }
+  "$M2MLAT" led --chip "$CHIP" --line 3 --on-gyro "$GYRO_DEV" --gyro-period 1ms --on-for 50ms \
+    --events gl-led.csv --node guest --json --quiet >gl-led.json 2>gl-led.err &
+  led=$!
+  "$DRIVER" wait-used "/dev/$CHIP" 3 20000 >/dev/null || { show gl-led.err; kill -INT $rec; return 1; }
+  sleep 0.5  # the detector learns the rest (100 ms of samples)
+  "$GYRO" motion --device "$GYRO_DEV" --address 0x68 --count "$GYRO_LED_N" --rate 3930 --rest-ms 400 \
+    --move-ms 300 --log gl.motion || rc=1
+  sleep 0.3
+  kill -INT $led
+  wait_exit $led 10 || { info "led exited $?"; show gl-led.err; rc=1; }
+  kill -INT $rec
+  wait_exit $rec 10 || { info "record exited $?"; show gl-record.err; rc=1; }
+  info "led: onsets=$(json_field gl-led.json onsets) switches=$(json_field gl-led.json switches)"
+  [ "$(json_field gl-led.json onsets)" = "$GYRO_LED_N" ] || { info "expected $GYRO_LED_N onsets"; rc=1; }
+  [ "$(json_field gl-led.json switches)" = $((2 * GYRO_LED_N)) ] || { show gl-led.json; rc=1; }
+  "$M2MLAT" export gyro-led.db --what gyro -o gl-trace.csv 2>gl-export.err || { show gl-export.err; return 1; }
+  info "record: $(grep -c '^[0-9]' gl-trace.csv) samples stored"
+  # LED switch-on k after onset k's write began, by at most the bound; the trace's first sample of the
+  # new rate within [write began - its bound, write ended + 5 ms] (a 1 ms read period, a read, and the
+# guest's stalls under TCG).
+  awk -v bound="$GYRO_LED_BOUND_US" -v n="$GYRO_LED_N" '
+    FILENAME == "gl.motion" { b[$1] = $2; a[$1] = $3; next }
+    FILENAME == "gl-led.csv" { if ($2 == "led" && $3 == "rising") l[nl++] = $5; next }
+    /^[0-9]/ { split($0, f, ","); if (f[3] != 0 && prev == 0) t[nt++] = f[1] " " f[2]; prev = f[3] }
+    END {
+      if (nl != n || nt != n) { printf "%d LED switch-ons, %d onsets in the trace, expected %d\n", nl, nt, n; exit 1 }
+      for (k = 0; k < n; k++) {
+        d = (l[k] - b[k]) / 1000; split(t[k], s, " "); e = (s[1] - b[k]) / 1000
+        printf "onset %d: LED on %d us after the write began; trace onset %d us after (bound %d us)\n", k, d, e, s[2] / 1000
+        if (d <= 0 || (l[k] - a[k]) / 1000 > bound) bad = 1
+        if (s[1] + s[2] < b[k] || s[1] - s[2] > a[k] + 5000000) bad = 1
+      }
+      exit bad }' FS=' ' gl.motion FS=, gl-led.csv FS=, gl-trace.csv >gl.check || rc=1
+  show gl.check
+  [ $rc -eq 0 ] || { show gl.motion; show gl-led.err; show gl-record.json; }
+  return $rc
+}
+
 # ---- performance: m2mlat record against Debian's gpiomon on the same streams of edges ---------------
 
 # capture_run NAME TOOL PACE_US N: runs TOOL (record | gpiomon) under the driver's rusage while N edges
@@ -637,4 +699,5 @@ run_test g2g.onset-trigger t_g2g_onset
 run_test gyro.no-bus t_gyro_no_bus
 run_test gyro.trace t_gyro_trace
 run_test gyro.errors t_gyro_errors
+run_test gyro.led-onset t_gyro_led
 run_test perf.record-vs-gpiomon t_perf_gpiomon
