@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include <fstream>
 #include <tuple>
 
@@ -123,10 +125,24 @@ TEST_F(PipelineTest, DataFilesGiveTheSamePairsAsTheStepsByHand) {
   logs.effect_file = file("effect.log");
   const auto l = analysis::analyse_inputs(logs, {});
   ASSERT_EQ(l.size(), 1u);
-  EXPECT_EQ(l[0].input.scenario, "cause");
+  // The scenario is the folder of both files; each side's node is its file's name.
+  EXPECT_EQ(l[0].input.scenario, std::filesystem::path(file("cause.log")).parent_path().filename().string());
   EXPECT_EQ(l[0].input.cause_ref, (core::ChannelRef{"cause", "gpio17"}));
+  EXPECT_EQ(l[0].input.effect_ref, (core::ChannelRef{"effect", "gpio27"}));
   EXPECT_EQ(l[0].match.pairs.size(), 10u);
   EXPECT_DOUBLE_EQ(l[0].summary.median_ms, 750.0);
+
+  // Files named after the boards, a scenario given by name.
+  std::filesystem::copy_file(file("cause.log"), file("operator.log"));
+  std::filesystem::copy_file(file("effect.log"), file("vehicle.log"));
+  logs.cause_file = file("operator.log");
+  logs.effect_file = file("vehicle.log");
+  logs.scenarios = {"track-1"};
+  const auto named = analysis::analyse_inputs(logs, {});
+  ASSERT_EQ(named.size(), 1u);
+  EXPECT_EQ(named[0].input.scenario, "track-1");
+  EXPECT_EQ(named[0].input.cause_ref, (core::ChannelRef{"operator", "gpio17"}));
+  EXPECT_EQ(named[0].input.effect_ref, (core::ChannelRef{"vehicle", "gpio27"}));
 }
 
 TEST_F(PipelineTest, BadInputsFailWithTheirKind) {
