@@ -14,7 +14,7 @@ space := $(empty) $(empty)
 
 # Debian 12 / Ubuntu 24.04 packages the build and the tests need.
 PACKAGES := build-essential cmake ninja-build clang-14 pkg-config \
-  libsqlite3-dev sqlite3 libcpp-httplib-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtomlplusplus-dev \
+  libsqlite3-dev sqlite3 libcpp-httplib-dev libpcap-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtomlplusplus-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libboost-math-dev \
   python3 python3-numpy python3-pandas python3-scipy chromium chrony rt-tests linuxptp libclang-rt-14-dev
 # Packages of the real-kernel suite (make check-vm): QEMU, the guest's busybox, the tools to unpack
@@ -103,7 +103,7 @@ PKG_DIR ?= dist
 # The unit tests built and run for arm64 (empty: every namespace's).
 ARM64_TEST_NAMESPACES ?=
 ARM64_PACKAGES := crossbuild-essential-arm64 g++-aarch64-linux-gnu qemu-user file libc6:arm64 libstdc++6:arm64 \
-  libsqlite3-dev:arm64 libfmt-dev:arm64 libcpp-httplib-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 \
+  libsqlite3-dev:arm64 libfmt-dev:arm64 libcpp-httplib-dev:arm64 libpcap-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 \
   libtomlplusplus-dev:arm64 libboost-dev:arm64 libboost-math-dev:arm64
 PACKAGE_PACKAGES := dpkg-dev help2man debootstrap file sqlite3
 
