@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <pcap/pcap.h>
+#include <poll.h>
 #include <sys/stat.h>
 
 #include <cerrno>
@@ -114,6 +115,10 @@ Capture Capture::open_live(const LiveOptions& options) {
     throw core::Error(kind, fmt::format("interface {}: cannot capture: {}", options.interface, pcap_geterr(handle)));
   }
   if (status == PCAP_WARNING_TSTAMP_TYPE_NOTSUP) capture.source_ = StampSource::host;
+  // In immediate mode libpcap's own read timeout does not apply on Linux (a read waits for the next
+  // packet however long): reads do not block, and next() waits in poll() with its own timeout.
+  if (pcap_setnonblock(handle, 1, error) != 0)
+    throw core::Error(core::ErrorKind::io, fmt::format("interface {}: {}", options.interface, error));
   capture.link_type_ = pcap_datalink(handle);
   if (!is_supported_link_type(capture.link_type_))
     throw core::Error(core::ErrorKind::data, fmt::format("interface {}: link type {} is not one m2mlat decodes",
@@ -145,7 +150,11 @@ bool Capture::next(RawPacket& packet) {
   for (;;) {
     pcap_pkthdr* header = nullptr;
     const u_char* data = nullptr;
-    const int status = pcap_next_ex(handle_, &header, &data);
+    int status = pcap_next_ex(handle_, &header, &data);
+    if (status == 0 && live_) {  // nothing yet: wait for the descriptor, at most the read timeout
+      pollfd ready{pcap_get_selectable_fd(handle_), POLLIN, 0};
+      if (::poll(&ready, 1, kLiveTimeoutMs) > 0) status = pcap_next_ex(handle_, &header, &data);
+    }
     if (status == 0 || status == PCAP_ERROR_BREAK) return false;  // a live timeout; the end of a file
     if (status < 0) {
       throw core::Error(core::ErrorKind::data, fmt::format("{}: packet {}: cannot be read ({}); the {} before it were read",
