@@ -156,7 +156,9 @@ MessageKey message_key(const CommandRule& rule, std::span<const std::uint8_t> pa
   const bool json_key = rule.key.kind == KeyRule::Kind::json;
   if (json_key || !rule.sender_ms.empty()) {
     MemberReader reader(json_key ? &rule.key.member : nullptr, rule.sender_ms.empty() ? nullptr : &rule.sender_ms);
-    json::sax_parse(payload.begin(), payload.end(), &reader, nlohmann::detail::input_format_t::json, false);
+    // Through char pointers: nlohmann's fastest input adapter (a byte iterator goes a slower way).
+    const auto* text = reinterpret_cast<const char*>(payload.data());
+    json::sax_parse(text, text + payload.size(), &reader, nlohmann::detail::input_format_t::json, false);
     if (json_key) result.key = std::move(reader.found_key);
     result.sender_ns = reader.sender_ns;
   }

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <map>
+
 #include "m2mlat/markers/packet_decode.hpp"
 #include "m2mlat/markers/tcp_streams.hpp"
 
@@ -15,6 +17,13 @@ CaptureCounts read_markers(Capture& capture, const MarkerOptions& options,
   const core::Clock clock = core::Clock::realtime;
   RawPacket packet;
   Segment segment;
+  // A flow's text for the markers' origin, made once per flow (a capture has few).
+  std::map<Flow, std::string> flow_texts;
+  const auto flow_text = [&](const Flow& flow) -> const std::string& {
+    auto found = flow_texts.find(flow);
+    if (found == flow_texts.end()) found = flow_texts.emplace(flow, " " + to_string(flow)).first;
+    return found->second;
+  };
   const auto emit = [&](std::span<const std::uint8_t> message, const Flow& flow) {
     ++counts.messages;
     auto found = message_key(options.rule, message);
@@ -29,7 +38,10 @@ CaptureCounts read_markers(Capture& capture, const MarkerOptions& options,
     marker.source = capture.stamp_source();
     marker.key = std::move(*found.key);
     if (found.sender_ns) marker.sender_time = core::TimePoint::from_ns(clock, *found.sender_ns);
-    marker.origin = fmt::format("{}#{} {}", capture.name(), packet.index, to_string(flow));
+    marker.origin = capture.name();
+    marker.origin += '#';
+    marker.origin += std::to_string(packet.index);
+    marker.origin += flow_text(flow);
     on_marker(std::move(marker));
   };
   while (!keep_going || keep_going()) {
