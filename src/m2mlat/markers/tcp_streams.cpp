@@ -60,6 +60,7 @@ void TcpStreams::feed(const Segment& segment, std::string_view capture, std::uin
   }
 }
 
+
 void TcpStreams::append(Stream& stream, std::uint64_t offset, std::span<const std::uint8_t> bytes) {
   const auto skip = static_cast<std::size_t>(stream.next - offset);  // bytes already in the stream
   const auto fresh = bytes.subspan(skip);
@@ -94,7 +95,10 @@ void TcpStreams::cut(Stream& stream, const Flow& flow, std::string_view capture,
 
 std::uint64_t TcpStreams::incomplete_bytes() const {
   std::uint64_t bytes = ended_incomplete_;
-  for (const auto& [flow, stream] : streams_) bytes += stream.buffer.size() - stream.consumed;
+  for (const auto& [flow, stream] : streams_) {
+    bytes += stream.buffer.size() - stream.consumed;
+    for (const auto& [offset, held] : stream.ahead) bytes += held.size();  // waiting behind a gap
+  }
   return bytes;
 }
 

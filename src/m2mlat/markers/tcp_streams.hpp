@@ -7,7 +7,9 @@
 // waits until the gap is filled. A message is stamped with the capture time of the packet that
 // completed it (the one that brought its last missing byte): the moment the receiver could have read
 // it. A stream starts at its SYN, or at the first data segment seen when the capture began later
-// (then that segment must start a message). FIN or RST ends it.
+// (then that segment must start a message). FIN or RST ends it. A segment the capture never saw (the
+// kernel dropped it) is a gap that is never filled: the stream's later bytes wait behind it and are
+// counted in incomplete_bytes(), never given out as messages.
 #pragma once
 
 #include <cstdint>
@@ -35,7 +37,8 @@ class TcpStreams {
   // a stream's length prefix exceeds the maximum.
   void feed(const Segment& segment, std::string_view capture, std::uint64_t packet_index, const OnMessage& on_message);
 
-  // Bytes of messages left incomplete (a stream ended, or is still open, inside one); segments that
+  // Bytes of messages left incomplete (a stream ended, or is still open, inside one, or they wait
+  // behind a gap); segments that
   // held only bytes already seen (retransmissions); segments that came after a gap.
   std::uint64_t incomplete_bytes() const;
   std::uint64_t retransmitted_segments() const { return retransmitted_; }

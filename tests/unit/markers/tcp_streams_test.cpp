@@ -195,5 +195,17 @@ TEST(TcpStreams, AMessageLeftIncompleteIsCounted) {
   EXPECT_EQ(counts.incomplete_bytes, ends[1] - 3 - ends[0]);
 }
 
+TEST(TcpStreams, ASegmentTheCaptureMissedHoldsBackWhatFollows) {
+  testing::TempDir dir;
+  const auto stream = stream_bytes(4);
+  const auto ends = message_ends(4);
+  // Message 1's segment never captured: 0 is given out, 2 and 3 wait behind the gap and are counted.
+  const auto path = write_stream(dir, stream, {{0, ends[0]}, {ends[1], ends[2]}, {ends[2], ends[3]}});
+  CaptureCounts counts;
+  const auto markers = read_file_markers(path, rule(), &counts);
+  ASSERT_EQ(markers.size(), 1u);
+  EXPECT_EQ(counts.incomplete_bytes, ends[3] - ends[1]);
+}
+
 }  // namespace
 }  // namespace m2mlat::markers
