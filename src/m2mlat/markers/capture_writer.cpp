@@ -19,7 +19,7 @@ void put32(std::vector<std::uint8_t>& out, std::uint32_t value) {
   put16(out, static_cast<std::uint16_t>(value));
 }
 
-std::vector<std::uint8_t> ip_packet(const Flow& flow, std::span<const std::uint8_t> payload, std::uint32_t sequence,
+std::vector<std::uint8_t> build_ip_packet(const Flow& flow, std::span<const std::uint8_t> payload, std::uint32_t sequence,
                                     std::uint8_t tcp_flags) {
   std::vector<std::uint8_t> transport;
   put16(transport, flow.source_port);
@@ -80,7 +80,7 @@ Flow make_flow(Transport transport, std::string_view source, std::uint16_t sourc
 
 std::vector<std::uint8_t> build_frame(int link_type, const Flow& flow, std::span<const std::uint8_t> payload,
                                       std::uint32_t sequence, std::uint8_t tcp_flags) {
-  const auto packet = ip_packet(flow, payload, sequence, tcp_flags);
+  const auto packet = build_ip_packet(flow, payload, sequence, tcp_flags);
   const std::uint16_t ethertype = flow.ip_version == 6 ? 0x86DD : 0x0800;
   std::vector<std::uint8_t> frame;
   switch (link_type) {

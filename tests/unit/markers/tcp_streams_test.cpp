@@ -15,9 +15,9 @@
 namespace m2mlat::markers {
 namespace {
 
-constexpr std::int64_t kT0 = 1'764'000'000'000'000'000;
+constexpr std::int64_t kStreamT0 = 1'764'000'000'000'000'000;
 
-std::string command(int seq, std::int64_t stamp_ms) {
+std::string stream_command(int seq, std::int64_t stamp_ms) {
   return "{\"cmd\":{\"steer\":0.1,\"stamp\":1},\"seq\":" + std::to_string(seq) + ",\"stamp\":" + std::to_string(stamp_ms) + "}";
 }
 
@@ -33,7 +33,7 @@ MarkerOptions rule() {
 std::vector<std::uint8_t> stream_bytes(int n) {
   std::vector<std::uint8_t> out;
   for (int i = 0; i < n; ++i) {
-    const auto m = length_prefixed(command(i, 1'764'000'000'000 + 10 * i));
+    const auto m = length_prefixed(stream_command(i, 1'764'000'000'000 + 10 * i));
     out.insert(out.end(), m.begin(), m.end());
   }
   return out;
@@ -45,20 +45,20 @@ struct Piece {
 };
 
 // Writes a capture: a SYN with sequence isn, then the stream's pieces in the given order, packet k
-// at time kT0 + k ms.
+// at time kStreamT0 + k ms.
 std::string write_stream(const testing::TempDir& dir, const std::vector<std::uint8_t>& stream,
                          const std::vector<Piece>& pieces, std::uint32_t isn = 1000) {
   const auto path = dir.file("tcp.pcap");
   CaptureWriter writer(path, DLT_RAW);
   const auto flow = make_flow(Transport::tcp, "192.168.1.10", 50000, "192.168.1.20", 7000);
   const auto back = make_flow(Transport::tcp, "192.168.1.20", 7000, "192.168.1.10", 50000);
-  writer.write(kT0, build_frame(DLT_RAW, flow, {}, isn, kTcpSyn));
-  writer.write(kT0, build_frame(DLT_RAW, back, {}, 77, kTcpSyn | kTcpAck));
+  writer.write(kStreamT0, build_frame(DLT_RAW, flow, {}, isn, kTcpSyn));
+  writer.write(kStreamT0, build_frame(DLT_RAW, back, {}, 77, kTcpSyn | kTcpAck));
   std::int64_t k = 1;
   for (const auto& piece : pieces) {
     const auto data = std::span<const std::uint8_t>(stream).subspan(piece.from, piece.to - piece.from);
-    writer.write(kT0 + k * 1'000'000, build_frame(DLT_RAW, flow, data, isn + 1 + static_cast<std::uint32_t>(piece.from)));
-    writer.write(kT0 + k * 1'000'000 + 1, build_frame(DLT_RAW, back, {}, 78));  // the ACK: no data
+    writer.write(kStreamT0 + k * 1'000'000, build_frame(DLT_RAW, flow, data, isn + 1 + static_cast<std::uint32_t>(piece.from)));
+    writer.write(kStreamT0 + k * 1'000'000 + 1, build_frame(DLT_RAW, back, {}, 78));  // the ACK: no data
     ++k;
   }
   return path;
@@ -68,7 +68,7 @@ std::vector<std::size_t> message_ends(int n) {
   std::vector<std::size_t> ends;
   std::size_t at = 0;
   for (int i = 0; i < n; ++i) {
-    at += 4 + command(i, 1'764'000'000'000 + 10 * i).size();
+    at += 4 + stream_command(i, 1'764'000'000'000 + 10 * i).size();
     ends.push_back(at);
   }
   return ends;
@@ -84,7 +84,7 @@ TEST(TcpStreams, OneSegmentPerMessage) {
   ASSERT_EQ(markers.size(), 3u);
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(markers[i].key, std::to_string(1'764'000'000'000 + 10 * i));
-    EXPECT_EQ(markers[i].time.ns(), kT0 + (i + 1) * 1'000'000);
+    EXPECT_EQ(markers[i].time.ns(), kStreamT0 + (i + 1) * 1'000'000);
     EXPECT_EQ(markers[i].sender_time->ns(), (1'764'000'000'000 + 10 * i) * 1'000'000);
   }
   EXPECT_EQ(counts.messages, 3u);
@@ -101,10 +101,10 @@ TEST(TcpStreams, SplitAndJoinedMessagesAreStampedByTheCompletingPacket) {
   const auto path = write_stream(dir, stream, {{0, 2}, {2, half}, {half, ends[3]}});
   const auto markers = read_file_markers(path, rule());
   ASSERT_EQ(markers.size(), 4u);
-  EXPECT_EQ(markers[0].time.ns(), kT0 + 2'000'000);
-  EXPECT_EQ(markers[1].time.ns(), kT0 + 2'000'000);
-  EXPECT_EQ(markers[2].time.ns(), kT0 + 3'000'000);
-  EXPECT_EQ(markers[3].time.ns(), kT0 + 3'000'000);
+  EXPECT_EQ(markers[0].time.ns(), kStreamT0 + 2'000'000);
+  EXPECT_EQ(markers[1].time.ns(), kStreamT0 + 2'000'000);
+  EXPECT_EQ(markers[2].time.ns(), kStreamT0 + 3'000'000);
+  EXPECT_EQ(markers[3].time.ns(), kStreamT0 + 3'000'000);
   for (int i = 0; i < 4; ++i) EXPECT_EQ(markers[i].key, std::to_string(1'764'000'000'000 + 10 * i));
 }
 
@@ -119,7 +119,7 @@ TEST(TcpStreams, OutOfOrderSegmentsWaitForTheGap) {
   ASSERT_EQ(markers.size(), 3u);
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(markers[i].key, std::to_string(1'764'000'000'000 + 10 * i));  // in stream order
-    EXPECT_EQ(markers[i].time.ns(), kT0 + 3'000'000);
+    EXPECT_EQ(markers[i].time.ns(), kStreamT0 + 3'000'000);
   }
   EXPECT_EQ(counts.out_of_order, 2u);
 }
@@ -136,9 +136,9 @@ TEST(TcpStreams, RetransmissionsAndOverlapsGiveEachMessageOnce) {
   CaptureCounts counts;
   const auto markers = read_file_markers(path, rule(), &counts);
   ASSERT_EQ(markers.size(), 3u);
-  EXPECT_EQ(markers[0].time.ns(), kT0 + 1'000'000);
-  EXPECT_EQ(markers[1].time.ns(), kT0 + 4'000'000);
-  EXPECT_EQ(markers[2].time.ns(), kT0 + 4'000'000);
+  EXPECT_EQ(markers[0].time.ns(), kStreamT0 + 1'000'000);
+  EXPECT_EQ(markers[1].time.ns(), kStreamT0 + 4'000'000);
+  EXPECT_EQ(markers[2].time.ns(), kStreamT0 + 4'000'000);
   EXPECT_EQ(counts.retransmitted, 2u);
 }
 
@@ -158,8 +158,8 @@ TEST(TcpStreams, CaptureStartingMidStreamStartsAtTheFirstSegment) {
   {
     CaptureWriter writer(path, DLT_RAW);
     const auto flow = make_flow(Transport::tcp, "192.168.1.10", 50000, "192.168.1.20", 7000);
-    const auto m = length_prefixed(command(0, 5));
-    writer.write(kT0, build_frame(DLT_RAW, flow, m, 123456));
+    const auto m = length_prefixed(stream_command(0, 5));
+    writer.write(kStreamT0, build_frame(DLT_RAW, flow, m, 123456));
   }
   const auto markers = read_file_markers(path, rule());
   ASSERT_EQ(markers.size(), 1u);
@@ -172,7 +172,7 @@ TEST(TcpStreams, AStreamThatIsNotLengthPrefixedIsAnErrorNamingThePacket) {
   {
     CaptureWriter writer(path, DLT_RAW);
     const auto flow = make_flow(Transport::tcp, "192.168.1.10", 50000, "192.168.1.20", 7000);
-    writer.write(kT0, build_frame(DLT_RAW, flow, bytes_of("GET / HTTP/1.1\r\n\r\n"), 1));
+    writer.write(kStreamT0, build_frame(DLT_RAW, flow, bytes_of("GET / HTTP/1.1\r\n\r\n"), 1));
   }
   try {
     read_file_markers(path, rule());
