@@ -28,6 +28,7 @@ Runner attach_schedtest(CLI::App& sub);
 Runner attach_synctest(CLI::App& sub);
 Runner attach_onsettest(CLI::App& sub);
 Runner attach_budget(CLI::App& sub);
+Runner attach_packets(CLI::App& sub);
 
 namespace {
 constexpr std::array kCommands{
@@ -51,6 +52,7 @@ constexpr std::array kCommands{
     Command{"synctest", "Measure the boards' clock offset from a pulse both recorded (stats, ADEV/TDEV/MTIE)", &attach_synctest},
     Command{"onsettest", "Measure the onset detectors' bias and spread on simulated gyroscope motions", &attach_onsettest},
     Command{"budget", "The error budget of a latency sample: sync, kernel, circuit and calibration terms", &attach_budget},
+    Command{"packets", "Commands in a packet capture (file or live) as markers; one-way times across two captures", &attach_packets},
     Command{"agent", "Record one node and serve its events over the agent HTTP API (docs/api.md)", &attach_agent},
     Command{"report", "Statistics, comparisons and figures (text, Markdown, CSV, JSON, HTML, pgfplots)", &attach_report},
     Command{"help", "List the subcommands with a line on each", &attach_help},
