@@ -11,7 +11,7 @@ ROOT=$(realpath "$DATA/../..")
 ln -s "$ROOT/docs" docs
 ln -s "$ROOT/tests" tests
 $PY - "$ROOT/README.md" "$M2MLAT" <<'PY'
-import os, re, subprocess, sys, time
+import os, re, shlex, subprocess, sys, time
 
 readme, m2mlat = sys.argv[1], sys.argv[2]
 # The exit code a command gives on a machine without the rig, by the first pattern that matches it
@@ -26,6 +26,7 @@ BOARD = [
     (r"^m2mlat (merge|synctest) campaign\.db operator\.db|^m2mlat synctest operator\.db", 66,
      "reads the boards' stores"),
     (r"^m2mlat budget --synctest sync\.json", 66, "reads a synchronisation test's result"),
+    (r"^m2mlat packets operator\.pcap\b", 66, "reads the boards' packet captures"),
     (r"^m2mlat schedtest --core 2\b", 2, "this machine has no CPU 2"),
 ]
 SKIP = [
@@ -57,7 +58,7 @@ def commands(text):
 
 failures, ran = [], 0
 for number, command in commands(open(readme).read()):
-    words = command.split()
+    words = shlex.split(command)
     if words[0] == "sudo":
         words = words[1:]
     if words[0] == "$m":
