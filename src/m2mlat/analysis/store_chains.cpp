@@ -282,4 +282,62 @@ std::vector<FullLoopResult> store_chains(const store::Store& store, const std::v
   return out;
 }
 
+std::vector<FullLoopResult> take_chain_stores(PipelineInputs& inputs, const ChainSelection& selection,
+                                              const ChainOptions& options, const stats::SummaryOptions& summary,
+                                              std::vector<std::string>& warnings) {
+  store::Options read;
+  read.read_only = true;
+  const auto selected = [&](const store::Store& store) {
+    std::vector<std::string> names;
+    for (const auto& name : scenarios(store))
+      if (inputs.scenarios.empty() ||
+          std::find(inputs.scenarios.begin(), inputs.scenarios.end(), name) != inputs.scenarios.end())
+        names.push_back(name);
+    return names;
+  };
+  std::vector<FullLoopResult> out;
+  if (!inputs.cause_file.empty() && !inputs.effect_file.empty() && store::is_sqlite_database(inputs.cause_file) &&
+      store::is_sqlite_database(inputs.effect_file)) {
+    const auto station = store::Store::open(inputs.cause_file, read);
+    const auto vehicle = store::Store::open(inputs.effect_file, read);
+    bool any = false;
+    for (const auto& name : selected(station)) {
+      if (!has_rate_traces(station, name)) continue;
+      any = true;
+      auto input = chain_input(station, vehicle, name, selection);
+      warnings.insert(warnings.end(), input.warnings.begin(), input.warnings.end());
+      auto chains = build_chains(input.input, options, summary, name);
+      chains.loop.file =
+          fmt::format("{} + {}: chains ({})", inputs.cause_file, inputs.effect_file, chains.detector);
+      out.push_back(std::move(chains.loop));
+    }
+    if (any) {
+      inputs.cause_file.clear();
+      inputs.effect_file.clear();
+    }
+  }
+  std::vector<std::string> rest;
+  for (auto& path : inputs.inputs) {
+    if (path == "-" || !store::is_sqlite_database(path)) {
+      rest.push_back(std::move(path));
+      continue;
+    }
+    const auto store = store::Store::open(path, read);
+    const auto names = selected(store);
+    std::vector<std::string> traced;
+    for (const auto& name : names)
+      if (has_rate_traces(store, name)) traced.push_back(name);
+    if (traced.empty()) {
+      rest.push_back(std::move(path));
+      continue;
+    }
+    for (auto& c : store_chains(store, traced, selection, options, summary, warnings)) out.push_back(std::move(c));
+    if (traced.size() == names.size()) continue;  // nothing left for the pipeline
+    for (const auto& name : traced) inputs.skip.emplace_back(path, name);
+    rest.push_back(std::move(path));
+  }
+  inputs.inputs = std::move(rest);
+  return out;
+}
+
 }  // namespace m2mlat::analysis

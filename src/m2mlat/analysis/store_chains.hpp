@@ -25,6 +25,7 @@
 
 #include "m2mlat/analysis/chains.hpp"
 #include "m2mlat/analysis/full_loop.hpp"
+#include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/core/event.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/store/store.hpp"
@@ -65,5 +66,16 @@ std::vector<FullLoopResult> store_chains(const store::Store& store, const std::v
                                          const ChainSelection& selection, const ChainOptions& options,
                                          const stats::SummaryOptions& summary,
                                          std::vector<std::string>& warnings);
+
+// What `stats` and `report` do with stores: every scenario with gyroscope traces is the full loop,
+// analysed as chains, not as cause -> effect events. Takes those scenarios away from the pipeline
+// (a store whose selected scenarios all have traces leaves `inputs.inputs`; a store with others too
+// stays, its traced scenarios listed in `inputs.skip`) and returns their chains, named by scenario,
+// stores in the order given. A cause file and an effect file that are both stores are the station's
+// and the vehicle's (chain_input of two stores; their traced scenarios, named by the cause's).
+// Opens each store read-only, one at a time, before the pipeline opens any.
+std::vector<FullLoopResult> take_chain_stores(PipelineInputs& inputs, const ChainSelection& selection,
+                                              const ChainOptions& options, const stats::SummaryOptions& summary,
+                                              std::vector<std::string>& warnings);
 
 }  // namespace m2mlat::analysis
