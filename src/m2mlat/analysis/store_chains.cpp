@@ -17,6 +17,7 @@ namespace m2mlat::analysis {
 
 namespace {
 
+constexpr std::int64_t kMin = std::numeric_limits<std::int64_t>::min();
 constexpr std::array kChainClocks{core::Clock::realtime, core::Clock::monotonic, core::Clock::boottime,
                                   core::Clock::simulated};
 
@@ -104,14 +105,16 @@ std::string trace_channel(const BoardSessions& b, const std::string& scenario, c
   return *channels.begin();
 }
 
-// Every session's trace of the node and channel, joined in time order.
+// Every session's trace of the node and channel, joined in time order (each session's last `window`
+// only, when set).
 core::RateTrace node_trace(const BoardSessions& b, const std::string& scenario, const std::string& node,
-                           const std::string& channel) {
+                           const std::string& channel, const std::optional<core::Duration>& window) {
   core::RateTrace trace;
   bool first = true;
   for (const auto& c : b.channels) {
     if (c.node != node || c.channel != channel) continue;
-    auto part = b.store.rate_trace(c.session_id, channel);
+    auto part = window ? b.store.rate_trace_tail(c.session_id, channel, window->count())
+                       : b.store.rate_trace(c.session_id, channel);
     if (!first && (part.clock != trace.clock || part.counts_per_deg_s != trace.counts_per_deg_s))
       throw core::Error(core::ErrorKind::data,
                         fmt::format("{}: scenario '{}': the traces of {}/{} disagree on the clock or the scale "
@@ -132,7 +135,8 @@ core::RateTrace node_trace(const BoardSessions& b, const std::string& scenario, 
 // The node's events of one channel (and edge) in the scenario, on `clock`; refused on another clock.
 std::vector<store::StoredEvent> node_events(const BoardSessions& b, const std::string& scenario,
                                             const std::string& node, const std::string& channel,
-                                            std::optional<core::Edge> edge, core::Clock clock) {
+                                            std::optional<core::Edge> edge, core::Clock clock,
+                                            std::int64_t from_ns) {
   std::vector<store::StoredEvent> out;
   for (const auto& s : b.sessions) {
     if (s.node != node) continue;
@@ -141,7 +145,7 @@ std::vector<store::StoredEvent> node_events(const BoardSessions& b, const std::s
     filter.channel = channel;
     filter.edge = edge;
     for (auto on : kChainClocks) {
-      auto part = b.store.events_in_time(core::TimePoint::from_ns(on, std::numeric_limits<std::int64_t>::min()),
+      auto part = b.store.events_in_time(core::TimePoint::from_ns(on, on == clock ? from_ns : kMin),
                                          core::TimePoint::from_ns(on, std::numeric_limits<std::int64_t>::max()),
                                          filter);
       if (part.empty()) continue;
@@ -197,9 +201,19 @@ StoreChainInput build_input(const BoardSessions& st, const BoardSessions& ve, co
   out.station_channel = trace_channel(st, scenario, out.station_node, sel.station);
   out.vehicle_channel = trace_channel(ve, scenario, out.vehicle_node, sel.vehicle);
   auto& in = out.input;
-  in.station_trace = node_trace(st, scenario, out.station_node, out.station_channel);
-  in.vehicle_trace = node_trace(ve, scenario, out.vehicle_node, out.vehicle_channel);
+  in.station_trace = node_trace(st, scenario, out.station_node, out.station_channel, sel.window);
+  in.vehicle_trace = node_trace(ve, scenario, out.vehicle_node, out.vehicle_channel, sel.window);
   const auto clock = in.station_trace.clock;
+  std::int64_t from_ns = kMin;
+  if (sel.window) {
+    // The window: from the newest stamp of either trace back; older samples of either trace are cut.
+    std::int64_t newest = kMin;
+    for (const auto* t : {&in.station_trace, &in.vehicle_trace})
+      if (!t->samples.empty()) newest = std::max(newest, t->samples.back().time_ns);
+    from_ns = newest - sel.window->count();
+    for (auto* t : {&in.station_trace, &in.vehicle_trace})
+      std::erase_if(t->samples, [&](const core::RateSample& x) { return x.time_ns < from_ns; });
+  }
   if (in.vehicle_trace.clock != clock)
     throw core::Error(core::ErrorKind::data,
                       fmt::format("{}: scenario '{}': the station's trace is on {}, the vehicle's on {}",
@@ -208,7 +222,8 @@ StoreChainInput build_input(const BoardSessions& st, const BoardSessions& ve, co
 
   // The LED's writes: rising edges m2mlat commanded, each with its session's bound.
   std::set<std::int64_t> assumed;
-  for (const auto& e : node_events(ve, scenario, out.vehicle_node, sel.led_channel, core::Edge::rising, clock)) {
+  for (const auto& e : node_events(ve, scenario, out.vehicle_node, sel.led_channel, core::Edge::rising, clock,
+                                    from_ns)) {
     if ((e.event.flags & core::kFlagCommanded) == 0) continue;
     const auto session = std::find_if(ve.sessions.begin(), ve.sessions.end(),
                                       [&](const auto& s) { return s.id == e.session_id; });
@@ -224,7 +239,7 @@ StoreChainInput build_input(const BoardSessions& st, const BoardSessions& ve, co
         "{}: scenario '{}': session {} ({}/{}) recorded no LED write bound ({}): {} assumed for each write",
         ve.store.path(), scenario, id, out.vehicle_node, sel.led_channel, store::kConfigLedBound,
         core::format_duration(sel.default_led_bound)));
-  for (const auto& e : node_events(st, scenario, out.station_node, sel.photo_channel, sel.photo_edge, clock))
+  for (const auto& e : node_events(st, scenario, out.station_node, sel.photo_channel, sel.photo_edge, clock, from_ns))
     in.photo_ns.push_back(e.event.time.ns());
   if (!in.led.empty() && in.photo_ns.empty()) {
     const auto channels = event_channels(st, out.station_node);

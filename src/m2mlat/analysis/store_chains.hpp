@@ -39,6 +39,10 @@ struct ChainSelection {
   std::string photo_channel = "photo";
   std::optional<core::Edge> photo_edge = core::Edge::falling;  // unset: both edges
   core::Duration default_led_bound{100'000};  // a write's half-width when its session has none, ns
+  // Live views: only the traces' last window (from the newest stamp of either board's trace less
+  // this), and the LED writes and photo edges from its start: a cost per refresh bounded by the
+  // window, not the campaign. Unset: everything.
+  std::optional<core::Duration> window;
 };
 
 struct StoreChainInput {

@@ -7,9 +7,11 @@
 #include <array>
 #include <chrono>
 #include <filesystem>
+#include <limits>
 
 #include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/analysis/scenario_result.hpp"
+#include "m2mlat/analysis/store_chains.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/store/store.hpp"
 
@@ -94,7 +96,10 @@ const LiveSummary& LivePairing::update() {
     }
     const auto last_seq = opened_->store.last_seq();
     const auto sessions = opened_->store.sessions().size();
-    const std::pair now{last_seq, sessions};
+    std::int64_t rate_samples = 0;  // gyroscope blocks come without events: counted apart
+    if (options_.chains)
+      for (const auto& c : opened_->store.rate_channels()) rate_samples += c.samples;
+    const std::tuple now{last_seq, sessions, rate_samples};
     if (seen_ && *seen_ == now) return summary_;
     seen_ = now;
     repair();
@@ -115,7 +120,7 @@ void LivePairing::repair() {
   const auto started = std::chrono::steady_clock::now();
   const auto& store = opened_->store;
   LiveSummary s;
-  s.store_last_seq = seen_->first;
+  s.store_last_seq = std::get<0>(*seen_);
   s.pairings = summary_.pairings + 1;
   s.scenario = options_.scenario;
   if (s.scenario.empty()) {
@@ -126,6 +131,13 @@ void LivePairing::repair() {
       return;
     }
     s.scenario = sessions.back().scenario;  // in id order: the newest session's
+  }
+  if (options_.chains && analysis::has_rate_traces(store, s.scenario)) {
+    chain(s);
+    s.update_cost_ns =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - started).count();
+    summary_ = std::move(s);
+    return;
   }
   analysis::ScenarioResult r;
   try {
@@ -170,6 +182,53 @@ void LivePairing::repair() {
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - started)
           .count();
   summary_ = std::move(s);
+}
+
+void LivePairing::chain(LiveSummary& s) {
+  analysis::ChainSelection selection;
+  selection.station = options_.selection.cause;
+  selection.vehicle = options_.selection.effect;
+  selection.photo_edge = options_.selection.edge;
+  selection.led_channel = options_.led_channel;
+  selection.photo_channel = options_.photo_channel;
+  selection.window = options_.loop_window;
+  analysis::StoreChainInput input;
+  try {
+    input = analysis::chain_input(opened_->store, s.scenario, selection);
+  } catch (const core::Error& e) {
+    // Until both boards have sent a trace, one is missing: waiting, not an error.
+    const std::string what = e.what();
+    s.state = what.find("has no ") != std::string::npos ? LiveState::waiting : LiveState::error;
+    s.message = what;
+    return;
+  }
+  analysis::ChainOptions options;
+  options.detector = options_.detector;
+  stats::SummaryOptions summary = options_.summary;
+  summary.thresholds.clear();
+  const auto r = analysis::build_chains(input.input, options, summary, s.scenario);
+  s.state = LiveState::ok;
+  s.cause_ref = {input.station_node, input.station_channel};
+  s.effect_ref = {input.vehicle_node, input.vehicle_channel};
+  s.clock = input.input.station_trace.clock;
+  LiveLoop loop;
+  loop.detector = r.detector;
+  loop.window_ns = options_.loop_window.count();
+  loop.chains = r.chains.size();
+  loop.incomplete = r.loop.incomplete;
+  loop.warnings = std::move(input.warnings);
+  for (std::size_t q = 0; q < loop.quantities.size(); ++q) {
+    auto& out = loop.quantities[q];
+    if (const auto& series = r.loop.quantities[q]) {
+      out.n = series->summary.n;
+      out.median_ms = series->summary.median_ms;
+      out.p95_ms = series->summary.p95_ms;
+      if (!series->ns.empty()) out.last_ns = series->ns.back();  // the chains are in time order
+    } else {
+      out.median_ms = out.p95_ms = std::numeric_limits<double>::quiet_NaN();
+    }
+  }
+  s.loop = std::move(loop);
 }
 
 }  // namespace m2mlat::collect

@@ -534,11 +534,21 @@ std::vector<RateChannel> Store::rate_channels() const {
 }
 
 core::RateTrace Store::rate_trace(std::int64_t session_id, const std::string& channel) const {
-  sqlite::Statement query(impl_->db, fmt::format("SELECT {} FROM rate_blocks WHERE session_id = ?1 AND "
-                                                 "channel = ?2 ORDER BY first_ns, first_index, id",
-                                                 rows::kRateBlockColumns));
+  return rate_trace_tail(session_id, channel, std::numeric_limits<std::int64_t>::max());
+}
+
+core::RateTrace Store::rate_trace_tail(std::int64_t session_id, const std::string& channel,
+                                       std::int64_t tail_ns) const {
+  // The newest stamp less tail_ns, saturated (the whole trace for a tail beyond its start).
+  sqlite::Statement query(
+      impl_->db, fmt::format("SELECT {} FROM rate_blocks WHERE session_id = ?1 AND channel = ?2 AND last_ns >= "
+                             "(SELECT CASE WHEN MAX(last_ns) < -9223372036854775807 + ?3 THEN "
+                             "-9223372036854775807 - 1 ELSE MAX(last_ns) - ?3 END FROM rate_blocks WHERE "
+                             "session_id = ?1 AND channel = ?2) ORDER BY first_ns, first_index, id",
+                             rows::kRateBlockColumns));
   query.bind(1, session_id);
   query.bind(2, channel);
+  query.bind(3, std::max<std::int64_t>(tail_ns, 0));
   core::RateTrace trace;
   std::optional<std::int64_t> first_id;
   while (query.step()) {
