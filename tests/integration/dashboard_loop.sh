@@ -2,7 +2,7 @@
 # (both boards' gyroscope traces, the LED's writes and the photo edges), `m2mlat watch --dashboard`,
 # and Debian's headless Chromium (cdp_page.py) reading the page: the full-loop panel is shown, with
 # M2M, G2G and E2E (n, median, P95, last) equal to `m2mlat stats` on the store (the run lies inside
-# the live view's 2 min window), without any console error. Skipped (exit 0 with a note) where
+# the live view's 1 min window), without any console error. Skipped (exit 0 with a note) where
 # Chromium is not installed.
 HERE=$(cd "$(dirname "$0")" && pwd)  # before lib.bash changes into the temporary folder
 source "$HERE/lib.bash"
@@ -35,7 +35,7 @@ page = json.load(open(sys.argv[1]))
 assert not page["errors"], "console errors: %s" % page["errors"]
 hidden, window, cells, incomplete, scenario = page["values"][0]
 assert not hidden, "the full-loop panel is hidden"
-assert window == "(12 chains over the last 120 s, flank onsets)", window
+assert window == "(12 chains over the last 60 s, flank onsets)", window
 assert incomplete == "incomplete chains: none", incomplete
 assert scenario == "full_loop: station/gyro \u2192 vehicle/gyro", scenario
 loop = json.load(open(sys.argv[2]))["full_loop"][0]["quantities"]

@@ -191,6 +191,7 @@ void LivePairing::chain(LiveSummary& s) {
   selection.photo_edge = options_.selection.edge;
   selection.led_channel = options_.led_channel;
   selection.photo_channel = options_.photo_channel;
+  selection.default_led_bound = options_.default_led_bound;
   selection.window = options_.loop_window;
   analysis::StoreChainInput input;
   try {

@@ -40,11 +40,12 @@ struct LiveOptions {
   // A scenario with gyroscope traces is the full loop: its chains (analysis/store_chains.hpp, the
   // selection's cause/effect as station/vehicle, its edge for the photo edges) over the last
   // `loop_window` of the traces, recomputed whole each update: the cost per update is bounded by the
-  // window (at 8 kHz, 2 min is ~1M samples per board), not by the campaign's length.
+  // window (at 8 kHz, 1 min is ~0.5M samples per board), not by the campaign's length.
   bool chains = true;
   std::string detector = "flank";
   std::string led_channel = "led", photo_channel = "photo";
-  core::Duration loop_window{120'000'000'000};
+  core::Duration default_led_bound{100'000};  // an LED write's half-width where its session has none, ns
+  core::Duration loop_window{60'000'000'000};
 };
 
 // One quantity of the full loop over the window: count, median, P95 and the newest chain's value.

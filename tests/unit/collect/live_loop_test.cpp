@@ -39,7 +39,7 @@ TEST(LiveLoop, AFinishedStoreGivesTheOfflineChains) {
   const auto& s = live.update();
   ASSERT_EQ(s.state, collect::LiveState::ok) << s.message;
   ASSERT_TRUE(s.loop);
-  EXPECT_EQ(s.loop->chains, 12u);  // the run (about 45 s) lies inside the default 2 min window
+  EXPECT_EQ(s.loop->chains, 12u);  // the run (30 to 47 s) lies inside the default 1 min window
 
   // Offline: the whole store, no window.
   const auto store = store::Store::open(path);
@@ -60,7 +60,7 @@ TEST(LiveLoop, AFinishedStoreGivesTheOfflineChains) {
   EXPECT_EQ(loop["incomplete_chains"]["no_led"], 0);
   const auto lines = collect::render_block(s, {}, 0);
   ASSERT_GE(lines.size(), 3u);
-  EXPECT_NE(lines[0].find("full loop station/gyro -> vehicle/gyro (12 chains over the last 120 s, flank onsets)"),
+  EXPECT_NE(lines[0].find("full loop station/gyro -> vehicle/gyro (12 chains over the last 60 s, flank onsets)"),
             std::string::npos)
       << lines[0];
   EXPECT_NE(lines[1].find("M2M n 12  median"), std::string::npos) << lines[1];
