@@ -211,6 +211,7 @@ StoreChainInput build_input(const BoardSessions& st, const BoardSessions& ve, co
     for (const auto* t : {&in.station_trace, &in.vehicle_trace})
       if (!t->samples.empty()) newest = std::max(newest, t->samples.back().time_ns);
     from_ns = newest - sel.window->count();
+    out.window_start_ns = from_ns;
     for (auto* t : {&in.station_trace, &in.vehicle_trace})
       std::erase_if(t->samples, [&](const core::RateSample& x) { return x.time_ns < from_ns; });
   }

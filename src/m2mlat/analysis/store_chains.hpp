@@ -49,6 +49,7 @@ struct StoreChainInput {
   ChainInput input;
   std::string station_node, vehicle_node, station_channel, vehicle_channel;  // the traces read
   std::vector<std::string> warnings;  // e.g. the LED bound assumed, no LED writes
+  std::optional<std::int64_t> window_start_ns;  // with ChainSelection::window: where the read began
 };
 
 // True if any session of `scenario` holds a gyroscope trace.

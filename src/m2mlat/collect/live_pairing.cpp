@@ -28,6 +28,12 @@ std::string_view to_string(LiveState state) {
 
 namespace {
 
+constexpr std::int64_t kMinNs = std::numeric_limits<std::int64_t>::min();
+// From the live window's start until its chains are whole: longer than a motion (1.2 s in the twin's
+// fastest-to-slowest range) plus the reference detector's re-arming (10,000 still samples, 1.25 s
+// at 8 kHz), ns.
+constexpr std::int64_t kLoopSettle = 3'000'000'000;
+
 // floor(a / b) for b > 0, also for negative a (latencies may be negative with min_latency < 0).
 std::int64_t floor_div(std::int64_t a, std::int64_t b) {
   const auto q = a / b;
@@ -208,6 +214,16 @@ void LivePairing::chain(LiveSummary& s) {
   stats::SummaryOptions summary = options_.summary;
   summary.thresholds.clear();
   const auto r = analysis::build_chains(input.input, options, summary, s.scenario);
+  // A chain whose first link lies within kLoopSettle of the window's start may have lost a link (or
+  // its onset) to the cut: a motion under way there, or a detector not yet re-armed. It is left out.
+  const auto settled = input.window_start_ns ? *input.window_start_ns + kLoopSettle : kMinNs;
+  std::vector<const analysis::Chain*> kept;
+  for (const auto& c : r.chains) {
+    std::int64_t first = std::numeric_limits<std::int64_t>::max();
+    for (const auto& t : {c.station_onset_ns, c.vehicle_onset_ns, c.led_ns, c.photo_ns})
+      if (t) first = std::min(first, *t);
+    if (first >= settled) kept.push_back(&c);
+  }
   s.state = LiveState::ok;
   s.cause_ref = {input.station_node, input.station_channel};
   s.effect_ref = {input.vehicle_node, input.vehicle_channel};
@@ -215,19 +231,26 @@ void LivePairing::chain(LiveSummary& s) {
   LiveLoop loop;
   loop.detector = r.detector;
   loop.window_ns = options_.loop_window.count();
-  loop.chains = r.chains.size();
-  loop.incomplete = r.loop.incomplete;
+  loop.chains = kept.size();
+  std::array<std::size_t, analysis::kChainGaps> gaps{};
+  for (const auto* c : kept)
+    if (c->gap) ++gaps[static_cast<std::size_t>(*c->gap)];
+  for (std::size_t k = 0; k < gaps.size(); ++k)
+    loop.incomplete.emplace_back(std::string(analysis::key(static_cast<analysis::ChainGap>(k))), gaps[k]);
   loop.warnings = std::move(input.warnings);
   for (std::size_t q = 0; q < loop.quantities.size(); ++q) {
+    std::vector<std::int64_t> values, ids;
+    for (std::size_t i = 0; i < kept.size(); ++i)
+      if (const auto& v = kept[i]->values[q].ns) {
+        values.push_back(*v);
+        ids.push_back(static_cast<std::int64_t>(i + 1));
+      }
+    const auto st = stats::summarize(values, ids, summary);
     auto& out = loop.quantities[q];
-    if (const auto& series = r.loop.quantities[q]) {
-      out.n = series->summary.n;
-      out.median_ms = series->summary.median_ms;
-      out.p95_ms = series->summary.p95_ms;
-      if (!series->ns.empty()) out.last_ns = series->ns.back();  // the chains are in time order
-    } else {
-      out.median_ms = out.p95_ms = std::numeric_limits<double>::quiet_NaN();
-    }
+    out.n = st.n;
+    out.median_ms = st.median_ms;
+    out.p95_ms = st.p95_ms;
+    if (!values.empty()) out.last_ns = values.back();  // the chains are in time order
   }
   s.loop = std::move(loop);
 }

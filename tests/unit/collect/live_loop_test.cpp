@@ -81,8 +81,9 @@ TEST(LiveLoop, TheWindowBoundsWhatEachUpdateReads) {
   collect::LivePairing live(path, options);
   const auto& s = live.update();
   ASSERT_TRUE(s.loop) << s.message;
-  // A manoeuvre takes 1.9 to 3.7 s with its rest: 15 s hold 3 to 8 of the 12, never all.
-  EXPECT_GE(s.loop->chains, 3u);
+  // A manoeuvre takes 1.9 to 3.7 s with its rest; chains in the window's first 3 s are left out (a
+  // link may have been cut off): the other 12 s hold 2 to 7 of the 12, never all.
+  EXPECT_GE(s.loop->chains, 2u);
   EXPECT_LT(s.loop->chains, 12u);
   EXPECT_EQ(s.loop->window_ns, 15'000'000'000);
   // The newest chain is the run's last: its E2E is the offline last one.
