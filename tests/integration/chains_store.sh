@@ -52,4 +52,7 @@ grep -q "station.db: scenario 'full_loop' has no vehicle (effect node) with a gy
 expect_exit 65 "$M2MLAT" stats campaign.db --photo-channel light
 grep -q "no photo edges on station/light (its channels: photo)" err.txt ||
   { cat err.txt >&2; fail "a missing photo channel not named"; }
+# A full loop without gyroscopes cannot be a store's; nothing is made.
+expect_exit 2 "$M2MLAT" simulate --scenario full_loop_single_board --store single.db
+[ ! -e single.db ] || fail "a refused simulate made a store"
 echo "chains from stores ok"

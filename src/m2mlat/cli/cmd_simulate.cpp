@@ -53,6 +53,9 @@ int full_loop_into_store(const SimulateCommand& c, sim::FullLoopConfig config) {
   const auto boards = c.board == "station" ? capture::FullLoopBoards::station
                       : c.board == "vehicle" ? capture::FullLoopBoards::vehicle
                                              : capture::FullLoopBoards::both;
+  if (config.single_board)  // refused before a store file is made
+    throw core::Error(core::ErrorKind::usage,
+                      fmt::format("{} has no gyroscopes: run it with `demo --scenario {}`", c.preset, c.preset));
   const auto run = sim::simulate_full_loop(config);
   auto store = store::Store::open(c.store_path);
   const auto rec = capture::record_full_loop(store, run, boards, c.label, c.preset);
