@@ -78,8 +78,8 @@ std::string trace_node(const BoardSessions& b, const std::string& scenario,
         core::ErrorKind::data,
         fmt::format("{}: scenario '{}' has no {} ({} node) with a gyroscope trace (traces: {}); record it "
                     "with `record --gyro --role {}`, or name it with --{} node",
-                    b.store.path(), scenario, board, core::to_string(role), traces_text(b), core::to_string(role),
-                    core::to_string(role)));
+                    b.store.path(), scenario, board, core::to_string(role), traces_text(b),
+                    core::to_string(role), core::to_string(role)));
   return side_node(traced, scenario, std::nullopt, role);
 }
 
@@ -91,17 +91,19 @@ std::string trace_channel(const BoardSessions& b, const std::string& scenario, c
     if (c.node == node) channels.insert(c.channel);
   if (given && !given->channel.empty()) {
     if (!channels.contains(given->channel))
-      throw core::Error(core::ErrorKind::data,
-                        fmt::format("{}: scenario '{}': node '{}' has no gyroscope trace on channel '{}' "
-                                    "(its traces: {})",
-                                    b.store.path(), scenario, node, given->channel, fmt::join(channels, ", ")));
+      throw core::Error(
+          core::ErrorKind::data,
+          fmt::format("{}: scenario '{}': node '{}' has no gyroscope trace on channel '{}' "
+                      "(its traces: {})",
+                      b.store.path(), scenario, node, given->channel, fmt::join(channels, ", ")));
     return given->channel;
   }
   if (channels.size() > 1)
-    throw core::Error(core::ErrorKind::data,
-                      fmt::format("{}: scenario '{}': node '{}' has several gyroscope traces ({}): choose one "
-                                  "as {}/<channel>",
-                                  b.store.path(), scenario, node, fmt::join(channels, ", "), node));
+    throw core::Error(
+        core::ErrorKind::data,
+        fmt::format("{}: scenario '{}': node '{}' has several gyroscope traces ({}): choose one "
+                    "as {}/<channel>",
+                    b.store.path(), scenario, node, fmt::join(channels, ", "), node));
   return *channels.begin();
 }
 
@@ -116,10 +118,11 @@ core::RateTrace node_trace(const BoardSessions& b, const std::string& scenario, 
     auto part = window ? b.store.rate_trace_tail(c.session_id, channel, window->count())
                        : b.store.rate_trace(c.session_id, channel);
     if (!first && (part.clock != trace.clock || part.counts_per_deg_s != trace.counts_per_deg_s))
-      throw core::Error(core::ErrorKind::data,
-                        fmt::format("{}: scenario '{}': the traces of {}/{} disagree on the clock or the scale "
-                                    "(session {})",
-                                    b.store.path(), scenario, node, channel, c.session_id));
+      throw core::Error(
+          core::ErrorKind::data,
+          fmt::format("{}: scenario '{}': the traces of {}/{} disagree on the clock or the scale "
+                      "(session {})",
+                      b.store.path(), scenario, node, channel, c.session_id));
     if (first) {
       trace.clock = part.clock;
       trace.counts_per_deg_s = part.counts_per_deg_s;
@@ -145,9 +148,9 @@ std::vector<store::StoredEvent> node_events(const BoardSessions& b, const std::s
     filter.channel = channel;
     filter.edge = edge;
     for (auto on : kChainClocks) {
-      auto part = b.store.events_in_time(core::TimePoint::from_ns(on, on == clock ? from_ns : kMin),
-                                         core::TimePoint::from_ns(on, std::numeric_limits<std::int64_t>::max()),
-                                         filter);
+      auto part = b.store.events_in_time(
+          core::TimePoint::from_ns(on, on == clock ? from_ns : kMin),
+          core::TimePoint::from_ns(on, std::numeric_limits<std::int64_t>::max()), filter);
       if (part.empty()) continue;
       if (on != clock)
         throw core::Error(core::ErrorKind::data,
@@ -216,15 +219,15 @@ StoreChainInput build_input(const BoardSessions& st, const BoardSessions& ve, co
       std::erase_if(t->samples, [&](const core::RateSample& x) { return x.time_ns < from_ns; });
   }
   if (in.vehicle_trace.clock != clock)
-    throw core::Error(core::ErrorKind::data,
-                      fmt::format("{}: scenario '{}': the station's trace is on {}, the vehicle's on {}",
-                                  ve.store.path(), scenario, core::to_string(clock),
-                                  core::to_string(in.vehicle_trace.clock)));
+    throw core::Error(
+        core::ErrorKind::data,
+        fmt::format("{}: scenario '{}': the station's trace is on {}, the vehicle's on {}", ve.store.path(),
+                    scenario, core::to_string(clock), core::to_string(in.vehicle_trace.clock)));
 
   // The LED's writes: rising edges m2mlat commanded, each with its session's bound.
   std::set<std::int64_t> assumed;
-  for (const auto& e : node_events(ve, scenario, out.vehicle_node, sel.led_channel, core::Edge::rising, clock,
-                                    from_ns)) {
+  for (const auto& e :
+       node_events(ve, scenario, out.vehicle_node, sel.led_channel, core::Edge::rising, clock, from_ns)) {
     if ((e.event.flags & core::kFlagCommanded) == 0) continue;
     const auto session = std::find_if(ve.sessions.begin(), ve.sessions.end(),
                                       [&](const auto& s) { return s.id == e.session_id; });
@@ -240,20 +243,23 @@ StoreChainInput build_input(const BoardSessions& st, const BoardSessions& ve, co
         "{}: scenario '{}': session {} ({}/{}) recorded no LED write bound ({}): {} assumed for each write",
         ve.store.path(), scenario, id, out.vehicle_node, sel.led_channel, store::kConfigLedBound,
         core::format_duration(sel.default_led_bound)));
-  for (const auto& e : node_events(st, scenario, out.station_node, sel.photo_channel, sel.photo_edge, clock, from_ns))
+  for (const auto& e :
+       node_events(st, scenario, out.station_node, sel.photo_channel, sel.photo_edge, clock, from_ns))
     in.photo_ns.push_back(e.event.time.ns());
   if (!in.led.empty() && in.photo_ns.empty()) {
     const auto channels = event_channels(st, out.station_node);
-    throw core::Error(core::ErrorKind::data,
-                      fmt::format("{}: scenario '{}': {} LED writes on {}/{} but no photo edges on {}/{} (its "
-                                  "channels: {}); name the phototransistor's channel with --photo-channel",
-                                  st.store.path(), scenario, in.led.size(), out.vehicle_node, sel.led_channel,
-                                  out.station_node, sel.photo_channel,
-                                  channels.empty() ? std::string("none") : fmt::format("{}", fmt::join(channels, ", "))));
+    throw core::Error(
+        core::ErrorKind::data,
+        fmt::format("{}: scenario '{}': {} LED writes on {}/{} but no photo edges on {}/{} (its "
+                    "channels: {}); name the phototransistor's channel with --photo-channel",
+                    st.store.path(), scenario, in.led.size(), out.vehicle_node, sel.led_channel,
+                    out.station_node, sel.photo_channel,
+                    channels.empty() ? std::string("none") : fmt::format("{}", fmt::join(channels, ", "))));
   }
   if (in.led.empty())
-    out.warnings.push_back(fmt::format("{}: scenario '{}': no LED writes on {}/{}: M2M only (G2G and E2E missing)",
-                                       ve.store.path(), scenario, out.vehicle_node, sel.led_channel));
+    out.warnings.push_back(
+        fmt::format("{}: scenario '{}': no LED writes on {}/{}: M2M only (G2G and E2E missing)",
+                    ve.store.path(), scenario, out.vehicle_node, sel.led_channel));
   in.station_clock = node_clock(st, out.station_node, clock);
   in.vehicle_clock = node_clock(ve, out.vehicle_node, clock);
   return out;
@@ -266,7 +272,8 @@ bool has_rate_traces(const store::Store& store, const std::string& scenario) {
   for (const auto& s : store.sessions())
     if (s.scenario == scenario) ids.insert(s.id);
   const auto channels = store.rate_channels();
-  return std::any_of(channels.begin(), channels.end(), [&](const auto& c) { return ids.contains(c.session_id); });
+  return std::any_of(channels.begin(), channels.end(),
+                     [&](const auto& c) { return ids.contains(c.session_id); });
 }
 
 StoreChainInput chain_input(const store::Store& store, const std::string& scenario,
@@ -277,8 +284,8 @@ StoreChainInput chain_input(const store::Store& store, const std::string& scenar
 
 StoreChainInput chain_input(const store::Store& station, const store::Store& vehicle,
                             const std::string& scenario, const ChainSelection& selection) {
-  return build_input(board_sessions(station, scenario), board_sessions(vehicle, scenario), scenario, selection,
-                     true);
+  return build_input(board_sessions(station, scenario), board_sessions(vehicle, scenario), scenario,
+                     selection, true);
 }
 
 std::vector<FullLoopResult> store_chains(const store::Store& store, const std::vector<std::string>& only,
@@ -299,7 +306,8 @@ std::vector<FullLoopResult> store_chains(const store::Store& store, const std::v
 }
 
 std::vector<FullLoopResult> take_chain_stores(PipelineInputs& inputs, const ChainSelection& selection,
-                                              const ChainOptions& options, const stats::SummaryOptions& summary,
+                                              const ChainOptions& options,
+                                              const stats::SummaryOptions& summary,
                                               std::vector<std::string>& warnings) {
   store::Options read;
   read.read_only = true;
@@ -312,8 +320,8 @@ std::vector<FullLoopResult> take_chain_stores(PipelineInputs& inputs, const Chai
     return names;
   };
   std::vector<FullLoopResult> out;
-  if (!inputs.cause_file.empty() && !inputs.effect_file.empty() && store::is_sqlite_database(inputs.cause_file) &&
-      store::is_sqlite_database(inputs.effect_file)) {
+  if (!inputs.cause_file.empty() && !inputs.effect_file.empty() &&
+      store::is_sqlite_database(inputs.cause_file) && store::is_sqlite_database(inputs.effect_file)) {
     const auto station = store::Store::open(inputs.cause_file, read);
     const auto vehicle = store::Store::open(inputs.effect_file, read);
     bool any = false;
@@ -347,7 +355,8 @@ std::vector<FullLoopResult> take_chain_stores(PipelineInputs& inputs, const Chai
       rest.push_back(std::move(path));
       continue;
     }
-    for (auto& c : store_chains(store, traced, selection, options, summary, warnings)) out.push_back(std::move(c));
+    for (auto& c : store_chains(store, traced, selection, options, summary, warnings))
+      out.push_back(std::move(c));
     if (traced.size() == names.size()) continue;  // nothing left for the pipeline
     for (const auto& name : traced) inputs.skip.emplace_back(path, name);
     rest.push_back(std::move(path));

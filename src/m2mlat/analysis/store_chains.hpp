@@ -48,7 +48,7 @@ struct ChainSelection {
 struct StoreChainInput {
   ChainInput input;
   std::string station_node, vehicle_node, station_channel, vehicle_channel;  // the traces read
-  std::vector<std::string> warnings;  // e.g. the LED bound assumed, no LED writes
+  std::vector<std::string> warnings;            // e.g. the LED bound assumed, no LED writes
   std::optional<std::int64_t> window_start_ns;  // with ChainSelection::window: where the read began
 };
 
@@ -80,7 +80,8 @@ std::vector<FullLoopResult> store_chains(const store::Store& store, const std::v
 // and the vehicle's (chain_input of two stores; their traced scenarios, named by the cause's).
 // Opens each store read-only, one at a time, before the pipeline opens any.
 std::vector<FullLoopResult> take_chain_stores(PipelineInputs& inputs, const ChainSelection& selection,
-                                              const ChainOptions& options, const stats::SummaryOptions& summary,
+                                              const ChainOptions& options,
+                                              const stats::SummaryOptions& summary,
                                               std::vector<std::string>& warnings);
 
 }  // namespace m2mlat::analysis

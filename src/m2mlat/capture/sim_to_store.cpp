@@ -1,14 +1,12 @@
 // Simulated run -> store, chunk by chunk; one transaction per node per chunk.
 #include "m2mlat/capture/sim_to_store.hpp"
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
-
+#include "m2mlat/capture/sim_source.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/store/rate_block.hpp"
-
-#include "m2mlat/capture/sim_source.hpp"
 
 namespace m2mlat::capture {
 
@@ -124,8 +122,11 @@ RecordedFullLoop record_full_loop(store::Store& store, const sim::FullLoopRun& r
     throw core::Error(core::ErrorKind::usage,
                       "a single-board full loop has no gyroscopes: record it with `demo`, not into a store");
   const auto config = [&](const char* role) {
-    return nlohmann::json{{"source", "sim"}, {"preset", "full_loop"}, {"seed", run.config.seed},
-                          {"role", role},    {"baseline", run.config.baseline}};
+    return nlohmann::json{{"source", "sim"},
+                          {"preset", "full_loop"},
+                          {"seed", run.config.seed},
+                          {"role", role},
+                          {"baseline", run.config.baseline}};
   };
   const auto session = [&](const std::string& node, core::Role role, const nlohmann::json& json) {
     store::Session s;
@@ -141,12 +142,12 @@ RecordedFullLoop record_full_loop(store::Store& store, const sim::FullLoopRun& r
     std::vector<core::Event> photo;
     for (const auto& m : run.manoeuvres)
       photo.push_back(full_loop_event("station", "photo", core::Edge::falling, m.photo_stamp_ns, 0));
-    out.station_session = record_board(store, run, true, session("station", core::Role::cause, config("cause")),
-                                       &run.station_trace, photo);
+    out.station_session = record_board(
+        store, run, true, session("station", core::Role::cause, config("cause")), &run.station_trace, photo);
   }
   if (boards != FullLoopBoards::station) {
-    out.vehicle_session = record_board(store, run, false, session("vehicle", core::Role::effect, config("effect")),
-                                       &run.vehicle_trace, {});
+    out.vehicle_session = record_board(
+        store, run, false, session("vehicle", core::Role::effect, config("effect")), &run.vehicle_trace, {});
     std::vector<core::Event> led;
     std::int64_t bound = 0;
     for (const auto& m : run.manoeuvres) {
@@ -157,7 +158,8 @@ RecordedFullLoop record_full_loop(store::Store& store, const sim::FullLoopRun& r
     auto json = config("effect");
     json["source"] = "led";
     json[store::kConfigLedBound] = bound;
-    out.led_session = record_board(store, run, false, session("vehicle", core::Role::effect, json), nullptr, led);
+    out.led_session =
+        record_board(store, run, false, session("vehicle", core::Role::effect, json), nullptr, led);
   }
   return out;
 }

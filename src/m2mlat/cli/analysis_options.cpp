@@ -6,8 +6,8 @@
 #include "m2mlat/analysis/store_chains.hpp"
 #include "m2mlat/cli/duration_flag.hpp"
 #include "m2mlat/cli/output.hpp"
-#include "m2mlat/onset/detectors.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/onset/detectors.hpp"
 
 namespace m2mlat::cli {
 
@@ -165,10 +165,12 @@ void ChainFlags::add_to(CLI::App& sub) {
       ->capture_default_str();
   group->add_option("--photo-channel", photo_channel, "The station's phototransistor edges (see --edge)")
       ->capture_default_str();
-  group->add_option("--led-bound", led_bound,
-                    "An LED write's half-width where its session recorded none (a warning says so)")
+  group
+      ->add_option("--led-bound", led_bound,
+                   "An LED write's half-width where its session recorded none (a warning says so)")
       ->capture_default_str();
-  group->add_flag("--no-chains", no_chains, "Pair the events of scenarios with gyroscope traces like any others");
+  group->add_flag("--no-chains", no_chains,
+                  "Pair the events of scenarios with gyroscope traces like any others");
 }
 
 std::vector<analysis::FullLoopResult> ChainFlags::take(analysis::PipelineInputs& inputs,

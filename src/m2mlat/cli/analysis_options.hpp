@@ -70,8 +70,8 @@ struct ChainFlags {
   void add_to(CLI::App& sub);
   // Takes the traced scenarios out of `inputs` and chains them (warnings on stderr); none with
   // --no-chains. Throws core::Error(usage) naming a bad flag.
-  std::vector<analysis::FullLoopResult> take(analysis::PipelineInputs& inputs, const SelectionFlags& selection,
-                                             const StatsFlags& stats) const;
+  std::vector<analysis::FullLoopResult> take(analysis::PipelineInputs& inputs,
+                                             const SelectionFlags& selection, const StatsFlags& stats) const;
 };
 
 // The pipeline's options from the three groups of flags, converted in this order (the first bad flag

@@ -45,23 +45,26 @@ struct SimulateCommand {
 // store per board (--board station|vehicle, the same --seed for both) or both in one.
 int full_loop_into_store(const SimulateCommand& c, sim::FullLoopConfig config) {
   if (c.store_path.empty() || !c.out_dir.empty() || !c.overrides.empty())
-    throw core::Error(core::ErrorKind::usage,
-                      fmt::format("{} is recorded into a store: give --store, and no --out-dir or --set", c.preset));
+    throw core::Error(
+        core::ErrorKind::usage,
+        fmt::format("{} is recorded into a store: give --store, and no --out-dir or --set", c.preset));
   if (c.seed != 0) config.seed = c.seed;
   if (c.manoeuvres > 0) config.manoeuvres = static_cast<int>(std::min<std::int64_t>(c.manoeuvres, 100'000));
   sim::check(config);
-  const auto boards = c.board == "station" ? capture::FullLoopBoards::station
+  const auto boards = c.board == "station"   ? capture::FullLoopBoards::station
                       : c.board == "vehicle" ? capture::FullLoopBoards::vehicle
                                              : capture::FullLoopBoards::both;
   if (config.single_board)  // refused before a store file is made
-    throw core::Error(core::ErrorKind::usage,
-                      fmt::format("{} has no gyroscopes: run it with `demo --scenario {}`", c.preset, c.preset));
+    throw core::Error(
+        core::ErrorKind::usage,
+        fmt::format("{} has no gyroscopes: run it with `demo --scenario {}`", c.preset, c.preset));
   const auto run = sim::simulate_full_loop(config);
   auto store = store::Store::open(c.store_path);
   const auto rec = capture::record_full_loop(store, run, boards, c.label, c.preset);
-  fmt::print("{}: scenario {} recorded: {} manoeuvres, sessions station {}, vehicle {}, led {} (0: not here)\n",
-             core::printable(c.store_path), core::printable(c.preset), run.manoeuvres.size(), rec.station_session,
-             rec.vehicle_session, rec.led_session);
+  fmt::print(
+      "{}: scenario {} recorded: {} manoeuvres, sessions station {}, vehicle {}, led {} (0: not here)\n",
+      core::printable(c.store_path), core::printable(c.preset), run.manoeuvres.size(), rec.station_session,
+      rec.vehicle_session, rec.led_session);
   return 0;
 }
 

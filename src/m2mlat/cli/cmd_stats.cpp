@@ -90,7 +90,8 @@ Runner attach_stats(CLI::App& sub) {
     });
     // Stores with gyroscope traces: the full loop's chains, shown with the full-loop files.
     auto pipeline_inputs = inputs.pipeline_inputs();
-    for (auto& chains : c->chains.take(pipeline_inputs, c->selection, c->stats)) loops.push_back(std::move(chains));
+    for (auto& chains : c->chains.take(pipeline_inputs, c->selection, c->stats))
+      loops.push_back(std::move(chains));
     std::vector<analysis::ScenarioResult> results;
     if (!pipeline_inputs.inputs.empty() || !pipeline_inputs.cause_file.empty() ||
         (sync_files.empty() && loops.empty())) {

@@ -19,8 +19,9 @@ void LiveFlags::add_to(CLI::App& sub, bool with_token_file) {
   group->add_flag("--no-live", no_live, "Do not draw the live block on the terminal");
   group->add_option("--live-scenario", live_scenario,
                     "Pair this scenario live (default: the newest session's)");
-  group->add_option("--loop-window", loop_window,
-                    "Full loop: chain the gyroscope traces' last window on each refresh (cost bounded by it)")
+  group
+      ->add_option("--loop-window", loop_window,
+                   "Full loop: chain the gyroscope traces' last window on each refresh (cost bounded by it)")
       ->capture_default_str();
   selection.add_to(sub);
   match.add_to(sub);

@@ -47,7 +47,8 @@ nlohmann::json loop_json(const std::optional<LiveLoop>& loop) {
 
 nlohmann::json summary_json(const LiveSummary& s) {
   const auto& st = s.summary;
-  return {{"full_loop", loop_json(s.loop)},{"state", to_string(s.state)},
+  return {{"full_loop", loop_json(s.loop)},
+          {"state", to_string(s.state)},
           {"message", s.message},
           {"scenario", s.scenario},
           {"cause", s.cause_ref.node.empty() ? "" : core::to_string(s.cause_ref)},

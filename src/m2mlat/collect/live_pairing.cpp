@@ -141,7 +141,8 @@ void LivePairing::repair() {
   if (options_.chains && analysis::has_rate_traces(store, s.scenario)) {
     chain(s);
     s.update_cost_ns =
-        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - started).count();
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - started)
+            .count();
     summary_ = std::move(s);
     return;
   }

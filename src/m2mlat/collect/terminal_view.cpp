@@ -33,9 +33,9 @@ std::vector<std::string> render_block(const LiveSummary& s, const std::vector<No
   if (s.state == LiveState::ok && s.loop) {
     // The full loop: M2M, G2G and E2E side by side over the window.
     const auto& loop = *s.loop;
-    lines.push_back(fmt::format("{}: full loop {} -> {} ({} chains over the last {:.0f} s, {} onsets)", s.scenario,
-                                core::to_string(s.cause_ref), core::to_string(s.effect_ref), loop.chains,
-                                static_cast<double>(loop.window_ns) / 1e9, loop.detector));
+    lines.push_back(fmt::format("{}: full loop {} -> {} ({} chains over the last {:.0f} s, {} onsets)",
+                                s.scenario, core::to_string(s.cause_ref), core::to_string(s.effect_ref),
+                                loop.chains, static_cast<double>(loop.window_ns) / 1e9, loop.detector));
     constexpr std::array kNames{"M2M", "G2G", "E2E"};
     std::string row;
     for (std::size_t q = 0; q < kNames.size(); ++q) {

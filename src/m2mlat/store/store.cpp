@@ -541,11 +541,12 @@ core::RateTrace Store::rate_trace_tail(std::int64_t session_id, const std::strin
                                        std::int64_t tail_ns) const {
   // The newest stamp less tail_ns, saturated (the whole trace for a tail beyond its start).
   sqlite::Statement query(
-      impl_->db, fmt::format("SELECT {} FROM rate_blocks WHERE session_id = ?1 AND channel = ?2 AND last_ns >= "
-                             "(SELECT CASE WHEN MAX(last_ns) < -9223372036854775807 + ?3 THEN "
-                             "-9223372036854775807 - 1 ELSE MAX(last_ns) - ?3 END FROM rate_blocks WHERE "
-                             "session_id = ?1 AND channel = ?2) ORDER BY first_ns, first_index, id",
-                             rows::kRateBlockColumns));
+      impl_->db,
+      fmt::format("SELECT {} FROM rate_blocks WHERE session_id = ?1 AND channel = ?2 AND last_ns >= "
+                  "(SELECT CASE WHEN MAX(last_ns) < -9223372036854775807 + ?3 THEN "
+                  "-9223372036854775807 - 1 ELSE MAX(last_ns) - ?3 END FROM rate_blocks WHERE "
+                  "session_id = ?1 AND channel = ?2) ORDER BY first_ns, first_index, id",
+                  rows::kRateBlockColumns));
   query.bind(1, session_id);
   query.bind(2, channel);
   query.bind(3, std::max<std::int64_t>(tail_ns, 0));

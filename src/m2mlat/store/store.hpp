@@ -101,7 +101,8 @@ class Store {
   core::RateTrace rate_trace(std::int64_t session_id, const std::string& channel) const;
   // Only the trace's last `tail_ns`: the blocks that end within tail_ns of its newest stamp (so a
   // little more, at most one block). What a live view reads each refresh, whatever the trace's length.
-  core::RateTrace rate_trace_tail(std::int64_t session_id, const std::string& channel, std::int64_t tail_ns) const;
+  core::RateTrace rate_trace_tail(std::int64_t session_id, const std::string& channel,
+                                  std::int64_t tail_ns) const;
   // Up to `limit` blocks with id > after_id, in id order (the resume-by-id read of merge).
   std::vector<StoredRateBlock> rate_blocks_after(std::int64_t after_id, std::size_t limit) const;
 

@@ -60,14 +60,16 @@ void expect_same_input(const ChainInput& got, const ChainInput& want) {
 }
 
 // A session of `node` holding only its gyroscope's trace.
-void add_trace_session(store::Store& s, const std::string& node, core::Role role, const core::RateTrace& trace) {
+void add_trace_session(store::Store& s, const std::string& node, core::Role role,
+                       const core::RateTrace& trace) {
   store::Session info;
   info.scenario = "loop";
   info.node = node;
   info.role = role;
   info.start = core::TimePoint::from_ns(trace.clock, trace.samples.front().time_ns);
   const auto id = s.begin_session(info);
-  s.append_rate_blocks(store::rate_block::split(id, "gyro", trace.clock, trace.counts_per_deg_s, trace.samples));
+  s.append_rate_blocks(
+      store::rate_block::split(id, "gyro", trace.clock, trace.counts_per_deg_s, trace.samples));
 }
 
 }  // namespace
@@ -144,8 +146,9 @@ TEST(StoreChains, AWrongPhotoChannelOrRateChannelIsNamed) {
     FAIL() << "a missing photo channel accepted";
   } catch (const core::Error& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("4 LED writes on vehicle/led but no photo edges on station/light (its channels: photo)"),
-              std::string::npos)
+    EXPECT_NE(
+        what.find("4 LED writes on vehicle/led but no photo edges on station/light (its channels: photo)"),
+        std::string::npos)
         << what;
   }
   ChainSelection wheel;
@@ -194,7 +197,8 @@ TEST(StoreChains, AnLedSessionWithoutItsBoundTakesTheStatedDefaultWithAWarning) 
   sel.default_led_bound = core::Duration{70'000};
   const auto got = chain_input(store, "loop", sel);
   ASSERT_EQ(got.warnings.size(), 1u);
-  EXPECT_NE(got.warnings[0].find("recorded no LED write bound (led_bound_ns): 70.000 us assumed"), std::string::npos)
+  EXPECT_NE(got.warnings[0].find("recorded no LED write bound (led_bound_ns): 70.000 us assumed"),
+            std::string::npos)
       << got.warnings[0];
   ASSERT_EQ(got.input.led.size(), 3u);
   for (const auto& w : got.input.led) EXPECT_EQ(w.bound_ns, 70'000);

@@ -60,8 +60,9 @@ TEST(LiveLoop, AFinishedStoreGivesTheOfflineChains) {
   EXPECT_EQ(loop["incomplete_chains"]["no_led"], 0);
   const auto lines = collect::render_block(s, {}, 0);
   ASSERT_GE(lines.size(), 3u);
-  EXPECT_NE(lines[0].find("full loop station/gyro -> vehicle/gyro (12 chains over the last 60 s, flank onsets)"),
-            std::string::npos)
+  EXPECT_NE(
+      lines[0].find("full loop station/gyro -> vehicle/gyro (12 chains over the last 60 s, flank onsets)"),
+      std::string::npos)
       << lines[0];
   EXPECT_NE(lines[1].find("M2M n 12  median"), std::string::npos) << lines[1];
   EXPECT_NE(lines[1].find("E2E n 12"), std::string::npos) << lines[1];

@@ -123,7 +123,8 @@ TEST(Ingest, LearnsTheConfigurationASessionEndedWith) {
 
   EXPECT_THROW(origin.end_session(s, rt(1'700'000'000'300'000'000), std::string("{not json")), core::Error);
   EXPECT_FALSE(origin.session(s)->end);
-  origin.end_session(s, rt(1'700'000'000'300'000'000), std::string(R"({"led_bound_ns":1500,"source":"led"})"));
+  origin.end_session(s, rt(1'700'000'000'300'000'000),
+                     std::string(R"({"led_bound_ns":1500,"source":"led"})"));
   EXPECT_EQ(origin.session(s)->config_json, R"({"led_bound_ns":1500,"source":"led"})");
   IngestBatch second{origin.store_id(), origin.sessions(), {}, {}, {}, {}};
   campaign.ingest(second);
