@@ -153,6 +153,25 @@
     body.replaceChildren(...rows);
   }
 
+  // ---- the full loop: M2M, G2G, E2E side by side (scenarios with gyroscope traces) -------------
+  function drawLoop(s) {
+    const loop = s.full_loop;
+    $('full-loop').hidden = !loop;
+    if (!loop) return;
+    setText('loop-window', `(${loop.chains} chains over the last ${(loop.window_ns / 1e9).toFixed(0)} s, ` +
+      `${loop.detector} onsets)`);
+    for (const q of ['m2m', 'g2g', 'e2e']) {
+      const x = loop[q];
+      setText(q + '-n', fmtCount(x.n));
+      setText(q + '-median', fmtMs(x.median_ms));
+      setText(q + '-p95', fmtMs(x.p95_ms));
+      setText(q + '-last', x.last_ns === null ? '-' : fmtMs(nsToMs(x.last_ns)));
+    }
+    const gaps = Object.entries(loop.incomplete_chains).filter(([, n]) => n > 0).map(([k, n]) => `${k} ${n}`);
+    setText('loop-incomplete', 'incomplete chains: ' + (gaps.length ? gaps.join(', ') : 'none') +
+      (loop.warnings.length ? ' \u00b7 ' + loop.warnings.join('; ') : ''));
+  }
+
   // ---- the whole page ----------------------------------------------------------------------
   function apply(snap) {
     const s = snap.summary;
@@ -170,6 +189,7 @@
     setText('ambiguous', `${s.ambiguous} ambiguous`);
     setText('unmatched', `${s.cause_unmatched} / ${s.effect_unmatched}`);
     setText('bounces', `${s.bounces} bounces; edges ${s.cause_events} / ${s.effect_events}`);
+    drawLoop(s);
     drawStrip(snap);
     drawHistogram(snap);
     drawNodes(snap);

@@ -269,23 +269,21 @@ ChainInput chain_input(const sim::FullLoopRun& run) {
     in.photo_ns.push_back(m.photo_stamp_ns);
   }
   // Each board's clock samples, one a second over the run: what a daemon that knows its bound reports.
-  const std::int64_t bound = run.config.sync_max_ns;
-  const auto u = static_cast<std::int64_t>(std::llround(static_cast<double>(bound) / std::sqrt(3.0)));
-  const auto samples = [&](std::int64_t offset) {
+  const auto samples = [&](bool station) {
     std::vector<store::ClockSample> s;
-    for (std::int64_t t = 0; t <= run.end_ns + 1'000'000'000; t += 1'000'000'000) {
+    for (const auto& b : sim::board_clock_samples(run, station)) {
       store::ClockSample c;
-      c.time = core::TimePoint::from_ns(core::Clock::simulated, t + offset);
+      c.time = core::TimePoint::from_ns(core::Clock::simulated, b.time_ns);
       c.source = "sim";
-      c.max_error_ns = bound;
-      c.est_error_ns = u;
+      c.max_error_ns = b.max_error_ns;
+      c.est_error_ns = b.est_error_ns;
       c.synchronised = true;
       s.push_back(c);
     }
     return s;
   };
-  in.station_clock = make_clock_track(samples(run.station_offset_ns), core::Clock::simulated);
-  in.vehicle_clock = make_clock_track(samples(run.vehicle_offset_ns), core::Clock::simulated);
+  in.station_clock = make_clock_track(samples(true), core::Clock::simulated);
+  in.vehicle_clock = make_clock_track(samples(false), core::Clock::simulated);
   if (in.station_trace.samples.empty()) in.station_trace.clock = core::Clock::simulated;
   return in;
 }

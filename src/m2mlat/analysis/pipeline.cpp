@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <functional>
 #include <future>
@@ -197,7 +198,9 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
       read.read_only = true;
       const auto store = store::Store::open(path, read);
       const auto names = inputs.scenarios.empty() ? scenarios(store) : inputs.scenarios;
-      for (const auto& name : names) results.push_back(analyse_store_scenario(store, name, options));
+      for (const auto& name : names)
+        if (std::find(inputs.skip.begin(), inputs.skip.end(), std::pair{path, name}) == inputs.skip.end())
+          results.push_back(analyse_store_scenario(store, name, options));
       continue;
     }
     const auto scenario = std::filesystem::path(path).stem().string();

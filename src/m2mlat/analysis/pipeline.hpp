@@ -8,6 +8,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "m2mlat/analysis/scenario_result.hpp"
@@ -27,6 +28,8 @@ struct PipelineInputs {
   std::string cause_file, effect_file;    // one scenario from two files (both or neither)
   std::optional<formats::Format> format;  // of the data files; unset = detected from the content
   bool rematch = false;  // re-pair a paired-results CSV instead of using its rows as the pairs
+  // (store path, scenario) left out: analysed elsewhere (the full loop's chains, store_chains.hpp).
+  std::vector<std::pair<std::string, std::string>> skip;
 };
 
 // How to analyse it.

@@ -19,27 +19,6 @@ namespace {
 constexpr std::array kClocks{core::Clock::realtime, core::Clock::monotonic, core::Clock::boottime,
                              core::Clock::simulated};
 
-// The node of one side: the given one, or the single node whose sessions have `role`.
-std::string side_node(const std::vector<store::Session>& sessions, const std::string& scenario,
-                      const std::optional<core::ChannelRef>& given, core::Role role) {
-  const auto side = core::to_string(role);
-  std::set<std::string> nodes;
-  for (const auto& s : sessions)
-    if (given ? s.node == given->node : s.role == role) nodes.insert(s.node);
-  if (nodes.empty())
-    throw core::Error(core::ErrorKind::data,
-                      given
-                          ? fmt::format("scenario '{}' has no session of node '{}'", scenario, given->node)
-                          : fmt::format("scenario '{}' has no {} session (record or import one with role {})",
-                                        scenario, side, side));
-  if (nodes.size() > 1)
-    throw core::Error(
-        core::ErrorKind::data,
-        fmt::format("scenario '{}' has several {} nodes ({}): choose one with --{} node/channel", scenario,
-                    side, fmt::join(nodes, ", "), side));
-  return *nodes.begin();
-}
-
 // Sorts the two parallel columns by time (stable, so equal times keep their seq order). A side without
 // a seq column (ids = positions) gets one first: sorting moves the timestamps away from their positions.
 void sort_by_time(store::Timestamps& t) {
@@ -117,6 +96,26 @@ void check_clocks(const ScenarioInput& input) {
 }
 
 }  // namespace
+
+std::string side_node(const std::vector<store::Session>& sessions, const std::string& scenario,
+                      const std::optional<core::ChannelRef>& given, core::Role role) {
+  const auto side = core::to_string(role);
+  std::set<std::string> nodes;
+  for (const auto& s : sessions)
+    if (given ? s.node == given->node : s.role == role) nodes.insert(s.node);
+  if (nodes.empty())
+    throw core::Error(core::ErrorKind::data,
+                      given
+                          ? fmt::format("scenario '{}' has no session of node '{}'", scenario, given->node)
+                          : fmt::format("scenario '{}' has no {} session (record or import one with role {})",
+                                        scenario, side, side));
+  if (nodes.size() > 1)
+    throw core::Error(
+        core::ErrorKind::data,
+        fmt::format("scenario '{}' has several {} nodes ({}): choose one with --{} node/channel", scenario,
+                    side, fmt::join(nodes, ", "), side));
+  return *nodes.begin();
+}
 
 std::vector<std::string> scenarios(const store::Store& store) {
   std::vector<std::string> names;

@@ -44,6 +44,12 @@ inline std::int64_t source_id(const store::Timestamps& side, std::int64_t index)
   return side.seq.empty() ? index : side.seq[static_cast<std::size_t>(index)];
 }
 
+// The node of one side of a scenario (`sessions`: the scenario's): the given one, or the single node
+// whose sessions have `role`. Throws core::Error(data) naming the scenario when there is none or
+// several (chains.hpp's store input picks its station and vehicle by the same rule).
+std::string side_node(const std::vector<store::Session>& sessions, const std::string& scenario,
+                      const std::optional<core::ChannelRef>& given, core::Role role);
+
 // Scenario names in the order of their first session.
 std::vector<std::string> scenarios(const store::Store& store);
 

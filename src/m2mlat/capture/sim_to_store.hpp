@@ -8,6 +8,7 @@
 #include <functional>
 #include <string>
 
+#include "m2mlat/sim/full_loop.hpp"
 #include "m2mlat/sim/generator.hpp"
 #include "m2mlat/sim/rig_config.hpp"
 #include "m2mlat/store/store.hpp"
@@ -29,5 +30,20 @@ using ChunkObserver = std::function<void(const sim::Chunk&, std::int64_t events_
 // the truth). Sessions are closed at the last event's time.
 RecordedRun record_simulation(store::Store& store, const sim::RigConfig& config, const std::string& label,
                               const ChunkObserver& observer = {});
+
+// The simulated full loop (sim/full_loop.hpp) recorded as the two boards of a real one would record
+// it: the station board ("station", role cause) one session with its gyroscope's raw trace (channel
+// "gyro") and the phototransistor's edges (channel "photo", falling); the vehicle board ("vehicle",
+// role effect) one session with its gyroscope's trace and a second one, as `m2mlat led` makes, with
+// the LED's writes (channel "led", rising, flag commanded) and the writes' largest half-width in its
+// configuration (store::kConfigLedBound). Each session carries its board's clock samples
+// (sim::board_clock_samples, source "sim"). All on Clock::simulated, scenario `scenario`.
+enum class FullLoopBoards : std::uint8_t { station, vehicle, both };
+struct RecordedFullLoop {
+  std::int64_t station_session = 0, vehicle_session = 0, led_session = 0;  // 0: not recorded here
+};
+// Throws core::Error(usage) for a single_board run (no gyroscopes: nothing to chain from a store).
+RecordedFullLoop record_full_loop(store::Store& store, const sim::FullLoopRun& run, FullLoopBoards boards,
+                                  const std::string& label, const std::string& scenario);
 
 }  // namespace m2mlat::capture

@@ -3,8 +3,11 @@
 
 #include <fmt/format.h>
 
+#include "m2mlat/analysis/store_chains.hpp"
 #include "m2mlat/cli/duration_flag.hpp"
+#include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/onset/detectors.hpp"
 
 namespace m2mlat::cli {
 
@@ -152,6 +155,46 @@ analysis::PipelineOptions pipeline_options(const SelectionFlags& selection, cons
   o.summary = stats.options();
   o.uncertainty = stats.uncertainty_options();
   return o;
+}
+
+void ChainFlags::add_to(CLI::App& sub) {
+  auto* group = sub.add_option_group("full loop (stores with gyroscope traces)");
+  group->add_option("--detector", detector, "Onset detector of the gyroscope traces: flank or reference")
+      ->capture_default_str();
+  group->add_option("--led-channel", led_channel, "The vehicle's LED writes (m2mlat led --channel)")
+      ->capture_default_str();
+  group->add_option("--photo-channel", photo_channel, "The station's phototransistor edges (see --edge)")
+      ->capture_default_str();
+  group
+      ->add_option("--led-bound", led_bound,
+                   "An LED write's half-width where its session recorded none (a warning says so)")
+      ->capture_default_str();
+  group->add_flag("--no-chains", no_chains,
+                  "Pair the events of scenarios with gyroscope traces like any others");
+}
+
+std::vector<analysis::FullLoopResult> ChainFlags::take(analysis::PipelineInputs& inputs,
+                                                       const SelectionFlags& selection,
+                                                       const StatsFlags& stats) const {
+  if (no_chains) return {};
+  static_cast<void>(onset::detector(detector));  // an unknown name is a usage error before any store is read
+  const auto chosen = selection.selection();
+  analysis::ChainSelection s;
+  s.station = chosen.cause;
+  s.vehicle = chosen.effect;
+  s.led_channel = led_channel;
+  s.photo_channel = photo_channel;
+  s.photo_edge = chosen.edge;
+  s.default_led_bound = duration_flag("--led-bound", led_bound);
+  if (s.default_led_bound.count() < 0)
+    throw core::Error(core::ErrorKind::usage, "--led-bound: must not be negative");
+  analysis::ChainOptions options;
+  options.detector = detector;
+  options.uncertainty = stats.uncertainty_options();
+  std::vector<std::string> warnings;
+  auto out = analysis::take_chain_stores(inputs, s, options, stats.options(), warnings);
+  for (const auto& w : warnings) warn(w);
+  return out;
 }
 
 }  // namespace m2mlat::cli

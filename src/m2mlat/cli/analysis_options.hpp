@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "m2mlat/analysis/full_loop.hpp"
 #include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/analysis/selection.hpp"
 #include "m2mlat/analysis/uncertainty.hpp"
@@ -56,6 +57,21 @@ struct SelectionFlags {
   std::string edge = "falling";
   void add_to(CLI::App& sub);
   analysis::Selection selection() const;
+};
+
+// The full loop from stores (analysis/store_chains.hpp): scenarios with gyroscope traces are chained
+// (station onset -> vehicle onset -> LED -> photo edge) instead of paired as events. --cause and
+// --effect name the station and the vehicle, --edge the photo edges.
+struct ChainFlags {
+  std::string detector = "flank";  // onset detector (onset/detectors.hpp)
+  std::string led_channel = "led", photo_channel = "photo";
+  std::string led_bound = "100us";  // an LED write's half-width where its session recorded none
+  bool no_chains = false;           // pair traced scenarios' events like any others
+  void add_to(CLI::App& sub);
+  // Takes the traced scenarios out of `inputs` and chains them (warnings on stderr); none with
+  // --no-chains. Throws core::Error(usage) naming a bad flag.
+  std::vector<analysis::FullLoopResult> take(analysis::PipelineInputs& inputs,
+                                             const SelectionFlags& selection, const StatsFlags& stats) const;
 };
 
 // The pipeline's options from the three groups of flags, converted in this order (the first bad flag

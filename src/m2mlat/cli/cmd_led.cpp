@@ -185,7 +185,11 @@ int run_led(const LedCommand& c) {
   progress_done();
   if (writer) {
     writer->flush();
-    store->end_session(session_id, core::realtime_now());
+    // The session's configuration gains the largest half-width of its writes: one bound, conservative
+    // for every write, that survives merge, ingest and the agent API with the session itself.
+    auto config = nlohmann::json::parse(store->session(session_id)->config_json);
+    if (bound.n > 0) config[store::kConfigLedBound] = (bound.max - bound.max / 2).count();
+    store->end_session(session_id, core::realtime_now(), config.dump());
   }
   if (!c.events_path.empty())
     core::write_output_file(c.events_path, [&](std::ostream& out) {

@@ -32,6 +32,7 @@ struct ReportCommand {
   SelectionFlags selection;
   MatchFlags match;
   StatsFlags stats;
+  ChainFlags chains;
   std::vector<std::string> groups;  // NAME=s1,s2
   bool no_groups = false;
   std::vector<std::string> compares;  // SUBJECT:BASELINE
@@ -77,6 +78,7 @@ report::Report build(const ReportCommand& c) {
   const auto pipeline = pipeline_options(c.selection, c.match, c.stats);
   auto inputs = c.inputs.pipeline_inputs();
   r.full_loops = analysis::take_full_loop_files(inputs.inputs, inputs.format, pipeline.summary);
+  for (auto& chains : c.chains.take(inputs, c.selection, c.stats)) r.full_loops.push_back(std::move(chains));
   if (!inputs.inputs.empty() || !inputs.cause_file.empty() || r.full_loops.empty())
     for (auto& res : analysis::analyse_inputs(inputs, pipeline))
       r.scenarios.push_back(report::scenario_report(std::move(res)));
@@ -96,6 +98,7 @@ Runner attach_report(CLI::App& sub) {
   c->selection.add_to(sub);
   c->match.add_to(sub);
   c->stats.add_to(sub);
+  c->chains.add_to(sub);
   auto* g = sub.add_option_group("report");
   g->add_option(
       "--group", c->groups,

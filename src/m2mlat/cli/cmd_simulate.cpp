@@ -2,6 +2,7 @@
 // write each node's events to a file, with the ground truth beside them.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 
@@ -36,8 +37,36 @@ struct SimulateCommand {
   std::string format = "events-csv";
   std::uint32_t pin = 16;
   std::string label = "sim";
+  std::string board = "both";  // the full loop: which board's store this is
   bool list = false;
 };
+
+// The full-loop presets (sim/full_loop.hpp): the run recorded as the boards would record it, into a
+// store per board (--board station|vehicle, the same --seed for both) or both in one.
+int full_loop_into_store(const SimulateCommand& c, sim::FullLoopConfig config) {
+  if (c.store_path.empty() || !c.out_dir.empty() || !c.overrides.empty())
+    throw core::Error(
+        core::ErrorKind::usage,
+        fmt::format("{} is recorded into a store: give --store, and no --out-dir or --set", c.preset));
+  if (c.seed != 0) config.seed = c.seed;
+  if (c.manoeuvres > 0) config.manoeuvres = static_cast<int>(std::min<std::int64_t>(c.manoeuvres, 100'000));
+  sim::check(config);
+  const auto boards = c.board == "station"   ? capture::FullLoopBoards::station
+                      : c.board == "vehicle" ? capture::FullLoopBoards::vehicle
+                                             : capture::FullLoopBoards::both;
+  if (config.single_board)  // refused before a store file is made
+    throw core::Error(
+        core::ErrorKind::usage,
+        fmt::format("{} has no gyroscopes: run it with `demo --scenario {}`", c.preset, c.preset));
+  const auto run = sim::simulate_full_loop(config);
+  auto store = store::Store::open(c.store_path);
+  const auto rec = capture::record_full_loop(store, run, boards, c.label, c.preset);
+  fmt::print(
+      "{}: scenario {} recorded: {} manoeuvres, sessions station {}, vehicle {}, led {} (0: not here)\n",
+      core::printable(c.store_path), core::printable(c.preset), run.manoeuvres.size(), rec.station_session,
+      rec.vehicle_session, rec.led_session);
+  return 0;
+}
 
 // The true pairs: which cause and effect events (0-based index in each node's file) belong together.
 void write_truth(std::ostream& out, const std::vector<sim::TruePair>& pairs) {
@@ -146,6 +175,7 @@ int run_simulate(const SimulateCommand& c) {
   }
   if (c.store_path.empty() && c.out_dir.empty())
     throw core::Error(core::ErrorKind::usage, "say where the run goes: --store FILE and/or --out-dir DIR");
+  if (auto loop = sim::full_loop_preset(c.preset)) return full_loop_into_store(c, *loop);
   auto config = sim::preset(c.preset);
   if (c.seed != 0) config.seed = c.seed;
   if (c.manoeuvres > 0) config.manoeuvres = c.manoeuvres;
@@ -189,6 +219,9 @@ Runner attach_simulate(CLI::App& sub) {
       ->capture_default_str();
   sub.add_option("--pin", c->pin, "GPIO pin number written in kernel-log lines")->capture_default_str();
   sub.add_option("--label", c->label, "Session label in the store")->capture_default_str();
+  sub.add_option("--board", c->board, "full_loop, full_loop_baseline: the board(s) this store records")
+      ->check(CLI::IsMember({"station", "vehicle", "both"}))
+      ->capture_default_str();
   sub.add_flag("--list", c->list, "List the presets and the settable fields");
   return [c] { return run_simulate(*c); };
 }

@@ -57,6 +57,7 @@ struct StatsCommand {
   SelectionFlags selection;
   MatchFlags match;
   StatsFlags stats;
+  ChainFlags chains;
   bool json = false;
   bool detail = false;
 };
@@ -68,13 +69,14 @@ Runner attach_stats(CLI::App& sub) {
   c->selection.add_to(sub);
   c->match.add_to(sub);
   c->stats.add_to(sub);
+  c->chains.add_to(sub);
   sub.add_flag("--json", c->json, "Print m2mlat-stats/1 JSON instead of tables");
   sub.add_flag("--detail", c->detail, "Print every statistic of each scenario");
   return [c] {
     auto inputs = c->inputs;
     // The full-loop rig's files (M2M, G2G, E2E per event) are summarised on their own, as are
     // synchronisation-test files (offsets between two boards).
-    const auto loops =
+    auto loops =
         analysis::take_full_loop_files(inputs.inputs, inputs.pipeline_inputs().format, c->stats.options());
     std::vector<std::pair<std::string, formats::SyncImport>> sync_files;
     std::erase_if(inputs.inputs, [&](const std::string& path) {
@@ -86,10 +88,15 @@ Runner attach_stats(CLI::App& sub) {
       }
       return false;
     });
+    // Stores with gyroscope traces: the full loop's chains, shown with the full-loop files.
+    auto pipeline_inputs = inputs.pipeline_inputs();
+    for (auto& chains : c->chains.take(pipeline_inputs, c->selection, c->stats))
+      loops.push_back(std::move(chains));
     std::vector<analysis::ScenarioResult> results;
-    if (!inputs.inputs.empty() || !inputs.cause_file.empty() || (sync_files.empty() && loops.empty())) {
+    if (!pipeline_inputs.inputs.empty() || !pipeline_inputs.cause_file.empty() ||
+        (sync_files.empty() && loops.empty())) {
       const auto pipeline = pipeline_options(c->selection, c->match, c->stats);
-      results = analysis::analyse_inputs(inputs.pipeline_inputs(), pipeline);
+      results = analysis::analyse_inputs(pipeline_inputs, pipeline);
     }
     if (c->json) {
       auto doc = report::stats_document(results);

@@ -3,7 +3,10 @@
 
 #include <unistd.h>
 
+#include "m2mlat/cli/duration_flag.hpp"
+#include "m2mlat/core/error.hpp"
 #include "m2mlat/net/auth.hpp"
+#include "m2mlat/onset/detectors.hpp"
 
 namespace m2mlat::cli {
 
@@ -16,8 +19,13 @@ void LiveFlags::add_to(CLI::App& sub, bool with_token_file) {
   group->add_flag("--no-live", no_live, "Do not draw the live block on the terminal");
   group->add_option("--live-scenario", live_scenario,
                     "Pair this scenario live (default: the newest session's)");
+  group
+      ->add_option("--loop-window", loop_window,
+                   "Full loop: chain the gyroscope traces' last window on each refresh (cost bounded by it)")
+      ->capture_default_str();
   selection.add_to(sub);
   match.add_to(sub);
+  chains.add_to(sub);
 }
 
 std::string token_flag_or_env(const std::string& token_file) {
@@ -34,6 +42,15 @@ collect::LiveViewOptions LiveFlags::options(const std::string& store_path, const
   o.pairing.match = match.options();
   o.pairing.include_ambiguous = match.include_ambiguous;
   o.pairing.scenario = live_scenario;
+  o.pairing.chains = !chains.no_chains;
+  static_cast<void>(onset::detector(chains.detector));  // an unknown name is a usage error now
+  o.pairing.detector = chains.detector;
+  o.pairing.led_channel = chains.led_channel;
+  o.pairing.photo_channel = chains.photo_channel;
+  o.pairing.default_led_bound = duration_flag("--led-bound", chains.led_bound);
+  o.pairing.loop_window = duration_flag("--loop-window", loop_window);
+  if (o.pairing.loop_window.count() <= 0 || o.pairing.default_led_bound.count() < 0)
+    throw core::Error(core::ErrorKind::usage, "--loop-window must be positive, --led-bound not negative");
   if (!dashboard.empty()) {
     collect::DashboardOptions d;
     collect::parse_listen_address(dashboard, d);

@@ -18,6 +18,8 @@ struct LiveFlags {
   std::string live_scenario;  // pair this scenario (default: the newest session's)
   SelectionFlags selection;
   MatchFlags match;
+  ChainFlags chains;                 // a scenario with gyroscope traces: the full loop's chains
+  std::string loop_window = "1min";  // ... over the traces' last window
   // `with_token_file`: false where the subcommand already has --token-file (collect: the agents' and
   // the dashboard's token are then the same).
   void add_to(CLI::App& sub, bool with_token_file = true);

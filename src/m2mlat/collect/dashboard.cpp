@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <httplib.h>
 
+#include <array>
 #include <cmath>
 #include <iterator>
 
@@ -26,9 +27,28 @@ nlohmann::json sample_json(const LiveSample& s) {
   return {{"t_ns", s.cause_ns}, {"latency_ns", s.latency_ns}, {"ambiguous", s.ambiguous}};
 }
 
+// The full loop's figures over the window, or null for a scenario without gyroscope traces.
+nlohmann::json loop_json(const std::optional<LiveLoop>& loop) {
+  if (!loop) return nullptr;
+  nlohmann::json j{{"detector", loop->detector}, {"window_ns", loop->window_ns}, {"chains", loop->chains}};
+  constexpr std::array kKeys{"m2m", "g2g", "e2e"};
+  for (std::size_t q = 0; q < kKeys.size(); ++q) {
+    const auto& x = loop->quantities[q];
+    j[kKeys[q]] = {{"n", x.n},
+                   {"median_ms", ms_or_null(x.median_ms)},
+                   {"p95_ms", ms_or_null(x.p95_ms)},
+                   {"last_ns", x.last_ns ? nlohmann::json(*x.last_ns) : nlohmann::json(nullptr)}};
+  }
+  auto& incomplete = j["incomplete_chains"] = nlohmann::json::object();
+  for (const auto& [key, count] : loop->incomplete) incomplete[key] = count;
+  j["warnings"] = loop->warnings;
+  return j;
+}
+
 nlohmann::json summary_json(const LiveSummary& s) {
   const auto& st = s.summary;
-  return {{"state", to_string(s.state)},
+  return {{"full_loop", loop_json(s.loop)},
+          {"state", to_string(s.state)},
           {"message", s.message},
           {"scenario", s.scenario},
           {"cause", s.cause_ref.node.empty() ? "" : core::to_string(s.cause_ref)},

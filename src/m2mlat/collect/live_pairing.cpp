@@ -7,9 +7,11 @@
 #include <array>
 #include <chrono>
 #include <filesystem>
+#include <limits>
 
 #include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/analysis/scenario_result.hpp"
+#include "m2mlat/analysis/store_chains.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/store/store.hpp"
 
@@ -25,6 +27,12 @@ std::string_view to_string(LiveState state) {
 }
 
 namespace {
+
+constexpr std::int64_t kMinNs = std::numeric_limits<std::int64_t>::min();
+// From the live window's start until its chains are whole: longer than a motion (1.2 s in the twin's
+// fastest-to-slowest range) plus the reference detector's re-arming (10,000 still samples, 1.25 s
+// at 8 kHz), ns.
+constexpr std::int64_t kLoopSettle = 3'000'000'000;
 
 // floor(a / b) for b > 0, also for negative a (latencies may be negative with min_latency < 0).
 std::int64_t floor_div(std::int64_t a, std::int64_t b) {
@@ -94,7 +102,10 @@ const LiveSummary& LivePairing::update() {
     }
     const auto last_seq = opened_->store.last_seq();
     const auto sessions = opened_->store.sessions().size();
-    const std::pair now{last_seq, sessions};
+    std::int64_t rate_samples = 0;  // gyroscope blocks come without events: counted apart
+    if (options_.chains)
+      for (const auto& c : opened_->store.rate_channels()) rate_samples += c.samples;
+    const std::tuple now{last_seq, sessions, rate_samples};
     if (seen_ && *seen_ == now) return summary_;
     seen_ = now;
     repair();
@@ -115,7 +126,7 @@ void LivePairing::repair() {
   const auto started = std::chrono::steady_clock::now();
   const auto& store = opened_->store;
   LiveSummary s;
-  s.store_last_seq = seen_->first;
+  s.store_last_seq = std::get<0>(*seen_);
   s.pairings = summary_.pairings + 1;
   s.scenario = options_.scenario;
   if (s.scenario.empty()) {
@@ -126,6 +137,14 @@ void LivePairing::repair() {
       return;
     }
     s.scenario = sessions.back().scenario;  // in id order: the newest session's
+  }
+  if (options_.chains && analysis::has_rate_traces(store, s.scenario)) {
+    chain(s);
+    s.update_cost_ns =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - started)
+            .count();
+    summary_ = std::move(s);
+    return;
   }
   analysis::ScenarioResult r;
   try {
@@ -170,6 +189,71 @@ void LivePairing::repair() {
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - started)
           .count();
   summary_ = std::move(s);
+}
+
+void LivePairing::chain(LiveSummary& s) {
+  analysis::ChainSelection selection;
+  selection.station = options_.selection.cause;
+  selection.vehicle = options_.selection.effect;
+  selection.photo_edge = options_.selection.edge;
+  selection.led_channel = options_.led_channel;
+  selection.photo_channel = options_.photo_channel;
+  selection.default_led_bound = options_.default_led_bound;
+  selection.window = options_.loop_window;
+  analysis::StoreChainInput input;
+  try {
+    input = analysis::chain_input(opened_->store, s.scenario, selection);
+  } catch (const core::Error& e) {
+    // Until both boards have sent a trace, one is missing: waiting, not an error.
+    const std::string what = e.what();
+    s.state = what.find("has no ") != std::string::npos ? LiveState::waiting : LiveState::error;
+    s.message = what;
+    return;
+  }
+  analysis::ChainOptions options;
+  options.detector = options_.detector;
+  stats::SummaryOptions summary = options_.summary;
+  summary.thresholds.clear();
+  const auto r = analysis::build_chains(input.input, options, summary, s.scenario);
+  // A chain whose first link lies within kLoopSettle of the window's start may have lost a link (or
+  // its onset) to the cut: a motion under way there, or a detector not yet re-armed. It is left out.
+  const auto settled = input.window_start_ns ? *input.window_start_ns + kLoopSettle : kMinNs;
+  std::vector<const analysis::Chain*> kept;
+  for (const auto& c : r.chains) {
+    std::int64_t first = std::numeric_limits<std::int64_t>::max();
+    for (const auto& t : {c.station_onset_ns, c.vehicle_onset_ns, c.led_ns, c.photo_ns})
+      if (t) first = std::min(first, *t);
+    if (first >= settled) kept.push_back(&c);
+  }
+  s.state = LiveState::ok;
+  s.cause_ref = {input.station_node, input.station_channel};
+  s.effect_ref = {input.vehicle_node, input.vehicle_channel};
+  s.clock = input.input.station_trace.clock;
+  LiveLoop loop;
+  loop.detector = r.detector;
+  loop.window_ns = options_.loop_window.count();
+  loop.chains = kept.size();
+  std::array<std::size_t, analysis::kChainGaps> gaps{};
+  for (const auto* c : kept)
+    if (c->gap) ++gaps[static_cast<std::size_t>(*c->gap)];
+  for (std::size_t k = 0; k < gaps.size(); ++k)
+    loop.incomplete.emplace_back(std::string(analysis::key(static_cast<analysis::ChainGap>(k))), gaps[k]);
+  loop.warnings = std::move(input.warnings);
+  for (std::size_t q = 0; q < loop.quantities.size(); ++q) {
+    std::vector<std::int64_t> values, ids;
+    for (std::size_t i = 0; i < kept.size(); ++i)
+      if (const auto& v = kept[i]->values[q].ns) {
+        values.push_back(*v);
+        ids.push_back(static_cast<std::int64_t>(i + 1));
+      }
+    const auto st = stats::summarize(values, ids, summary);
+    auto& out = loop.quantities[q];
+    out.n = st.n;
+    out.median_ms = st.median_ms;
+    out.p95_ms = st.p95_ms;
+    if (!values.empty()) out.last_ns = values.back();  // the chains are in time order
+  }
+  s.loop = std::move(loop);
 }
 
 }  // namespace m2mlat::collect

@@ -12,13 +12,17 @@
 // (a Store is per thread). The store may not exist yet when it is made: update() then says so.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
+#include "m2mlat/analysis/chains.hpp"
 #include "m2mlat/analysis/selection.hpp"
 #include "m2mlat/pairing/matcher.hpp"
 #include "m2mlat/stats/summary.hpp"
@@ -33,6 +37,31 @@ struct LiveOptions {
   std::string scenario;                 // empty: the scenario of the store's newest session
   std::size_t recent_samples = 300;     // samples kept for the strip chart (the newest)
   std::size_t max_histogram_bins = 40;  // the bin width is the smallest 1/2/5 x 10^k ns that fits
+  // A scenario with gyroscope traces is the full loop: its chains (analysis/store_chains.hpp, the
+  // selection's cause/effect as station/vehicle, its edge for the photo edges) over the last
+  // `loop_window` of the traces, recomputed whole each update: the cost per update is bounded by the
+  // window (at 8 kHz, 1 min is ~0.5M samples per board), not by the campaign's length.
+  bool chains = true;
+  std::string detector = "flank";
+  std::string led_channel = "led", photo_channel = "photo";
+  core::Duration default_led_bound{100'000};  // an LED write's half-width where its session has none, ns
+  core::Duration loop_window{60'000'000'000};
+};
+
+// One quantity of the full loop over the window: count, median, P95 and the newest chain's value.
+struct LiveLoopQuantity {
+  std::size_t n = 0;
+  double median_ms = 0, p95_ms = 0;  // NaN for n = 0
+  std::optional<std::int64_t> last_ns;
+};
+// The full loop's live figures: M2M, G2G, E2E (by analysis::LoopQuantity m2m, g2g, e2e).
+struct LiveLoop {
+  std::string detector;
+  std::int64_t window_ns = 0;
+  std::size_t chains = 0;  // complete or not
+  std::array<LiveLoopQuantity, 3> quantities;
+  std::vector<std::pair<std::string, std::size_t>> incomplete;  // by gap key (chains.hpp)
+  std::vector<std::string> warnings;                            // e.g. no LED writes yet
 };
 
 // One latency sample for the strip chart.
@@ -75,6 +104,7 @@ struct LiveSummary {
   std::optional<LiveSample> last;       // the newest pair (by cause time), ambiguous or not
   std::vector<LiveSample> recent;       // the newest pairs, oldest first, at most recent_samples
   std::vector<HistogramBin> histogram;  // of the statistics' latencies, contiguous bins
+  std::optional<LiveLoop> loop;         // set for a scenario with gyroscope traces (then no pairs)
   std::int64_t store_last_seq = 0;      // the store's last seq when this was computed
   std::int64_t update_cost_ns = 0;      // wall time of the last re-pairing, ns (0 if none ran)
   std::uint64_t pairings = 0;           // re-pairings run so far
@@ -100,11 +130,13 @@ class LivePairing {
  private:
   struct Opened;
   void repair();
+  void chain(LiveSummary& s);
   std::string store_path_;
   LiveOptions options_;
   std::unique_ptr<Opened> opened_;
   LiveSummary summary_;
-  std::optional<std::pair<std::int64_t, std::size_t>> seen_;  // last seq and session count paired
+  // Last seq, session count and raw rate samples (all channels) when last paired.
+  std::optional<std::tuple<std::int64_t, std::size_t, std::int64_t>> seen_;
 };
 
 }  // namespace m2mlat::collect

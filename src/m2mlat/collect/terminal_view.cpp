@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
 
 #include "m2mlat/core/printable.hpp"
@@ -29,7 +30,25 @@ std::string contact_age(std::int64_t last_contact_ns, std::int64_t now_ns) {
 std::vector<std::string> render_block(const LiveSummary& s, const std::vector<NodeHealth>& nodes,
                                       std::int64_t now_ns) {
   std::vector<std::string> lines;
-  if (s.state == LiveState::ok) {
+  if (s.state == LiveState::ok && s.loop) {
+    // The full loop: M2M, G2G and E2E side by side over the window.
+    const auto& loop = *s.loop;
+    lines.push_back(fmt::format("{}: full loop {} -> {} ({} chains over the last {:.0f} s, {} onsets)",
+                                s.scenario, core::to_string(s.cause_ref), core::to_string(s.effect_ref),
+                                loop.chains, static_cast<double>(loop.window_ns) / 1e9, loop.detector));
+    constexpr std::array kNames{"M2M", "G2G", "E2E"};
+    std::string row;
+    for (std::size_t q = 0; q < kNames.size(); ++q) {
+      const auto& x = loop.quantities[q];
+      row += fmt::format("{}{} n {}  median {}  P95 {}  last {}", q == 0 ? "" : "  |  ", kNames[q], x.n,
+                         ms(x.median_ms), ms(x.p95_ms), x.last_ns ? ns_as_ms(*x.last_ns, 1) : "-");
+    }
+    lines.push_back(std::move(row));
+    std::string gaps;
+    for (const auto& [key, count] : loop.incomplete)
+      if (count > 0) gaps += fmt::format("{}{} {}", gaps.empty() ? "" : ", ", key, count);
+    lines.push_back("incomplete chains: " + (gaps.empty() ? std::string("none") : gaps));
+  } else if (s.state == LiveState::ok) {
     lines.push_back(
         fmt::format("{}: {} -> {}", s.scenario, core::to_string(s.cause_ref), core::to_string(s.effect_ref)));
     const auto& st = s.summary;

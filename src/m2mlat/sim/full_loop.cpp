@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/sim/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
@@ -136,6 +137,16 @@ std::optional<FullLoopConfig> full_loop_preset(std::string_view name) {
     return c;
   }
   return std::nullopt;
+}
+
+std::vector<FullLoopClockSample> board_clock_samples(const FullLoopRun& run, bool station) {
+  const std::int64_t bound = run.config.sync_max_ns;
+  const auto u = static_cast<std::int64_t>(std::llround(static_cast<double>(bound) / std::sqrt(3.0)));
+  const std::int64_t offset = station ? run.station_offset_ns : run.vehicle_offset_ns;
+  std::vector<FullLoopClockSample> out;
+  for (std::int64_t t = 0; t <= run.end_ns + 1'000'000'000; t += 1'000'000'000)
+    out.push_back({t + offset, bound, u});
+  return out;
 }
 
 }  // namespace m2mlat::sim

@@ -92,6 +92,16 @@ struct FullLoopRun {
 
 FullLoopRun simulate_full_loop(const FullLoopConfig& config);
 
+// What one board's clock daemon reports over the run: a sample a second from true time 0 to one
+// second past the end, on the board's clock, each bounding its offset by sync_max_ns (est_error =
+// sync_max / sqrt 3, the standard uncertainty of a uniform offset within the bound).
+struct FullLoopClockSample {
+  std::int64_t time_ns = 0;       // on the board's clock, ns
+  std::int64_t max_error_ns = 0;  // ns
+  std::int64_t est_error_ns = 0;  // ns
+};
+std::vector<FullLoopClockSample> board_clock_samples(const FullLoopRun& run, bool station);
+
 // The demo's full-loop scenarios: "full_loop" (the defaults), "full_loop_baseline" (baseline) and
 // "full_loop_single_board" (single_board); nullopt for any other name.
 std::optional<FullLoopConfig> full_loop_preset(std::string_view name);

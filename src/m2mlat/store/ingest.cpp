@@ -111,10 +111,13 @@ IngestCursor Store::ingest(const IngestBatch& batch) {
                                                         "but it was '{}' before",
                                                         origin, session.id, session.node, known->first.node));
       if (session.end && !known->second) {
-        sqlite::Statement update(s.db, "UPDATE sessions SET end_clock = ?2, end_ns = ?3 WHERE id = ?1");
+        // The end, and the configuration the session ended with (Store::end_session).
+        sqlite::Statement update(
+            s.db, "UPDATE sessions SET end_clock = ?2, end_ns = ?3, config_json = ?4 WHERE id = ?1");
         update.bind(1, known->first.id);
         update.bind(2, static_cast<std::int64_t>(session.end->clock()));
         update.bind(3, session.end->ns());
+        update.bind(4, session.config_json);
         update.step();
       }
       sessions[session.id] = known->first;

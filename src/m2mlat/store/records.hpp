@@ -47,6 +47,12 @@ struct Session {
   friend bool operator==(const Session&, const Session&) = default;
 };
 
+// The configuration key (an integer, ns) of the largest half-width of an LED session's writes: each
+// LED event's time is the middle of the clock readings before and after its write, so the switch lies
+// within +-this of it. `m2mlat led` sets it when the session ends (Store::end_session); the chains'
+// glass-to-glass uncertainty uses it for every write of the session (analysis/store_chains.hpp).
+inline constexpr const char* kConfigLedBound = "led_bound_ns";
+
 // An event as stored: its store-wide sequence number (increasing, never reused) and its session.
 // event.node is the session's node.
 struct StoredEvent {

@@ -242,7 +242,7 @@ std::int64_t Store::begin_session(const Session& session) {
   return impl_->db.last_insert_rowid();
 }
 
-void Store::end_session(std::int64_t id, core::TimePoint end) {
+void Store::end_session(std::int64_t id, core::TimePoint end, const std::optional<std::string>& config_json) {
   impl_->require_writable();
   sqlite::Transaction transaction(impl_->db);
   const auto current = session(id);
@@ -251,11 +251,14 @@ void Store::end_session(std::int64_t id, core::TimePoint end) {
   if (current->end) core::throw_data_error({path(), 0}, fmt::format("{}: already ended", what));
   Session ended = *current;
   ended.end = end;
-  validate::session(path(), ended);  // same clock as start, not before it
-  sqlite::Statement update(impl_->db, "UPDATE sessions SET end_clock = ?2, end_ns = ?3 WHERE id = ?1");
+  if (config_json) ended.config_json = *config_json;
+  validate::session(path(), ended);  // same clock as start, not before it; the configuration is JSON
+  sqlite::Statement update(impl_->db,
+                           "UPDATE sessions SET end_clock = ?2, end_ns = ?3, config_json = ?4 WHERE id = ?1");
   update.bind(1, id);
   update.bind(2, static_cast<std::int64_t>(end.clock()));
   update.bind(3, end.ns());
+  update.bind(4, ended.config_json);
   update.step();
   transaction.commit();
 }
@@ -531,11 +534,22 @@ std::vector<RateChannel> Store::rate_channels() const {
 }
 
 core::RateTrace Store::rate_trace(std::int64_t session_id, const std::string& channel) const {
-  sqlite::Statement query(impl_->db, fmt::format("SELECT {} FROM rate_blocks WHERE session_id = ?1 AND "
-                                                 "channel = ?2 ORDER BY first_ns, first_index, id",
-                                                 rows::kRateBlockColumns));
+  return rate_trace_tail(session_id, channel, std::numeric_limits<std::int64_t>::max());
+}
+
+core::RateTrace Store::rate_trace_tail(std::int64_t session_id, const std::string& channel,
+                                       std::int64_t tail_ns) const {
+  // The newest stamp less tail_ns, saturated (the whole trace for a tail beyond its start).
+  sqlite::Statement query(
+      impl_->db,
+      fmt::format("SELECT {} FROM rate_blocks WHERE session_id = ?1 AND channel = ?2 AND last_ns >= "
+                  "(SELECT CASE WHEN MAX(last_ns) < -9223372036854775807 + ?3 THEN "
+                  "-9223372036854775807 - 1 ELSE MAX(last_ns) - ?3 END FROM rate_blocks WHERE "
+                  "session_id = ?1 AND channel = ?2) ORDER BY first_ns, first_index, id",
+                  rows::kRateBlockColumns));
   query.bind(1, session_id);
   query.bind(2, channel);
+  query.bind(3, std::max<std::int64_t>(tail_ns, 0));
   core::RateTrace trace;
   std::optional<std::int64_t> first_id;
   while (query.step()) {

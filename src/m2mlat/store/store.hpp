@@ -47,9 +47,12 @@ class Store {
   std::string store_id() const;
 
   // Sessions. begin_session ignores session.id and fills an empty software_version with this
-  // build's; it returns the new id. end_session refuses an unknown or already ended session.
+  // build's; it returns the new id. end_session refuses an unknown or already ended session; with
+  // `config_json` (valid JSON) it also replaces the session's configuration in the same transaction:
+  // what a recorder learnt while running (`m2mlat led`: the largest write bound). ingest() carries
+  // that configuration with the end.
   std::int64_t begin_session(const Session& session);
-  void end_session(std::int64_t id, core::TimePoint end);
+  void end_session(std::int64_t id, core::TimePoint end, const std::optional<std::string>& config_json = {});
   // Sessions of `node` still open when a recorder starts were cut (kill -9, power loss): each is
   // ended at the latest time it holds (its last committed event or clock sample on its start's
   // clock; its start if none) and gets a loss of kind "restart" (channel empty, detected_at = now,
@@ -96,6 +99,10 @@ class Store {
   // if there is none; data if its blocks disagree on the clock or the scale, or a BLOB is damaged
   // (naming the table and row).
   core::RateTrace rate_trace(std::int64_t session_id, const std::string& channel) const;
+  // Only the trace's last `tail_ns`: the blocks that end within tail_ns of its newest stamp (so a
+  // little more, at most one block). What a live view reads each refresh, whatever the trace's length.
+  core::RateTrace rate_trace_tail(std::int64_t session_id, const std::string& channel,
+                                  std::int64_t tail_ns) const;
   // Up to `limit` blocks with id > after_id, in id order (the resume-by-id read of merge).
   std::vector<StoredRateBlock> rate_blocks_after(std::int64_t after_id, std::size_t limit) const;
 

@@ -107,6 +107,32 @@ TEST(Ingest, ResumesAfterTheCursorAndLearnsSessionEnds) {
   EXPECT_EQ(campaign.sessions().at(0).end, rt(1'700'000'000'300'000'000));
 }
 
+// A session may end with its configuration completed (`m2mlat led`: its writes' largest bound);
+// the campaign store learns that configuration with the end; a bad one is refused and changes nothing.
+TEST(Ingest, LearnsTheConfigurationASessionEndedWith) {
+  TempDir dir;
+  auto origin = Store::open(dir.file("vehicle.db"));
+  auto campaign = Store::open(dir.file("campaign.db"));
+  auto info = make_session("vehicle");
+  info.config_json = R"({"source":"led"})";
+  const auto s = origin.begin_session(info);
+  origin.append_events(s, std::vector{make_event("vehicle", "led", 1'700'000'000'100'000'000, 0)});
+  IngestBatch first{origin.store_id(), origin.sessions(), origin.events_after(0, 10), {}, {}, {}};
+  campaign.ingest(first);
+  EXPECT_EQ(campaign.sessions().at(0).config_json, R"({"source":"led"})");
+
+  EXPECT_THROW(origin.end_session(s, rt(1'700'000'000'300'000'000), std::string("{not json")), core::Error);
+  EXPECT_FALSE(origin.session(s)->end);
+  origin.end_session(s, rt(1'700'000'000'300'000'000),
+                     std::string(R"({"led_bound_ns":1500,"source":"led"})"));
+  EXPECT_EQ(origin.session(s)->config_json, R"({"led_bound_ns":1500,"source":"led"})");
+  IngestBatch second{origin.store_id(), origin.sessions(), {}, {}, {}, {}};
+  campaign.ingest(second);
+  const auto local = campaign.sessions().at(0);
+  EXPECT_EQ(local.end, rt(1'700'000'000'300'000'000));
+  EXPECT_EQ(local.config_json, R"({"led_bound_ns":1500,"source":"led"})");
+}
+
 TEST(Ingest, RefusesBadBatchesWhole) {
   TempDir dir;
   auto origin = Store::open(dir.file("vehicle.db"));
