@@ -9,6 +9,7 @@
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/onset/hinge_fit.hpp"
+#include "m2mlat/onset/option_check.hpp"
 #include "m2mlat/onset/uncertainty.hpp"
 
 namespace m2mlat::onset {
@@ -18,20 +19,11 @@ namespace {
 using Vec3 = std::array<double, 3>;
 
 void check_options(const FlankOptions& o) {
-  auto bad = [](const char* field, double value) {
-    throw core::Error(core::ErrorKind::usage,
-                      fmt::format("flank detector: {} = {} is out of range", field, value));
-  };
-  if (o.learn_ns <= 0) bad("learn_ns", static_cast<double>(o.learn_ns));
-  if (!(o.max_rest_sd_deg_s > 0)) bad("max_rest_sd_deg_s", o.max_rest_sd_deg_s);
-  if (!(o.max_bias_deg_s >= 0)) bad("max_bias_deg_s", o.max_bias_deg_s);
-  if (!(o.rest_alpha > 0 && o.rest_alpha <= 1)) bad("rest_alpha", o.rest_alpha);
-  if (!(o.smooth_alpha > 0 && o.smooth_alpha <= 1)) bad("smooth_alpha", o.smooth_alpha);
-  if (!(o.k > 0)) bad("k", o.k);
-  if (o.quiet_ns <= 0) bad("quiet_ns", static_cast<double>(o.quiet_ns));
-  if (!(o.min_peak_deg_s >= 0)) bad("min_peak_deg_s", o.min_peak_deg_s);
-  if (!(o.fit_fraction > 0 && o.fit_fraction < 1)) bad("fit_fraction", o.fit_fraction);
-  if (o.lookback_ns < 0) bad("lookback_ns", static_cast<double>(o.lookback_ns));
+  constexpr std::string_view kWho = "flank detector";
+  check_rest_options(kWho, o);
+  if (!(o.min_peak_deg_s >= 0)) option_out_of_range(kWho, "min_peak_deg_s", o.min_peak_deg_s);
+  if (!(o.fit_fraction > 0 && o.fit_fraction < 1)) option_out_of_range(kWho, "fit_fraction", o.fit_fraction);
+  if (o.lookback_ns < 0) option_out_of_range(kWho, "lookback_ns", static_cast<double>(o.lookback_ns));
 }
 
 class FlankPass {

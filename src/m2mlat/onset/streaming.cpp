@@ -7,24 +7,17 @@
 #include <cmath>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/onset/option_check.hpp"
 
 namespace m2mlat::onset {
 
 StreamingDetector::StreamingDetector(double counts_per_deg_s, StreamingOptions options)
     : o_(options), scale_(1.0 / counts_per_deg_s) {
-  const auto bad = [](const char* field, double value) {
-    throw core::Error(core::ErrorKind::usage,
-                      fmt::format("streaming detector: {} = {} is out of range", field, value));
-  };
-  if (!(counts_per_deg_s > 0) || !std::isfinite(counts_per_deg_s)) bad("counts_per_deg_s", counts_per_deg_s);
-  if (o_.learn_ns <= 0) bad("learn_ns", static_cast<double>(o_.learn_ns));
-  if (!(o_.max_rest_sd_deg_s > 0)) bad("max_rest_sd_deg_s", o_.max_rest_sd_deg_s);
-  if (!(o_.max_bias_deg_s >= 0)) bad("max_bias_deg_s", o_.max_bias_deg_s);
-  if (!(o_.rest_alpha > 0 && o_.rest_alpha <= 1)) bad("rest_alpha", o_.rest_alpha);
-  if (!(o_.smooth_alpha > 0 && o_.smooth_alpha <= 1)) bad("smooth_alpha", o_.smooth_alpha);
-  if (!(o_.k > 0)) bad("k", o_.k);
-  if (!(o_.min_threshold_deg_s >= 0)) bad("min_threshold_deg_s", o_.min_threshold_deg_s);
-  if (o_.quiet_ns <= 0) bad("quiet_ns", static_cast<double>(o_.quiet_ns));
+  constexpr std::string_view kWho = "streaming detector";
+  if (!(counts_per_deg_s > 0) || !std::isfinite(counts_per_deg_s))
+    option_out_of_range(kWho, "counts_per_deg_s", counts_per_deg_s);
+  check_rest_options(kWho, o_);
+  if (!(o_.min_threshold_deg_s >= 0)) option_out_of_range(kWho, "min_threshold_deg_s", o_.min_threshold_deg_s);
 }
 
 double StreamingDetector::threshold_deg_s() const {

@@ -67,7 +67,10 @@ TEST(GyroTrigger, AFlashAtTheRotationsOnsetAndNoneAtRest) {
   EXPECT_EQ(r.flashes, 1u);
   EXPECT_EQ(trigger.onsets(), 1u);
   EXPECT_GT(r.first_flash_ns, began);
-  EXPECT_LT(r.first_flash_ns - began, 20 * ms);  // a few read periods of 0.5 ms, and the wake-ups
+  // A few read periods of 0.5 ms and the wake-ups: about 2 ms on a quiet machine. The bound leaves
+  // room for a loaded one (a 2-core machine running two builds beside the tests delayed the sampling
+  // thread past 20 ms); the detector's own delay is measured on the twin's traces (streaming_test.cpp).
+  EXPECT_LT(r.first_flash_ns - began, 100 * ms);
   EXPECT_FALSE(r.ended);
 }
 
