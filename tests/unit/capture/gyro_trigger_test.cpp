@@ -60,7 +60,7 @@ TEST(GyroTrigger, AFlashAtTheRotationsOnsetAndNoneAtRest) {
   const std::int64_t ms = 1'000'000;
   auto r = run_trigger_until(trigger, core::monotonic_now().count() + 300 * ms);  // learning, then rest
   EXPECT_EQ(r.flashes, 0u);
-  EXPECT_GT(trigger.samples(), 300u);
+  EXPECT_GT(trigger.samples(), 100u);  // 600 in 300 ms at 0.5 ms on a quiet machine, fewer on a loaded one
   const std::int64_t began = core::realtime_now().ns();
   rate = 30 * 131;  // 30 deg/s about x
   r = run_trigger_until(trigger, core::monotonic_now().count() + 200 * ms);
