@@ -28,6 +28,7 @@ Runner attach_schedtest(CLI::App& sub);
 Runner attach_synctest(CLI::App& sub);
 Runner attach_onsettest(CLI::App& sub);
 Runner attach_budget(CLI::App& sub);
+Runner attach_archive(CLI::App& sub);
 
 namespace {
 constexpr std::array kCommands{
@@ -53,6 +54,7 @@ constexpr std::array kCommands{
     Command{"budget", "The error budget of a latency sample: sync, kernel, circuit and calibration terms", &attach_budget},
     Command{"agent", "Record one node and serve its events over the agent HTTP API (docs/api.md)", &attach_agent},
     Command{"report", "Statistics, comparisons and figures (text, Markdown, CSV, JSON, HTML, pgfplots)", &attach_report},
+    Command{"archive", "The lab's archive in PostgreSQL: push campaign stores, list campaigns (stats/report read it)", &attach_archive},
     Command{"help", "List the subcommands with a line on each", &attach_help},
 };
 }  // namespace
