@@ -23,6 +23,30 @@ struct ResultDeleter {
 };
 using Result = std::unique_ptr<PGresult, ResultDeleter>;
 
+// The password a connection string holds, found by its text alone (so also in one libpq cannot
+// parse): a URL's "user:password@", or a "password=" keyword or query parameter. Empty if none.
+std::string password_in(const std::string& conninfo) {
+  if (const auto scheme = conninfo.find("://"); scheme != std::string::npos) {
+    const auto authority = conninfo.substr(scheme + 3, conninfo.find_first_of("/?", scheme + 3) - (scheme + 3));
+    const auto at = authority.rfind('@');
+    if (at != std::string::npos && authority.find(':') < at) return authority.substr(authority.find(':') + 1, at - authority.find(':') - 1);
+  }
+  if (const auto key = conninfo.find("password="); key != std::string::npos) {
+    const auto start = key + 9;
+    return conninfo.substr(start, conninfo.find_first_of("& \t", start) - start);
+  }
+  return {};
+}
+
+// A message of libpq about `conninfo` (which it may quote) with the password replaced by "***".
+std::string scrubbed(std::string message, const std::string& conninfo) {
+  const auto password = password_in(conninfo);
+  if (password.empty()) return message;
+  for (auto at = message.find(password); at != std::string::npos; at = message.find(password, at + 3))
+    message.replace(at, password.size(), "***");
+  return message;
+}
+
 }  // namespace
 
 bool is_archive_url(const std::string& text) {
@@ -49,9 +73,9 @@ std::string describe(const std::string& conninfo) {
   char* error = nullptr;
   PQconninfoOption* options = PQconninfoParse(conninfo.c_str(), &error);
   if (options == nullptr) {
-    const auto what = trimmed_message(error);
+    // libpq's message may quote the whole string: never its password.
+    const auto what = scrubbed(trimmed_message(error), conninfo);
     PQfreemem(error);
-    // libpq's message quotes no password; the string itself is not repeated here.
     throw core::Error(core::ErrorKind::usage, fmt::format("archive connection string: {}", what));
   }
   std::string user, host, port, dbname;
@@ -105,7 +129,8 @@ Connection Connection::open(const std::string& conninfo) {
   impl->name = describe(conninfo);
   impl->conn = PQconnectdb(conninfo.c_str());
   if (impl->conn == nullptr) throw core::Error(core::ErrorKind::io, fmt::format("archive {}: out of memory", impl->name));
-  if (PQstatus(impl->conn) != CONNECTION_OK) impl->fail("cannot connect", PQerrorMessage(impl->conn));
+  if (PQstatus(impl->conn) != CONNECTION_OK)
+    impl->fail("cannot connect", scrubbed(trimmed_message(PQerrorMessage(impl->conn)), conninfo).c_str());
   // Notices (e.g. "relation already exists, skipping") are not the user's business.
   PQsetNoticeProcessor(impl->conn, [](void*, const char*) {}, nullptr);
   return Connection(std::move(impl));

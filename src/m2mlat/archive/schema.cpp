@@ -51,7 +51,7 @@ CREATE TABLE m2mlat.events (
   t_ns        bigint NOT NULL,              -- the kernel's timestamp, ns on `clock`
   seqno       bigint NOT NULL,              -- the kernel's event numbers (uint64 stored as its int64 bits)
   line_seqno  bigint NOT NULL,
-  flags       integer NOT NULL,
+  flags       bigint NOT NULL,              -- core::EventFlag bits (uint32)
   PRIMARY KEY (campaign_id, seq),
   FOREIGN KEY (campaign_id, session_id) REFERENCES m2mlat.sessions (campaign_id, session_id) ON DELETE CASCADE
 );
