@@ -132,6 +132,21 @@ expect_exit 2 "$M2MLAT" archive list "postgresql://[bad"
 expect_exit 2 "$M2MLAT" archive list "$URL" --since 2026-13-01
 grep -q -- "--since" err.txt || fail "the date error does not name the flag: $(cat err.txt)"
 
+# The fleet dashboard's SQL (docs/grafana/fleet.json) runs on this archive, Grafana's macros and the
+# rig variable replaced as Grafana does: every query of the dashboard matches the schema.
+"$PY" - "$DATA/../../docs/grafana/fleet.json" >queries.sql <<'PY'
+import json, sys
+dash = json.load(open(sys.argv[1]))
+for p in dash["panels"]:
+    for t in p.get("targets", []):
+        if "rawSql" in t:
+            q = t["rawSql"].replace("$__unixEpochFrom()", "0").replace("$__unixEpochTo()", "4102444800")
+            print(q.replace("$rig", "'rig-a','rig-b'") + ";")
+PY
+[ "$(grep -c ';$' queries.sql)" -ge 4 ] || fail "the dashboard has no SQL panels"
+psql "$URL" -XAtq -v ON_ERROR_STOP=1 -f queries.sql >dashboard_rows.txt || fail "a query of docs/grafana/fleet.json failed"
+grep -q "^a|rig-a|study1|" dashboard_rows.txt || fail "the dashboard's campaigns table lacks campaign a"
+
 # Bad stores change nothing.
 before=$(sql "SELECT count(*) FROM m2mlat.events")
 echo "not a store" >junk.db
