@@ -15,8 +15,6 @@ namespace m2mlat::archive {
 
 namespace {
 
-using Params = std::vector<std::optional<std::string>>;
-
 std::string str(std::int64_t v) { return std::to_string(v); }
 // The kernel's uint64 counters as their int64 bits (PostgreSQL has no unsigned type); read_campaign
 // casts back.
