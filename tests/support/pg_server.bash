@@ -20,9 +20,9 @@ case $cmd in
     mkdir -p "$dir/pg"
     if [ "$(id -u)" = 0 ]; then
       chown nobody:nogroup "$dir/pg"
-      # Every folder above must be traversable for nobody (mktemp makes them 0700).
-      d=$dir
-      while [ "$d" != / ]; do chmod o+x "$d"; d=$(dirname "$d"); done
+      chmod o+x "$dir"  # mktemp makes it 0700; the folders above (/tmp) are open already
+      as_server test -w "$dir/pg" ||
+        { echo "FAIL: the user nobody cannot reach $dir/pg (a folder above it is closed)" >&2; exit 1; }
     fi
     as_server "$bin/initdb" -D "$dir/pg/data" -U m2mlat -A trust -E UTF8 --locale=C --no-sync >"$dir/pg/initdb.log" 2>&1 ||
       { cat "$dir/pg/initdb.log" >&2; exit 1; }
