@@ -86,6 +86,22 @@ for name in a b big; do
   [ "$got" = "$want" ] || fail "campaign $name: sessions/clock samples/losses $got in the archive, $want in the store"
 done
 
+# A gyroscope's raw trace (three blocks of samples): its BLOBs in the archive are the store's, byte for byte.
+"$PY" - <<'PY'
+with open("trace.csv", "w") as f:
+    f.write("# format: m2mlat-gyro/1\n# clock: realtime\n# counts_per_deg_s: 131\ntime_ns,bound_ns,x,y,z\n")
+    for i in range(10000):
+        f.write(f"{1764086400000000000 + i * 125000},{80000 + i % 50},{(i * 37) % 65536 - 32768},{-(i % 300)},{32767 - i % 3}\n")
+PY
+"$M2MLAT" import trace.csv --store gyro.db --node vehicle --channel wheel_gyro >/dev/null
+"$M2MLAT" archive push gyro.db "$URL" --rig rig-g >push5.txt
+want=$("$PY" -c "import hashlib,sqlite3; c=sqlite3.connect('file:gyro.db?mode=ro', uri=True); r=c.execute('SELECT count(*), sum(count), group_concat(counts_per_deg_s) FROM rate_blocks').fetchone(); b=b''.join(x[0] for x in c.execute('SELECT samples FROM rate_blocks ORDER BY id')); print(r[0], r[1], hashlib.md5(b).hexdigest())")
+got=$(sql "SELECT count(*) || ' ' || sum(r.count) || ' ' || md5(string_agg(r.samples, ''::bytea ORDER BY r.id))
+           FROM m2mlat.rate_blocks r JOIN m2mlat.campaigns c ON c.id = r.campaign_id WHERE c.name = 'gyro'")
+[ "$got" = "$want" ] || fail "raw samples: archive $got, store $want"
+"$M2MLAT" archive push gyro.db "$URL" | grep -q "resumed, 0 events" || fail "a second push of the trace added rows"
+[ "$(sql "SELECT count(*) FROM m2mlat.rate_blocks")" = "$(echo "$want" | cut -d' ' -f1)" ] || fail "rate blocks twice"
+
 # Read back: stats and report of an archived campaign are the store's, number for number.
 "$M2MLAT" stats "$URL" --label study1 --json >arch_a.json
 "$M2MLAT" stats a.db --json >store_a.json
@@ -115,16 +131,16 @@ names = [s["scenario"] for s in json.load(open("shared.json"))["scenarios"]]
 assert names == ["a/static_5g", "b/static_5g", "big/static_5g"], names
 PY
 "$M2MLAT" archive list "$URL" --since 2020-01-01 --until 2099-12-31 --json >all.json
-"$PY" -c 'import json; d=json.load(open("all.json")); assert [c["name"] for c in d["campaigns"]] == ["a","b","big"], d; assert all(c["complete"] for c in d["campaigns"]), d'
+"$PY" -c 'import json; d=json.load(open("all.json")); assert [c["name"] for c in d["campaigns"]] == ["gyro","a","b","big"], d; assert all(c["complete"] for c in d["campaigns"]), d'
 "$M2MLAT" archive list "$URL" --since 2099-01-01 >none.txt
 grep -q ": 0 campaigns" none.txt || fail "--since did not filter: $(cat none.txt)"
 expect_exit 66 "$M2MLAT" stats "$URL" --rig no-such-rig
 
 # The connection string from a file and from the PG* variables, never printed with its password.
 echo "$URL" >url.txt
-"$M2MLAT" archive list --url-file url.txt | grep -q ": 3 campaigns" || fail "--url-file"
+"$M2MLAT" archive list --url-file url.txt | grep -q ": 4 campaigns" || fail "--url-file"
 host=${URL#*host=}; host=${host%%&*}
-PGHOST=$host PGUSER=m2mlat PGDATABASE=lab "$M2MLAT" archive list | grep -q ": 3 campaigns" || fail "PG* variables"
+PGHOST=$host PGUSER=m2mlat PGDATABASE=lab "$M2MLAT" archive list | grep -q ": 4 campaigns" || fail "PG* variables"
 expect_exit 74 "$M2MLAT" archive list "postgresql://m2mlat:s3cret-pw@/lab?host=$WORK/no-such-dir"
 grep -q "cannot connect" err.txt || fail "no connection error: $(cat err.txt)"
 ! grep -q "s3cret-pw" err.txt out.txt || fail "the password was printed: $(cat err.txt)"

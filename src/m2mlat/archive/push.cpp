@@ -9,6 +9,7 @@
 
 #include "m2mlat/archive/schema.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/store/rate_block.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::archive {
@@ -68,15 +69,32 @@ std::int64_t upsert_sessions(Connection& c, std::int64_t campaign, const std::ve
 }
 
 struct Cursor {
-  std::int64_t events = 0, clock_samples = 0, losses = 0;
+  std::int64_t events = 0, clock_samples = 0, losses = 0, rate_blocks = 0;
   bool complete = false;
 };
 
+// Raw-sample blocks per transaction: up to 72 KiB each (store/rate_block.hpp), so a few MiB a batch.
+constexpr std::size_t kRateBlocksPerBatch = 64;
+
+// A BLOB as bytea's hex input, "\\x0a1b..." (join_line then escapes its backslash for COPY).
+std::string bytea_hex(const std::vector<std::uint8_t>& bytes) {
+  static constexpr char kDigits[] = "0123456789abcdef";
+  std::string out = "\\x";
+  out.reserve(2 + 2 * bytes.size());
+  for (const auto b : bytes) {
+    out += kDigits[b >> 4];
+    out += kDigits[b & 0xf];
+  }
+  return out;
+}
+
 Cursor lock_cursor(Connection& c, std::int64_t campaign) {
   const auto rows = c.exec(
-      "SELECT events, clock_samples, losses, complete FROM m2mlat.push_cursors WHERE campaign_id = $1 FOR UPDATE",
+      "SELECT events, clock_samples, losses, rate_blocks, complete FROM m2mlat.push_cursors WHERE campaign_id = $1 "
+      "FOR UPDATE",
       {str(campaign)});
-  return {std::stoll(rows.at(0, 0)), std::stoll(rows.at(0, 1)), std::stoll(rows.at(0, 2)), rows.at(0, 3) == "t"};
+  return {std::stoll(rows.at(0, 0)), std::stoll(rows.at(0, 1)), std::stoll(rows.at(0, 2)), std::stoll(rows.at(0, 3)),
+          rows.at(0, 4) == "t"};
 }
 
 std::string join_line(std::initializer_list<std::string> fields) {
@@ -116,12 +134,14 @@ PushSummary push(const std::string& store_path, Connection& c, const PushOptions
   for (bool first = true;; first = false) {
     Transaction tx(c);
     auto cursor = lock_cursor(c, summary.campaign_id);
-    if (first) summary.resumed = cursor.events > 0 || cursor.clock_samples > 0 || cursor.losses > 0;
+    if (first)
+      summary.resumed = cursor.events > 0 || cursor.clock_samples > 0 || cursor.losses > 0 || cursor.rate_blocks > 0;
     const auto events = store.events_after(cursor.events, options.batch_rows);
     const auto samples = store.clock_samples_after(cursor.clock_samples, options.batch_rows);
     const auto losses = store.losses_after(cursor.losses, options.batch_rows);
+    const auto blocks = store.rate_blocks_after(cursor.rate_blocks, kRateBlocksPerBatch);
     summary.sessions += upsert_sessions(c, summary.campaign_id, sessions);
-    if (events.empty() && samples.empty() && losses.empty()) {
+    if (events.empty() && samples.empty() && losses.empty() && blocks.empty()) {
       c.exec("UPDATE m2mlat.push_cursors SET complete = true WHERE campaign_id = $1", {campaign});
       tx.commit();
       break;
@@ -168,10 +188,25 @@ PushSummary push(const std::string& store_path, Connection& c, const PushOptions
           data);
       cursor.losses = losses.back().id;
     }
+    data.clear();
+    for (const auto& b : blocks) {
+      const auto& block = b.block;
+      data += join_line({campaign, str(b.id), str(block.session_id), block.channel,
+                         std::string(core::to_string(block.clock)), fmt::format("{}", block.counts_per_deg_s),
+                         bits(block.first_index), str(store::rate_block::kLayout),
+                         std::to_string(block.samples.size()), bytea_hex(store::rate_block::encode(block.samples))});
+    }
+    if (!data.empty()) {
+      summary.rate_blocks += c.copy_in(
+          "COPY m2mlat.rate_blocks (campaign_id, id, session_id, channel, clock, counts_per_deg_s, first_index, "
+          "layout, count, samples) FROM STDIN",
+          data);
+      cursor.rate_blocks = blocks.back().id;
+    }
     c.exec(
-        "UPDATE m2mlat.push_cursors SET events = $2, clock_samples = $3, losses = $4, complete = false "
-        "WHERE campaign_id = $1",
-        {campaign, str(cursor.events), str(cursor.clock_samples), str(cursor.losses)});
+        "UPDATE m2mlat.push_cursors SET events = $2, clock_samples = $3, losses = $4, rate_blocks = $5, "
+        "complete = false WHERE campaign_id = $1",
+        {campaign, str(cursor.events), str(cursor.clock_samples), str(cursor.losses), str(cursor.rate_blocks)});
     tx.commit();
     ++summary.batches;
     if (options.progress) options.progress({before + summary.events, total});

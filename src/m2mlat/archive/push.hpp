@@ -35,7 +35,7 @@ struct PushSummary {
   bool resumed = false;  // the archive held part of the campaign already
   int batches = 0;       // transactions committed by this push
   // Rows this push added.
-  std::int64_t sessions = 0, events = 0, clock_samples = 0, losses = 0;
+  std::int64_t sessions = 0, events = 0, clock_samples = 0, losses = 0, rate_blocks = 0;
   // The campaign's rows in the archive after the push.
   std::int64_t total_events = 0;
 };

@@ -10,6 +10,7 @@
 #include "m2mlat/archive/schema.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/number.hpp"
+#include "m2mlat/store/rate_block.hpp"
 
 namespace m2mlat::archive {
 
@@ -43,6 +44,20 @@ core::TimePoint time_of(const std::string& clock, std::int64_t ns, const char* t
   } catch (const core::Error&) {
     throw core::Error(core::ErrorKind::data, fmt::format("archive m2mlat.{} row {}: unknown clock '{}'", table, key, clock));
   }
+}
+
+// encode(samples, 'hex') back to bytes; a malformed text names the row.
+std::vector<std::uint8_t> from_hex(const std::string& hex, const std::string& where) {
+  const auto digit = [&](char ch) -> std::uint8_t {
+    if (ch >= '0' && ch <= '9') return static_cast<std::uint8_t>(ch - '0');
+    if (ch >= 'a' && ch <= 'f') return static_cast<std::uint8_t>(ch - 'a' + 10);
+    throw core::Error(core::ErrorKind::data, fmt::format("{}: samples are not hex", where));
+  };
+  if (hex.size() % 2 != 0) throw core::Error(core::ErrorKind::data, fmt::format("{}: samples are not hex", where));
+  std::vector<std::uint8_t> bytes(hex.size() / 2);
+  for (std::size_t i = 0; i < bytes.size(); ++i)
+    bytes[i] = static_cast<std::uint8_t>(digit(hex[2 * i]) << 4 | digit(hex[2 * i + 1]));
+  return bytes;
 }
 
 }  // namespace
@@ -207,6 +222,33 @@ void read_campaign(Connection& c, const CampaignInfo& campaign,
     batch.losses.push_back(std::move(l));
   }
   into.ingest(batch);
+
+  // Raw-sample blocks, a few at a time (up to 72 KiB each).
+  for (std::int64_t after = 0;;) {
+    const auto rows = c.exec(
+        "SELECT id, session_id, channel, clock, counts_per_deg_s, first_index, layout, count, encode(samples, 'hex') "
+        "FROM m2mlat.rate_blocks WHERE campaign_id = $1 AND id > $2 ORDER BY id LIMIT 64",
+        {id, std::to_string(after)});
+    if (rows.rows.empty()) break;
+    auto blocks = base;
+    for (std::size_t r = 0; r < rows.rows.size(); ++r) {
+      const auto key = fmt::format("({}, {})", id, rows.at(r, 0));
+      const auto where = fmt::format("archive {} m2mlat.rate_blocks row {}", c.name(), key);
+      store::StoredRateBlock b;
+      b.id = number(rows, r, 0, "rate_blocks", key);
+      b.block.session_id = number(rows, r, 1, "rate_blocks", key);
+      b.block.channel = rows.at(r, 2);
+      b.block.clock = time_of(rows.at(r, 3), 0, "rate_blocks", key).clock();
+      if (!core::parse_double(rows.at(r, 4), b.block.counts_per_deg_s))
+        throw core::Error(core::ErrorKind::data, fmt::format("{}: counts_per_deg_s '{}'", where, rows.at(r, 4)));
+      b.block.first_index = static_cast<std::uint64_t>(number(rows, r, 5, "rate_blocks", key));
+      b.block.samples = store::rate_block::decode(from_hex(rows.at(r, 8), where), number(rows, r, 6, "rate_blocks", key),
+                                                  number(rows, r, 7, "rate_blocks", key), where);
+      blocks.rate_blocks.push_back(std::move(b));
+    }
+    after = blocks.rate_blocks.back().id;
+    into.ingest(blocks);
+  }
 }
 
 std::int64_t parse_date(const std::string& text, const std::string& flag) {

@@ -47,7 +47,7 @@ std::vector<CampaignInfo> list_campaigns(Connection& connection, const CampaignF
 // own name, or "<campaign>/<scenario>" where several of them hold a scenario of that name.
 std::map<std::pair<std::int64_t, std::string>, std::string> scenario_names(const std::vector<CampaignInfo>& campaigns);
 
-// Copies the whole campaign (sessions, events, clock samples, losses) into the empty store `into`
+// Copies the whole campaign (sessions, events, clock samples, losses, raw-sample blocks) into the empty store `into`
 // through store::Store::ingest (origin: the campaign's store id), in batches of `batch_rows`
 // events, each session's scenario renamed by `names` where it names one. The whole campaign, in seq
 // order, so that the copy's event seqs are the campaign store's (a statistic's sample id points

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <string_view>
 
 #include "m2mlat/core/error.hpp"
@@ -94,6 +95,25 @@ CREATE TABLE m2mlat.push_cursors (
   complete      boolean NOT NULL DEFAULT false  -- the last push ran to its end
 );
 )sql",
+    // Version 2: raw gyroscope samples (the store's rate_blocks), so that full-loop campaigns' chains
+    // can be analysed from the archive; their own cursor.
+    R"sql(
+CREATE TABLE m2mlat.rate_blocks (
+  campaign_id      bigint NOT NULL,
+  id               bigint NOT NULL,         -- the store's row id
+  session_id       bigint NOT NULL,
+  channel          text NOT NULL,
+  clock            text NOT NULL,           -- the clock of every sample's stamp
+  counts_per_deg_s double precision NOT NULL,
+  first_index      bigint NOT NULL,         -- uint64 stored as its int64 bits
+  layout           integer NOT NULL,        -- the samples' layout (store/rate_block.hpp)
+  count            integer NOT NULL,
+  samples          bytea NOT NULL,          -- count records of layout `layout`
+  PRIMARY KEY (campaign_id, id),
+  FOREIGN KEY (campaign_id, session_id) REFERENCES m2mlat.sessions (campaign_id, session_id) ON DELETE CASCADE
+);
+ALTER TABLE m2mlat.push_cursors ADD COLUMN rate_blocks bigint NOT NULL DEFAULT 0;
+)sql",
 };
 
 }  // namespace
@@ -111,7 +131,7 @@ int schema_version(Connection& connection) {
   return static_cast<int>(version);
 }
 
-int migrate(Connection& connection) {
+int migrate(Connection& connection, int target) {
   Transaction tx(connection);
   // One migrating session at a time; the lock ends with the transaction.
   connection.exec("SELECT pg_advisory_xact_lock(hashtext('m2mlat.archive.schema'))");
@@ -124,13 +144,15 @@ int migrate(Connection& connection) {
     throw core::Error(core::ErrorKind::data,
                       fmt::format("archive {}: schema version {} is newer than this m2mlat's ({}): update m2mlat",
                                   connection.name(), version, latest));
-  for (int v = version; v < latest; ++v) connection.exec(std::string(kMigrations[v]));
+  target = std::clamp(target, 1, latest);
+  if (version >= target) return version;
+  for (int v = version; v < target; ++v) connection.exec(std::string(kMigrations[v]));
   connection.exec(
       "INSERT INTO m2mlat.meta (key, value) VALUES ('schema_version', $1) "
       "ON CONFLICT (key) DO UPDATE SET value = EXCLUDED.value",
-      {std::to_string(latest)});
+      {std::to_string(target)});
   tx.commit();
-  return latest;
+  return target;
 }
 
 }  // namespace m2mlat::archive

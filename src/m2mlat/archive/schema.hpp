@@ -13,11 +13,12 @@
 
 namespace m2mlat::archive {
 
-inline constexpr int kSchemaVersion = 1;
+inline constexpr int kSchemaVersion = 2;
 
-// Creates or migrates the archive's tables; returns the schema version now in force. Throws
-// core::Error(data) if the database holds a newer schema than this build knows.
-int migrate(Connection& connection);
+// Creates or migrates the archive's tables up to `target` (tests migrate step by step); returns the
+// schema version now in force. Throws core::Error(data) if the database holds a newer schema than
+// this build knows.
+int migrate(Connection& connection, int target = kSchemaVersion);
 
 // The version stored (0 for a database without the archive's tables).
 int schema_version(Connection& connection);

@@ -11,6 +11,7 @@
 #include "m2mlat/archive/read.hpp"
 #include "m2mlat/archive/schema.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/store/rate_block.hpp"
 #include "m2mlat/store/store.hpp"
 #include "temp_dir.hpp"
 
@@ -72,7 +73,18 @@ TEST_F(ArchiveServer, CreatesTheSchemaOnFirstUseAndMigratesOnce) {
   const auto tables = c.exec(
       "SELECT string_agg(table_name, ',' ORDER BY table_name) FROM information_schema.tables "
       "WHERE table_schema = 'm2mlat'");
-  EXPECT_EQ(tables.at(0, 0), "campaigns,clock_samples,events,losses,meta,push_cursors,sessions");
+  EXPECT_EQ(tables.at(0, 0), "campaigns,clock_samples,events,losses,meta,push_cursors,rate_blocks,sessions");
+}
+
+TEST_F(ArchiveServer, MigratesAVersionOneArchiveKeepingItsRows) {
+  auto c = connect();
+  EXPECT_EQ(migrate(c, 1), 1);
+  c.exec("INSERT INTO m2mlat.campaigns (store_id, name) VALUES ('00ff', 'old')");
+  c.exec("INSERT INTO m2mlat.push_cursors (campaign_id, events) SELECT id, 42 FROM m2mlat.campaigns");
+  EXPECT_EQ(migrate(c), kSchemaVersion);
+  EXPECT_EQ(c.exec("SELECT name FROM m2mlat.campaigns").at(0, 0), "old");
+  EXPECT_EQ(c.exec("SELECT events || '/' || rate_blocks FROM m2mlat.push_cursors").at(0, 0), "42/0");
+  EXPECT_EQ(c.exec("SELECT count(*) FROM m2mlat.rate_blocks").at(0, 0), "0");
 }
 
 TEST_F(ArchiveServer, RefusesANewerSchema) {
@@ -131,6 +143,16 @@ TEST_F(ArchiveServer, PushesAndReadsBackEveryRowExactlyOnce) {
     loss.count = 3;
     loss.kind = "seqno_gap";
     batch.losses.push_back(loss);
+    store::RateBlock block;
+    block.session_id = id;
+    block.channel = "gyro";
+    block.counts_per_deg_s = 65.5;
+    block.first_index = (1ULL << 62) + 7;  // the store takes < 2^63
+    for (int i = 0; i < 3; ++i)
+      block.samples.push_back({session.start.ns() + i * 1'000'000, 2'500,
+                               {static_cast<std::int16_t>(-32768 + i), static_cast<std::int16_t>(32767 - i),
+                                static_cast<std::int16_t>(i)}});
+    batch.rate_blocks.push_back(block);
     s.append(batch);
     s.end_session(id, batch.events.back().time);
   }
@@ -145,6 +167,7 @@ TEST_F(ArchiveServer, PushesAndReadsBackEveryRowExactlyOnce) {
   EXPECT_EQ(first.batches, 3);
   EXPECT_EQ(first.clock_samples, 1);
   EXPECT_EQ(first.losses, 1);
+  EXPECT_EQ(first.rate_blocks, 1);
   EXPECT_EQ(first.sessions, 1);
   const auto again = push(path, c, {});
   EXPECT_TRUE(again.resumed);
@@ -170,6 +193,11 @@ TEST_F(ArchiveServer, PushesAndReadsBackEveryRowExactlyOnce) {
   EXPECT_EQ(copy.events_after(0, 100), original.events_after(0, 100));
   EXPECT_EQ(copy.clock_samples(), original.clock_samples());
   EXPECT_EQ(copy.losses(), original.losses());
+  // The samples bit for bit: their BLOB layout compared.
+  EXPECT_EQ(store::rate_block::encode(copy.rate_blocks_after(0, 10).at(0).block.samples),
+            store::rate_block::encode(original.rate_blocks_after(0, 10).at(0).block.samples));
+  EXPECT_EQ(copy.rate_blocks_after(0, 10).at(0).block.first_index, (1ULL << 62) + 7);
+  EXPECT_EQ(copy.rate_blocks_after(0, 10).at(0).block.counts_per_deg_s, 65.5);
   auto sessions = copy.sessions();
   ASSERT_EQ(sessions.size(), 1u);
   EXPECT_EQ(sessions[0], original.sessions()[0]);
