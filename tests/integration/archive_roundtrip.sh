@@ -135,6 +135,8 @@ PY
 "$M2MLAT" archive list "$URL" --since 2099-01-01 >none.txt
 grep -q ": 0 campaigns" none.txt || fail "--since did not filter: $(cat none.txt)"
 expect_exit 66 "$M2MLAT" stats "$URL" --rig no-such-rig
+"$M2MLAT" stats "$URL" --campaign b --json >arch_b2.json
+cmp arch_b2.json store_b.json || fail "--campaign b selected other than campaign b"
 
 # The connection string from a file and from the PG* variables, never printed with its password.
 echo "$URL" >url.txt

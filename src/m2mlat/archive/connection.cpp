@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <libpq-fe.h>
 
+#include <cstdlib>
 #include <fstream>
 
 #include "m2mlat/core/error.hpp"
@@ -27,9 +28,11 @@ using Result = std::unique_ptr<PGresult, ResultDeleter>;
 // parse): a URL's "user:password@", or a "password=" keyword or query parameter. Empty if none.
 std::string password_in(const std::string& conninfo) {
   if (const auto scheme = conninfo.find("://"); scheme != std::string::npos) {
-    const auto authority = conninfo.substr(scheme + 3, conninfo.find_first_of("/?", scheme + 3) - (scheme + 3));
+    const auto authority =
+        conninfo.substr(scheme + 3, conninfo.find_first_of("/?", scheme + 3) - (scheme + 3));
     const auto at = authority.rfind('@');
-    if (at != std::string::npos && authority.find(':') < at) return authority.substr(authority.find(':') + 1, at - authority.find(':') - 1);
+    if (at != std::string::npos && authority.find(':') < at)
+      return authority.substr(authority.find(':') + 1, at - authority.find(':') - 1);
   }
   if (const auto key = conninfo.find("password="); key != std::string::npos) {
     const auto start = key + 9;
@@ -59,7 +62,9 @@ std::string resolve_conninfo(const std::string& url, const std::string& url_file
   std::string conninfo = url;
   if (!url_file.empty()) {
     std::ifstream in(url_file);
-    if (!in) throw core::Error(core::ErrorKind::no_input, fmt::format("{}: cannot read the connection string", url_file));
+    if (!in)
+      throw core::Error(core::ErrorKind::no_input,
+                        fmt::format("{}: cannot read the connection string", url_file));
     std::getline(in, conninfo);
     while (!conninfo.empty() && (conninfo.back() == '\r' || conninfo.back() == ' ')) conninfo.pop_back();
     if (conninfo.empty())
@@ -104,7 +109,9 @@ std::string describe(const std::string& conninfo) {
 
 const std::string& Rows::at(std::size_t r, std::size_t c) const {
   const auto& v = rows.at(r).at(c);
-  if (!v) throw core::Error(core::ErrorKind::data, fmt::format("archive: column {} of row {} is NULL", columns.at(c), r));
+  if (!v)
+    throw core::Error(core::ErrorKind::data,
+                      fmt::format("archive: column {} of row {} is NULL", columns.at(c), r));
   return *v;
 }
 
@@ -115,7 +122,8 @@ struct Connection::Impl {
     if (conn != nullptr) PQfinish(conn);
   }
   [[noreturn]] void fail(const std::string& what, const char* message) const {
-    throw core::Error(core::ErrorKind::io, fmt::format("archive {}: {}: {}", name, what, trimmed_message(message)));
+    throw core::Error(core::ErrorKind::io,
+                      fmt::format("archive {}: {}: {}", name, what, trimmed_message(message)));
   }
 };
 
@@ -128,11 +136,13 @@ Connection Connection::open(const std::string& conninfo) {
   auto impl = std::make_unique<Impl>();
   impl->name = describe(conninfo);
   impl->conn = PQconnectdb(conninfo.c_str());
-  if (impl->conn == nullptr) throw core::Error(core::ErrorKind::io, fmt::format("archive {}: out of memory", impl->name));
+  if (impl->conn == nullptr)
+    throw core::Error(core::ErrorKind::io, fmt::format("archive {}: out of memory", impl->name));
   if (PQstatus(impl->conn) != CONNECTION_OK)
     impl->fail("cannot connect", scrubbed(trimmed_message(PQerrorMessage(impl->conn)), conninfo).c_str());
   // Notices (e.g. "relation already exists, skipping") are not the user's business.
-  PQsetNoticeProcessor(impl->conn, [](void*, const char*) {}, nullptr);
+  PQsetNoticeProcessor(
+      impl->conn, [](void*, const char*) {}, nullptr);
   return Connection(std::move(impl));
 }
 
@@ -144,8 +154,8 @@ Rows Connection::exec(const std::string& sql, const std::vector<std::optional<st
   for (const auto& p : params) values.push_back(p ? p->c_str() : nullptr);
   // Without parameters a text may hold several statements (a migration): PQexec takes those.
   Result result(params.empty() ? PQexec(impl_->conn, sql.c_str())
-                               : PQexecParams(impl_->conn, sql.c_str(), static_cast<int>(values.size()), nullptr,
-                                              values.data(), nullptr, nullptr, 0));
+                               : PQexecParams(impl_->conn, sql.c_str(), static_cast<int>(values.size()),
+                                              nullptr, values.data(), nullptr, nullptr, 0));
   const auto status = PQresultStatus(result.get());
   if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) {
     // The statement's first words say which one failed.

@@ -5,6 +5,7 @@
 // statement, usage for a malformed connection string.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>

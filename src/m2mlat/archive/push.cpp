@@ -51,17 +51,19 @@ std::int64_t upsert_campaign(Connection& c, const store::Store& store, const std
 
 // Every session of the store, new or with its end now known (a few rows: sent with each batch so
 // that the batch's events always find theirs).
-std::int64_t upsert_sessions(Connection& c, std::int64_t campaign, const std::vector<store::Session>& sessions) {
+std::int64_t upsert_sessions(Connection& c, std::int64_t campaign,
+                             const std::vector<store::Session>& sessions) {
   std::int64_t added = 0;
   for (const auto& s : sessions) {
     const auto rows = c.exec(
-        "INSERT INTO m2mlat.sessions (campaign_id, session_id, label, scenario, node, role, config_json, clock, "
+        "INSERT INTO m2mlat.sessions (campaign_id, session_id, label, scenario, node, role, config_json, "
+        "clock, "
         "start_ns, end_ns, software_version) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11) "
         "ON CONFLICT (campaign_id, session_id) DO UPDATE SET end_ns = EXCLUDED.end_ns "
         "WHERE m2mlat.sessions.end_ns IS DISTINCT FROM EXCLUDED.end_ns "
         "RETURNING (xmax = 0) AS inserted",
-        {str(campaign), str(s.id), s.label, s.scenario, s.node, std::string(core::to_string(s.role)), s.config_json,
-         std::string(core::to_string(s.start.clock())), str(s.start.ns()),
+        {str(campaign), str(s.id), s.label, s.scenario, s.node, std::string(core::to_string(s.role)),
+         s.config_json, std::string(core::to_string(s.start.clock())), str(s.start.ns()),
          s.end ? std::optional(str(s.end->ns())) : std::nullopt, s.software_version});
     if (!rows.rows.empty() && rows.at(0, 0) == "t") ++added;
   }
@@ -90,11 +92,12 @@ std::string bytea_hex(const std::vector<std::uint8_t>& bytes) {
 
 Cursor lock_cursor(Connection& c, std::int64_t campaign) {
   const auto rows = c.exec(
-      "SELECT events, clock_samples, losses, rate_blocks, complete FROM m2mlat.push_cursors WHERE campaign_id = $1 "
+      "SELECT events, clock_samples, losses, rate_blocks, complete FROM m2mlat.push_cursors WHERE "
+      "campaign_id = $1 "
       "FOR UPDATE",
       {str(campaign)});
-  return {std::stoll(rows.at(0, 0)), std::stoll(rows.at(0, 1)), std::stoll(rows.at(0, 2)), std::stoll(rows.at(0, 3)),
-          rows.at(0, 4) == "t"};
+  return {std::stoll(rows.at(0, 0)), std::stoll(rows.at(0, 1)), std::stoll(rows.at(0, 2)),
+          std::stoll(rows.at(0, 3)), rows.at(0, 4) == "t"};
 }
 
 std::string join_line(std::initializer_list<std::string> fields) {
@@ -127,7 +130,8 @@ PushSummary push(const std::string& store_path, Connection& c, const PushOptions
   summary.name = c.exec("SELECT name FROM m2mlat.campaigns WHERE id = $1", {campaign}).at(0, 0);
   const auto total = store.event_count();
   const auto count_events = [&] {
-    return std::stoll(c.exec("SELECT count(*) FROM m2mlat.events WHERE campaign_id = $1", {campaign}).at(0, 0));
+    return std::stoll(
+        c.exec("SELECT count(*) FROM m2mlat.events WHERE campaign_id = $1", {campaign}).at(0, 0));
   };
   const auto before = count_events();
 
@@ -135,7 +139,8 @@ PushSummary push(const std::string& store_path, Connection& c, const PushOptions
     Transaction tx(c);
     auto cursor = lock_cursor(c, summary.campaign_id);
     if (first)
-      summary.resumed = cursor.events > 0 || cursor.clock_samples > 0 || cursor.losses > 0 || cursor.rate_blocks > 0;
+      summary.resumed =
+          cursor.events > 0 || cursor.clock_samples > 0 || cursor.losses > 0 || cursor.rate_blocks > 0;
     const auto events = store.events_after(cursor.events, options.batch_rows);
     const auto samples = store.clock_samples_after(cursor.clock_samples, options.batch_rows);
     const auto losses = store.losses_after(cursor.losses, options.batch_rows);
@@ -155,7 +160,8 @@ PushSummary push(const std::string& store_path, Connection& c, const PushOptions
     }
     if (!data.empty()) {
       summary.events += c.copy_in(
-          "COPY m2mlat.events (campaign_id, seq, session_id, node, channel, edge, clock, t_ns, seqno, line_seqno, "
+          "COPY m2mlat.events (campaign_id, seq, session_id, node, channel, edge, clock, t_ns, seqno, "
+          "line_seqno, "
           "flags) FROM STDIN",
           data);
       cursor.events = events.back().seq;
@@ -163,13 +169,15 @@ PushSummary push(const std::string& store_path, Connection& c, const PushOptions
     data.clear();
     for (const auto& s : samples) {
       const auto& cs = s.sample;
-      data += join_line({campaign, str(s.id), str(cs.session_id), std::string(core::to_string(cs.time.clock())),
-                         str(cs.time.ns()), cs.source, str(cs.offset_ns), str(cs.max_error_ns), str(cs.est_error_ns),
-                         cs.synchronised ? "t" : "f", cs.detail_json});
+      data +=
+          join_line({campaign, str(s.id), str(cs.session_id), std::string(core::to_string(cs.time.clock())),
+                     str(cs.time.ns()), cs.source, str(cs.offset_ns), str(cs.max_error_ns),
+                     str(cs.est_error_ns), cs.synchronised ? "t" : "f", cs.detail_json});
     }
     if (!data.empty()) {
       summary.clock_samples += c.copy_in(
-          "COPY m2mlat.clock_samples (campaign_id, id, session_id, clock, t_ns, source, offset_ns, max_error_ns, "
+          "COPY m2mlat.clock_samples (campaign_id, id, session_id, clock, t_ns, source, offset_ns, "
+          "max_error_ns, "
           "est_error_ns, synchronised, detail_json) FROM STDIN",
           data);
       cursor.clock_samples = samples.back().id;
@@ -183,7 +191,8 @@ PushSummary push(const std::string& store_path, Connection& c, const PushOptions
     }
     if (!data.empty()) {
       summary.losses += c.copy_in(
-          "COPY m2mlat.losses (campaign_id, id, session_id, channel, clock, detected_ns, first_missing, count, kind) "
+          "COPY m2mlat.losses (campaign_id, id, session_id, channel, clock, detected_ns, first_missing, "
+          "count, kind) "
           "FROM STDIN",
           data);
       cursor.losses = losses.back().id;
@@ -194,11 +203,13 @@ PushSummary push(const std::string& store_path, Connection& c, const PushOptions
       data += join_line({campaign, str(b.id), str(block.session_id), block.channel,
                          std::string(core::to_string(block.clock)), fmt::format("{}", block.counts_per_deg_s),
                          bits(block.first_index), str(store::rate_block::kLayout),
-                         std::to_string(block.samples.size()), bytea_hex(store::rate_block::encode(block.samples))});
+                         std::to_string(block.samples.size()),
+                         bytea_hex(store::rate_block::encode(block.samples))});
     }
     if (!data.empty()) {
       summary.rate_blocks += c.copy_in(
-          "COPY m2mlat.rate_blocks (campaign_id, id, session_id, channel, clock, counts_per_deg_s, first_index, "
+          "COPY m2mlat.rate_blocks (campaign_id, id, session_id, channel, clock, counts_per_deg_s, "
+          "first_index, "
           "layout, count, samples) FROM STDIN",
           data);
       cursor.rate_blocks = blocks.back().id;
@@ -206,7 +217,8 @@ PushSummary push(const std::string& store_path, Connection& c, const PushOptions
     c.exec(
         "UPDATE m2mlat.push_cursors SET events = $2, clock_samples = $3, losses = $4, rate_blocks = $5, "
         "complete = false WHERE campaign_id = $1",
-        {campaign, str(cursor.events), str(cursor.clock_samples), str(cursor.losses), str(cursor.rate_blocks)});
+        {campaign, str(cursor.events), str(cursor.clock_samples), str(cursor.losses),
+         str(cursor.rate_blocks)});
     tx.commit();
     ++summary.batches;
     if (options.progress) options.progress({before + summary.events, total});

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <set>
 
 #include "m2mlat/archive/schema.hpp"
@@ -17,11 +18,13 @@ namespace m2mlat::archive {
 namespace {
 
 // A number of the archive's row `key` in `table`; a non-number names where it is.
-std::int64_t number(const Rows& rows, std::size_t r, std::size_t c, const char* table, const std::string& key) {
+std::int64_t number(const Rows& rows, std::size_t r, std::size_t c, const char* table,
+                    const std::string& key) {
   std::int64_t v = 0;
   if (!core::parse_integer(rows.at(r, c), v))
-    throw core::Error(core::ErrorKind::data, fmt::format("archive m2mlat.{} row {}: {} '{}' is not an integer", table,
-                                                         key, rows.columns.at(c), rows.at(r, c)));
+    throw core::Error(core::ErrorKind::data,
+                      fmt::format("archive m2mlat.{} row {}: {} '{}' is not an integer", table, key,
+                                  rows.columns.at(c), rows.at(r, c)));
   return v;
 }
 
@@ -38,11 +41,13 @@ std::string int_array(const std::vector<std::int64_t>& values) {
 }
 
 // The clock named by an archive column, refused like the store refuses it (naming the row).
-core::TimePoint time_of(const std::string& clock, std::int64_t ns, const char* table, const std::string& key) {
+core::TimePoint time_of(const std::string& clock, std::int64_t ns, const char* table,
+                        const std::string& key) {
   try {
     return core::TimePoint::from_ns(core::parse_clock(clock), ns);
   } catch (const core::Error&) {
-    throw core::Error(core::ErrorKind::data, fmt::format("archive m2mlat.{} row {}: unknown clock '{}'", table, key, clock));
+    throw core::Error(core::ErrorKind::data,
+                      fmt::format("archive m2mlat.{} row {}: unknown clock '{}'", table, key, clock));
   }
 }
 
@@ -53,7 +58,8 @@ std::vector<std::uint8_t> from_hex(const std::string& hex, const std::string& wh
     if (ch >= 'a' && ch <= 'f') return static_cast<std::uint8_t>(ch - 'a' + 10);
     throw core::Error(core::ErrorKind::data, fmt::format("{}: samples are not hex", where));
   };
-  if (hex.size() % 2 != 0) throw core::Error(core::ErrorKind::data, fmt::format("{}: samples are not hex", where));
+  if (hex.size() % 2 != 0)
+    throw core::Error(core::ErrorKind::data, fmt::format("{}: samples are not hex", where));
   std::vector<std::uint8_t> bytes(hex.size() / 2);
   for (std::size_t i = 0; i < bytes.size(); ++i)
     bytes[i] = static_cast<std::uint8_t>(digit(hex[2 * i]) << 4 | digit(hex[2 * i + 1]));
@@ -79,7 +85,8 @@ std::vector<CampaignInfo> list_campaigns(Connection& c, const CampaignFilter& fi
     if (rows.rows[r][5]) info.created_ns = number(rows, r, 5, "campaigns", rows.at(r, 0));
     info.complete = rows.at(r, 6) == "t";
     if (!selected(filter.rigs, info.rig) || !selected(filter.labels, info.label)) continue;
-    if (!filter.campaigns.empty() && !selected(filter.campaigns, info.name) && !selected(filter.campaigns, info.store_id))
+    if (!filter.campaigns.empty() && !selected(filter.campaigns, info.name) &&
+        !selected(filter.campaigns, info.store_id))
       continue;
     if ((filter.since_ns || filter.until_ns) && !info.created_ns) continue;
     if (filter.since_ns && *info.created_ns < *filter.since_ns) continue;
@@ -109,8 +116,8 @@ std::vector<CampaignInfo> list_campaigns(Connection& c, const CampaignFilter& fi
       if (!filter.scenarios.empty() && !selected(filter.scenarios, scenario) &&
           !selected(filter.scenarios, info.name + "/" + scenario))
         continue;
-      info.scenarios.push_back({scenario, number(counts, r, 2, "sessions", scenario),
-                                number(counts, r, 3, "events", scenario)});
+      info.scenarios.push_back(
+          {scenario, number(counts, r, 2, "sessions", scenario), number(counts, r, 3, "events", scenario)});
     }
     for (std::size_t r = 0; r < extra.rows.size(); ++r)
       if (number(extra, r, 0, "campaigns", "") == info.id) {
@@ -122,7 +129,8 @@ std::vector<CampaignInfo> list_campaigns(Connection& c, const CampaignFilter& fi
   return campaigns;
 }
 
-std::map<std::pair<std::int64_t, std::string>, std::string> scenario_names(const std::vector<CampaignInfo>& campaigns) {
+std::map<std::pair<std::int64_t, std::string>, std::string> scenario_names(
+    const std::vector<CampaignInfo>& campaigns) {
   std::map<std::string, int> holders;
   for (const auto& info : campaigns)
     for (const auto& s : info.scenarios) ++holders[s.name];
@@ -134,13 +142,14 @@ std::map<std::pair<std::int64_t, std::string>, std::string> scenario_names(const
 }
 
 void read_campaign(Connection& c, const CampaignInfo& campaign,
-                   const std::map<std::pair<std::int64_t, std::string>, std::string>& names, store::Store& into,
-                   std::size_t batch_rows) {
+                   const std::map<std::pair<std::int64_t, std::string>, std::string>& names,
+                   store::Store& into, std::size_t batch_rows) {
   const auto id = std::to_string(campaign.id);
   store::IngestBatch base;
   base.origin = campaign.store_id;
   const auto sessions = c.exec(
-      "SELECT session_id, label, scenario, node, role, config_json, clock, start_ns, end_ns, software_version "
+      "SELECT session_id, label, scenario, node, role, config_json, clock, start_ns, end_ns, "
+      "software_version "
       "FROM m2mlat.sessions WHERE campaign_id = $1 ORDER BY session_id",
       {id});
   for (std::size_t r = 0; r < sessions.rows.size(); ++r) {
@@ -154,7 +163,8 @@ void read_campaign(Connection& c, const CampaignInfo& campaign,
     s.role = core::parse_role(sessions.at(r, 4));
     s.config_json = sessions.at(r, 5);
     s.start = time_of(sessions.at(r, 6), number(sessions, r, 7, "sessions", key), "sessions", key);
-    if (sessions.rows[r][8]) s.end = time_of(sessions.at(r, 6), number(sessions, r, 8, "sessions", key), "sessions", key);
+    if (sessions.rows[r][8])
+      s.end = time_of(sessions.at(r, 6), number(sessions, r, 8, "sessions", key), "sessions", key);
     s.software_version = sessions.at(r, 9);
     base.sessions.push_back(std::move(s));
   }
@@ -162,7 +172,8 @@ void read_campaign(Connection& c, const CampaignInfo& campaign,
   // Events in seq order, one ingest per batch (its cursor makes a re-read harmless).
   for (std::int64_t after = 0;;) {
     const auto rows = c.exec(
-        "SELECT seq, session_id, node, channel, edge, clock, t_ns, seqno, line_seqno, flags FROM m2mlat.events "
+        "SELECT seq, session_id, node, channel, edge, clock, t_ns, seqno, line_seqno, flags FROM "
+        "m2mlat.events "
         "WHERE campaign_id = $1 AND seq > $2 ORDER BY seq LIMIT $3",
         {id, std::to_string(after), std::to_string(batch_rows)});
     if (rows.rows.empty()) break;
@@ -188,7 +199,8 @@ void read_campaign(Connection& c, const CampaignInfo& campaign,
 
   auto batch = base;
   const auto samples = c.exec(
-      "SELECT id, session_id, clock, t_ns, source, offset_ns, max_error_ns, est_error_ns, synchronised, detail_json "
+      "SELECT id, session_id, clock, t_ns, source, offset_ns, max_error_ns, est_error_ns, synchronised, "
+      "detail_json "
       "FROM m2mlat.clock_samples WHERE campaign_id = $1 ORDER BY id",
       {id});
   for (std::size_t r = 0; r < samples.rows.size(); ++r) {
@@ -196,7 +208,8 @@ void read_campaign(Connection& c, const CampaignInfo& campaign,
     store::StoredClockSample s;
     s.id = number(samples, r, 0, "clock_samples", key);
     s.sample.session_id = number(samples, r, 1, "clock_samples", key);
-    s.sample.time = time_of(samples.at(r, 2), number(samples, r, 3, "clock_samples", key), "clock_samples", key);
+    s.sample.time =
+        time_of(samples.at(r, 2), number(samples, r, 3, "clock_samples", key), "clock_samples", key);
     s.sample.source = samples.at(r, 4);
     s.sample.offset_ns = number(samples, r, 5, "clock_samples", key);
     s.sample.max_error_ns = number(samples, r, 6, "clock_samples", key);
@@ -226,7 +239,8 @@ void read_campaign(Connection& c, const CampaignInfo& campaign,
   // Raw-sample blocks, a few at a time (up to 72 KiB each).
   for (std::int64_t after = 0;;) {
     const auto rows = c.exec(
-        "SELECT id, session_id, channel, clock, counts_per_deg_s, first_index, layout, count, encode(samples, 'hex') "
+        "SELECT id, session_id, channel, clock, counts_per_deg_s, first_index, layout, count, "
+        "encode(samples, 'hex') "
         "FROM m2mlat.rate_blocks WHERE campaign_id = $1 AND id > $2 ORDER BY id LIMIT 64",
         {id, std::to_string(after)});
     if (rows.rows.empty()) break;
@@ -240,10 +254,12 @@ void read_campaign(Connection& c, const CampaignInfo& campaign,
       b.block.channel = rows.at(r, 2);
       b.block.clock = time_of(rows.at(r, 3), 0, "rate_blocks", key).clock();
       if (!core::parse_double(rows.at(r, 4), b.block.counts_per_deg_s))
-        throw core::Error(core::ErrorKind::data, fmt::format("{}: counts_per_deg_s '{}'", where, rows.at(r, 4)));
+        throw core::Error(core::ErrorKind::data,
+                          fmt::format("{}: counts_per_deg_s '{}'", where, rows.at(r, 4)));
       b.block.first_index = static_cast<std::uint64_t>(number(rows, r, 5, "rate_blocks", key));
-      b.block.samples = store::rate_block::decode(from_hex(rows.at(r, 8), where), number(rows, r, 6, "rate_blocks", key),
-                                                  number(rows, r, 7, "rate_blocks", key), where);
+      b.block.samples =
+          store::rate_block::decode(from_hex(rows.at(r, 8), where), number(rows, r, 6, "rate_blocks", key),
+                                    number(rows, r, 7, "rate_blocks", key), where);
       blocks.rate_blocks.push_back(std::move(b));
     }
     after = blocks.rate_blocks.back().id;
@@ -259,7 +275,8 @@ std::int64_t parse_date(const std::string& text, const std::string& flag) {
                       std::sscanf(text.c_str(), "%4d-%2u-%2u%c", &y, &m, &d, &tail) == 3;
   const std::chrono::year_month_day day{std::chrono::year{y}, std::chrono::month{m}, std::chrono::day{d}};
   if (!shaped || !day.ok())
-    throw core::Error(core::ErrorKind::usage, fmt::format("{} '{}': expected a date YYYY-MM-DD (UTC)", flag, text));
+    throw core::Error(core::ErrorKind::usage,
+                      fmt::format("{} '{}': expected a date YYYY-MM-DD (UTC)", flag, text));
   const auto since_epoch = std::chrono::sys_days{day}.time_since_epoch();
   return std::chrono::duration_cast<std::chrono::nanoseconds>(since_epoch).count();
 }

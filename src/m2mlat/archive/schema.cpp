@@ -126,8 +126,8 @@ int schema_version(Connection& connection) {
   std::int64_t version = 0;
   if (!core::parse_integer(rows.at(0, 0), version))
     throw core::Error(core::ErrorKind::data,
-                      fmt::format("archive {}: m2mlat.meta schema_version '{}' is not a number", connection.name(),
-                                  rows.at(0, 0)));
+                      fmt::format("archive {}: m2mlat.meta schema_version '{}' is not a number",
+                                  connection.name(), rows.at(0, 0)));
   return static_cast<int>(version);
 }
 
@@ -141,9 +141,10 @@ int migrate(Connection& connection, int target) {
   constexpr int latest = static_cast<int>(std::size(kMigrations));
   static_assert(latest == kSchemaVersion);
   if (version > latest)
-    throw core::Error(core::ErrorKind::data,
-                      fmt::format("archive {}: schema version {} is newer than this m2mlat's ({}): update m2mlat",
-                                  connection.name(), version, latest));
+    throw core::Error(
+        core::ErrorKind::data,
+        fmt::format("archive {}: schema version {} is newer than this m2mlat's ({}): update m2mlat",
+                    connection.name(), version, latest));
   target = std::clamp(target, 1, latest);
   if (version >= target) return version;
   for (int v = version; v < target; ++v) connection.exec(std::string(kMigrations[v]));

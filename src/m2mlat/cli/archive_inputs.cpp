@@ -7,8 +7,8 @@
 
 #include <filesystem>
 
-#include "m2mlat/archive/connection.hpp"
 #include "m2mlat/analysis/selection.hpp"
+#include "m2mlat/archive/connection.hpp"
 #include "m2mlat/archive/read.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
@@ -43,13 +43,17 @@ class TempFolder {
 
 void ArchiveFlags::add_to(CLI::App& sub) {
   auto* g = sub.add_option_group("archive", "Reading the lab's archive (PostgreSQL; docs/archive.md)");
-  g->add_option("--archive", url,
-                "The archive's connection string, postgresql://... (also an input of that form; none: PG* variables)");
+  g->add_option(
+      "--archive", url,
+      "The archive's connection string, postgresql://... (also an input of that form; none: PG* variables)");
   g->add_option("--url-file", url_file, "A file whose first line is the archive's connection string");
   g->add_option("--rig", rigs, "Only the archive's campaigns of this rig (repeatable)");
+  g->add_option("--campaign", campaigns, "Only this archived campaign: its name or store id (repeatable)");
   g->add_option("--label", labels, "Only the archive's campaigns with this label (repeatable)");
-  g->add_option("--since", since, "Only the archive's campaigns started on or after this date (YYYY-MM-DD, UTC)");
-  g->add_option("--until", until, "Only the archive's campaigns started on or before this date (YYYY-MM-DD, UTC)");
+  g->add_option("--since", since,
+                "Only the archive's campaigns started on or after this date (YYYY-MM-DD, UTC)");
+  g->add_option("--until", until,
+                "Only the archive's campaigns started on or before this date (YYYY-MM-DD, UTC)");
 }
 
 std::vector<analysis::ScenarioResult> analyse_archive(InputFlags& inputs, const ArchiveFlags& flags,
@@ -61,7 +65,8 @@ std::vector<analysis::ScenarioResult> analyse_archive(InputFlags& inputs, const 
     return true;
   });
   if (!flags.url.empty()) urls.push_back(flags.url);
-  const bool filtered = !flags.rigs.empty() || !flags.labels.empty() || !flags.since.empty() || !flags.until.empty();
+  const bool filtered = !flags.rigs.empty() || !flags.labels.empty() || !flags.campaigns.empty() ||
+                        !flags.since.empty() || !flags.until.empty();
   used = !urls.empty() || !flags.url_file.empty() || (filtered && inputs.inputs.empty());
   if (!used) return {};
   if (urls.size() > 1) throw core::Error(core::ErrorKind::usage, "give one archive (postgresql://...)");
@@ -69,12 +74,15 @@ std::vector<analysis::ScenarioResult> analyse_archive(InputFlags& inputs, const 
   archive::CampaignFilter filter;
   filter.rigs = flags.rigs;
   filter.labels = flags.labels;
+  filter.campaigns = flags.campaigns;
   filter.scenarios = inputs.scenarios;
   if (!flags.since.empty()) filter.since_ns = archive::parse_date(flags.since, "--since");
   // --until names the last day included.
-  if (!flags.until.empty()) filter.until_ns = archive::parse_date(flags.until, "--until") + 86'400'000'000'000;
+  if (!flags.until.empty())
+    filter.until_ns = archive::parse_date(flags.until, "--until") + 86'400'000'000'000;
 
-  auto connection = archive::Connection::open(archive::resolve_conninfo(urls.empty() ? "" : urls.front(), flags.url_file));
+  auto connection =
+      archive::Connection::open(archive::resolve_conninfo(urls.empty() ? "" : urls.front(), flags.url_file));
   const auto campaigns = archive::list_campaigns(connection, filter);
   if (campaigns.empty())
     throw core::Error(core::ErrorKind::no_input,

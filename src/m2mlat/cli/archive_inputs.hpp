@@ -17,7 +17,7 @@ namespace m2mlat::cli {
 struct ArchiveFlags {
   std::string url;       // --archive
   std::string url_file;  // --url-file: the connection string's file
-  std::vector<std::string> rigs, labels;
+  std::vector<std::string> rigs, labels, campaigns;
   std::string since, until;  // YYYY-MM-DD, UTC
   void add_to(CLI::App& sub);
 };

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <memory>
+#include <nlohmann/json.hpp>
 
 #include "m2mlat/archive/connection.hpp"
 #include "m2mlat/archive/push.hpp"
@@ -28,7 +29,7 @@ struct PushCommand {
 
 struct ListCommand {
   std::string url, url_file;
-  std::vector<std::string> rigs, labels, scenarios;
+  std::vector<std::string> rigs, labels, scenarios, campaigns;
   std::string since, until;
   bool json = false;
 };
@@ -62,10 +63,12 @@ int run_push(const PushCommand& c) {
     };
     const auto s = archive::push(path, connection, options);
     progress_done();
-    fmt::print("{} -> {} campaign '{}' ({}): {}{} events, {} clock samples, {} losses, {} sessions added in {} "
-               "transactions; the archive holds {} events of it\n",
-               core::printable(path), connection.name(), core::printable(s.name), s.store_id,
-               s.resumed ? "resumed, " : "", s.events, s.clock_samples, s.losses, s.sessions, s.batches, s.total_events);
+    fmt::print(
+        "{} -> {} campaign '{}' ({}): {}{} events, {} clock samples, {} losses, {} sessions added in {} "
+        "transactions; the archive holds {} events of it\n",
+        core::printable(path), connection.name(), core::printable(s.name), s.store_id,
+        s.resumed ? "resumed, " : "", s.events, s.clock_samples, s.losses, s.sessions, s.batches,
+        s.total_events);
   }
   return 0;
 }
@@ -75,6 +78,7 @@ int run_list(const ListCommand& c) {
   filter.rigs = c.rigs;
   filter.labels = c.labels;
   filter.scenarios = c.scenarios;
+  filter.campaigns = c.campaigns;
   if (!c.since.empty()) filter.since_ns = archive::parse_date(c.since, "--since");
   if (!c.until.empty()) filter.until_ns = archive::parse_date(c.until, "--until") + 86'400'000'000'000;
   auto connection = archive::Connection::open(archive::resolve_conninfo(c.url, c.url_file));
@@ -85,19 +89,26 @@ int run_list(const ListCommand& c) {
     for (const auto& info : campaigns) {
       nlohmann::json scenarios = nlohmann::json::array();
       for (const auto& s : info.scenarios)
-        scenarios.push_back({{"scenario", s.name}, {"name", names.at({info.id, s.name})}, {"sessions", s.sessions},
+        scenarios.push_back({{"scenario", s.name},
+                             {"name", names.at({info.id, s.name})},
+                             {"sessions", s.sessions},
                              {"events", s.events}});
-      doc["campaigns"].push_back({{"name", info.name}, {"store_id", info.store_id}, {"rig", info.rig},
-                                  {"label", info.label},
-                                  {"created_ns", info.created_ns ? nlohmann::json(*info.created_ns) : nlohmann::json()},
-                                  {"complete", info.complete}, {"clock_samples", info.clock_samples},
-                                  {"losses", info.losses}, {"scenarios", scenarios}});
+      doc["campaigns"].push_back(
+          {{"name", info.name},
+           {"store_id", info.store_id},
+           {"rig", info.rig},
+           {"label", info.label},
+           {"created_ns", info.created_ns ? nlohmann::json(*info.created_ns) : nlohmann::json()},
+           {"complete", info.complete},
+           {"clock_samples", info.clock_samples},
+           {"losses", info.losses},
+           {"scenarios", scenarios}});
     }
     print_json(doc);
     return 0;
   }
-  report::Table table({"campaign", "rig", "label", "started (UTC)", "scenario", "sessions", "events", "clock samples",
-                       "losses", "push"});
+  report::Table table({"campaign", "rig", "label", "started (UTC)", "scenario", "sessions", "events",
+                       "clock samples", "losses", "push"});
   for (const auto& info : campaigns)
     for (const auto& s : info.scenarios)
       table.add_row({core::printable(info.name), core::printable(info.rig), core::printable(info.label),
@@ -113,10 +124,14 @@ int run_list(const ListCommand& c) {
 Runner attach_archive(CLI::App& sub) {
   sub.require_subcommand(1);
   auto push = std::make_shared<PushCommand>();
-  auto* p = sub.add_subcommand("push", "Copy campaign stores into the archive (idempotent; a killed push resumes)");
-  p->add_option("stores", push->args, "Campaign stores (.db), then the archive's postgresql://... URL")->required();
-  p->add_option("--url-file", push->url_file, "A file whose first line is the connection string (none: PG* variables)");
-  p->add_option("--name", push->name, "The campaign's short name (default: the store's file name without .db)");
+  auto* p =
+      sub.add_subcommand("push", "Copy campaign stores into the archive (idempotent; a killed push resumes)");
+  p->add_option("stores", push->args, "Campaign stores (.db), then the archive's postgresql://... URL")
+      ->required();
+  p->add_option("--url-file", push->url_file,
+                "A file whose first line is the connection string (none: PG* variables)");
+  p->add_option("--name", push->name,
+                "The campaign's short name (default: the store's file name without .db)");
   p->add_option("--rig", push->rig, "The rig that recorded the campaign");
   p->add_option("--label", push->label, "A label for the campaign, e.g. the study's name");
   p->add_option("--batch", push->batch, "Events per transaction (default 20000)");
@@ -126,6 +141,7 @@ Runner attach_archive(CLI::App& sub) {
   l->add_option("url", list->url, "The archive's postgresql://... URL (none: --url-file or PG* variables)");
   l->add_option("--url-file", list->url_file, "A file whose first line is the connection string");
   l->add_option("--rig", list->rigs, "Only campaigns of this rig (repeatable)");
+  l->add_option("--campaign", list->campaigns, "Only this campaign: its name or store id (repeatable)");
   l->add_option("--label", list->labels, "Only campaigns with this label (repeatable)");
   l->add_option("--scenario", list->scenarios, "Only this scenario, or <campaign>/<scenario> (repeatable)");
   l->add_option("--since", list->since, "Only campaigns started on or after this date (YYYY-MM-DD, UTC)");

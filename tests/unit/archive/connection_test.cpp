@@ -1,11 +1,12 @@
 // The archive's connection strings (where they come from, how they are shown: never with the
 // password), COPY's field escaping, the date filter's parser and the naming of scenarios shared by
 // several campaigns. No server needed.
+#include "m2mlat/archive/connection.hpp"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
 
-#include "m2mlat/archive/connection.hpp"
 #include "m2mlat/archive/read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "temp_dir.hpp"
@@ -84,8 +85,7 @@ TEST(ArchiveCopy, EscapesCopyTextFormat) {
 TEST(ArchiveDates, ParsesUtcDays) {
   EXPECT_EQ(parse_date("1970-01-01", "--since"), 0);
   EXPECT_EQ(parse_date("2026-06-01", "--since"), 1780272000LL * 1'000'000'000);
-  for (const char* bad : {"2026-02-30", "2026-6-1", "26-06-01", "2026-06-01x", "yesterday", ""})
-    try {
+  for (const char* bad : {"2026-02-30", "2026-6-1", "26-06-01", "2026-06-01x", "yesterday", ""}) try {
       parse_date(bad, "--until");
       ADD_FAILURE() << bad << " accepted";
     } catch (const core::Error& e) {

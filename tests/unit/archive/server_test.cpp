@@ -119,8 +119,10 @@ TEST_F(ArchiveServer, PushesAndReadsBackEveryRowExactlyOnce) {
       e.node = "vehicle";
       e.channel = i % 2 ? "wheel" : "tab\there";
       e.edge = i % 2 ? core::Edge::rising : core::Edge::falling;
-      e.time = core::TimePoint::from_ns(core::Clock::realtime, 1'780'272'000'123'456'789 + i * 1'000'000'007LL);
-      e.seqno = std::numeric_limits<std::uint64_t>::max() - static_cast<std::uint64_t>(i);  // above int64's range
+      e.time =
+          core::TimePoint::from_ns(core::Clock::realtime, 1'780'272'000'123'456'789 + i * 1'000'000'007LL);
+      e.seqno =
+          std::numeric_limits<std::uint64_t>::max() - static_cast<std::uint64_t>(i);  // above int64's range
       e.line_seqno = static_cast<std::uint64_t>(i + 1);
       e.flags = 0xffffffffu;
       batch.events.push_back(e);
@@ -149,7 +151,8 @@ TEST_F(ArchiveServer, PushesAndReadsBackEveryRowExactlyOnce) {
     block.counts_per_deg_s = 65.5;
     block.first_index = (1ULL << 62) + 7;  // the store takes < 2^63
     for (int i = 0; i < 3; ++i)
-      block.samples.push_back({session.start.ns() + i * 1'000'000, 2'500,
+      block.samples.push_back({session.start.ns() + i * 1'000'000,
+                               2'500,
                                {static_cast<std::int16_t>(-32768 + i), static_cast<std::int16_t>(32767 - i),
                                 static_cast<std::int16_t>(i)}});
     batch.rate_blocks.push_back(block);
@@ -229,8 +232,9 @@ TEST_F(ArchiveServer, AFailedBatchLeavesTheCursorWhereItWas) {
   push(path, c, options);
   c.exec("DELETE FROM m2mlat.events WHERE seq > 2");
   c.exec("UPDATE m2mlat.push_cursors SET events = 2, complete = false");
-  c.exec("INSERT INTO m2mlat.events SELECT campaign_id, 4, session_id, node, channel, edge, clock, t_ns, seqno, "
-         "line_seqno, flags FROM m2mlat.events WHERE seq = 1");
+  c.exec(
+      "INSERT INTO m2mlat.events SELECT campaign_id, 4, session_id, node, channel, edge, clock, t_ns, seqno, "
+      "line_seqno, flags FROM m2mlat.events WHERE seq = 1");
   EXPECT_THROW(push(path, c, options), core::Error);
   EXPECT_EQ(c.exec("SELECT events FROM m2mlat.push_cursors").at(0, 0), "2");
   EXPECT_EQ(c.exec("SELECT count(*) FROM m2mlat.events").at(0, 0), "3");
