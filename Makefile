@@ -15,9 +15,10 @@ space := $(empty) $(empty)
 # Debian 12 / Ubuntu 24.04 packages: what building m2mlat needs (all `make demo` installs), then what
 # the tests need besides (the test frameworks, the Clang tree, the programs the tests run).
 BUILD_PACKAGES := build-essential cmake ninja-build pkg-config \
-  libsqlite3-dev libcpp-httplib-dev libpcap-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtomlplusplus-dev libboost-math-dev
+  libsqlite3-dev libcpp-httplib-dev libpcap-dev libpq-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtomlplusplus-dev libboost-math-dev
 PACKAGES := $(BUILD_PACKAGES) clang-14 sqlite3 libgtest-dev libgmock-dev libbenchmark-dev \
-  python3 python3-numpy python3-pandas python3-scipy chromium chrony rt-tests linuxptp libclang-rt-14-dev
+  python3 python3-numpy python3-pandas python3-scipy chromium chrony rt-tests linuxptp libclang-rt-14-dev \
+  postgresql
 # Packages of the real-kernel suite (make check-vm): QEMU, the guest's busybox, the tools to unpack
 # Debian's kernel packages and pack the initramfs. The guest runs $(BUILD)/m2mlat (with its shared
 # libraries in the initramfs). tests/vm/run.sh installs linux-headers of the guest's kernel itself.
@@ -118,7 +119,7 @@ PKG_DIR ?= dist
 # The unit tests built and run for arm64 (empty: every namespace's).
 ARM64_TEST_NAMESPACES ?=
 ARM64_PACKAGES := crossbuild-essential-arm64 g++-aarch64-linux-gnu qemu-user file libc6:arm64 libstdc++6:arm64 \
-  libsqlite3-dev:arm64 libfmt-dev:arm64 libcpp-httplib-dev:arm64 libpcap-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 \
+  libsqlite3-dev:arm64 libfmt-dev:arm64 libcpp-httplib-dev:arm64 libpcap-dev:arm64 libpq-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 \
   libtomlplusplus-dev:arm64 libboost-dev:arm64 libboost-math-dev:arm64
 PACKAGE_PACKAGES := dpkg-dev help2man debootstrap file sqlite3
 

@@ -12,6 +12,7 @@
 #include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
+#include "m2mlat/cli/archive_inputs.hpp"
 #include "m2mlat/cli/inputs.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/cli/report_files.hpp"
@@ -29,6 +30,7 @@ namespace {
 
 struct ReportCommand {
   InputFlags inputs;
+  ArchiveFlags archive;
   SelectionFlags selection;
   MatchFlags match;
   StatsFlags stats;
@@ -76,10 +78,14 @@ report::Report build(const ReportCommand& c) {
   // Everything shown (pairs, statistics, per-pair bounds, clock series, losses) comes back from the
   // pipeline: no store is opened here.
   const auto pipeline = pipeline_options(c.selection, c.match, c.stats);
-  auto inputs = c.inputs.pipeline_inputs();
+  auto flags = c.inputs;
+  bool archived = false;
+  for (auto& res : analyse_archive(flags, c.archive, pipeline, archived))
+    r.scenarios.push_back(report::scenario_report(std::move(res)));
+  auto inputs = flags.pipeline_inputs();
   r.full_loops = analysis::take_full_loop_files(inputs.inputs, inputs.format, pipeline.summary);
   for (auto& chains : c.chains.take(inputs, c.selection, c.stats)) r.full_loops.push_back(std::move(chains));
-  if (!inputs.inputs.empty() || !inputs.cause_file.empty() || r.full_loops.empty())
+  if (!inputs.inputs.empty() || !inputs.cause_file.empty() || (r.full_loops.empty() && !archived))
     for (auto& res : analysis::analyse_inputs(inputs, pipeline))
       r.scenarios.push_back(report::scenario_report(std::move(res)));
 
@@ -95,6 +101,7 @@ report::Report build(const ReportCommand& c) {
 Runner attach_report(CLI::App& sub) {
   auto c = std::make_shared<ReportCommand>();
   c->inputs.add_to(sub, true);
+  c->archive.add_to(sub);
   c->selection.add_to(sub);
   c->match.add_to(sub);
   c->stats.add_to(sub);

@@ -6,6 +6,7 @@
 #include "m2mlat/analysis/full_loop.hpp"
 #include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
+#include "m2mlat/cli/archive_inputs.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/inputs.hpp"
 #include "m2mlat/cli/output.hpp"
@@ -54,6 +55,7 @@ std::string sync_text(const std::string& path, const formats::SyncImport& sync,
 
 struct StatsCommand {
   InputFlags inputs;
+  ArchiveFlags archive;
   SelectionFlags selection;
   MatchFlags match;
   StatsFlags stats;
@@ -66,6 +68,7 @@ struct StatsCommand {
 Runner attach_stats(CLI::App& sub) {
   auto c = std::make_shared<StatsCommand>();
   c->inputs.add_to(sub, true);
+  c->archive.add_to(sub);
   c->selection.add_to(sub);
   c->match.add_to(sub);
   c->stats.add_to(sub);
@@ -74,6 +77,10 @@ Runner attach_stats(CLI::App& sub) {
   sub.add_flag("--detail", c->detail, "Print every statistic of each scenario");
   return [c] {
     auto inputs = c->inputs;
+    const auto pipeline = pipeline_options(c->selection, c->match, c->stats);
+    // The archive's campaigns first (archive_inputs.hpp), then the stores and files.
+    bool archived = false;
+    auto results = analyse_archive(inputs, c->archive, pipeline, archived);
     // The full-loop rig's files (M2M, G2G, E2E per event) are summarised on their own, as are
     // synchronisation-test files (offsets between two boards).
     auto loops =
@@ -92,12 +99,9 @@ Runner attach_stats(CLI::App& sub) {
     auto pipeline_inputs = inputs.pipeline_inputs();
     for (auto& chains : c->chains.take(pipeline_inputs, c->selection, c->stats))
       loops.push_back(std::move(chains));
-    std::vector<analysis::ScenarioResult> results;
     if (!pipeline_inputs.inputs.empty() || !pipeline_inputs.cause_file.empty() ||
-        (sync_files.empty() && loops.empty())) {
-      const auto pipeline = pipeline_options(c->selection, c->match, c->stats);
-      results = analysis::analyse_inputs(pipeline_inputs, pipeline);
-    }
+        (sync_files.empty() && loops.empty() && !archived))
+      for (auto& r : analysis::analyse_inputs(pipeline_inputs, pipeline)) results.push_back(std::move(r));
     if (c->json) {
       auto doc = report::stats_document(results);
       for (const auto& [path, sync] : sync_files)

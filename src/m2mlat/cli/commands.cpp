@@ -29,6 +29,7 @@ Runner attach_synctest(CLI::App& sub);
 Runner attach_onsettest(CLI::App& sub);
 Runner attach_budget(CLI::App& sub);
 Runner attach_packets(CLI::App& sub);
+Runner attach_archive(CLI::App& sub);
 
 namespace {
 constexpr std::array kCommands{
@@ -55,6 +56,7 @@ constexpr std::array kCommands{
     Command{"packets", "Commands in a packet capture (file or live) as markers; one-way times across two captures", &attach_packets},
     Command{"agent", "Record one node and serve its events over the agent HTTP API (docs/api.md)", &attach_agent},
     Command{"report", "Statistics, comparisons and figures (text, Markdown, CSV, JSON, HTML, pgfplots)", &attach_report},
+    Command{"archive", "The lab's archive in PostgreSQL: push campaign stores, list campaigns (stats/report read it)", &attach_archive},
     Command{"help", "List the subcommands with a line on each", &attach_help},
 };
 }  // namespace

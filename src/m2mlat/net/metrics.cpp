@@ -41,28 +41,31 @@ std::string render_metrics(const Status& s, const ConnectionCounts& connections)
   out += fmt::format("m2mlat_up{{{}}} 1\n", node);
   per_channel("m2mlat_events_total", "Events stored since the agent started.",
               [](const ChannelStatus& c) { return c.events; });
-  per_channel("m2mlat_suppressed_total", "Edges refused by the refractory gate (bounces).",
+  per_channel("m2mlat_suppressed_edges_total", "Edges refused by the refractory gate (bounces).",
               [](const ChannelStatus& c) { return c.suppressed; });
-  family("m2mlat_lost_total", "counter", "Events missing according to the kernel's sequence numbers.");
-  out += fmt::format("m2mlat_lost_total{{{}}} {}\n", node, s.lost);
-  family("m2mlat_dropped_total", "counter", "Edges seen while no session was open (not stored).");
-  out += fmt::format("m2mlat_dropped_total{{{}}} {}\n", node, s.dropped);
+  family("m2mlat_lost_events_total", "counter", "Events missing according to the kernel's sequence numbers.");
+  out += fmt::format("m2mlat_lost_events_total{{{}}} {}\n", node, s.lost);
+  family("m2mlat_dropped_edges_total", "counter", "Edges seen while no session was open (not stored).");
+  out += fmt::format("m2mlat_dropped_edges_total{{{}}} {}\n", node, s.dropped);
   family("m2mlat_last_seq", "gauge", "The store's last committed event sequence number.");
   out += fmt::format("m2mlat_last_seq{{{}}} {}\n", node, s.last_seq);
   family("m2mlat_session_open", "gauge", "1 while a session is open.");
   out += fmt::format("m2mlat_session_open{{{}}} {}\n", node, s.session ? 1 : 0);
   family("m2mlat_http_connections_open", "gauge", "Connections to the API open now (a thread each).");
   out += fmt::format("m2mlat_http_connections_open{{{}}} {}\n", node, connections.open);
-  family("m2mlat_http_connections_total", "counter",
-         "Connections to the API by how they ended early: evicted (to make room), refused (503, all "
-         "busy), timed_out (request deadline), idle (no request began); accepted: all given a thread.");
-  for (const auto& [outcome, n] :
-       {std::pair<std::string_view, std::uint64_t>{"accepted", connections.accepted},
-        {"evicted", connections.evicted},
+  // Accepted connections and those ended early are two families: the early endings' sum over their
+  // label is meaningful on its own (Prometheus' rule for a label), and is not a part of 'accepted'.
+  family("m2mlat_http_connections_accepted_total", "counter", "Connections to the API given a thread.");
+  out += fmt::format("m2mlat_http_connections_accepted_total{{{}}} {}\n", node, connections.accepted);
+  family("m2mlat_http_connections_ended_early_total", "counter",
+         "Connections to the API ended early, by reason: evicted (to make room), refused (503, all busy), "
+         "timed_out (request deadline), idle (no request began).");
+  for (const auto& [reason, n] :
+       {std::pair<std::string_view, std::uint64_t>{"evicted", connections.evicted},
         {"refused", connections.refused},
         {"timed_out", connections.timed_out},
         {"idle", connections.idle}})
-    out += fmt::format("m2mlat_http_connections_total{{{},outcome=\"{}\"}} {}\n", node, outcome, n);
+    out += fmt::format("m2mlat_http_connections_ended_early_total{{{},reason=\"{}\"}} {}\n", node, reason, n);
   family("m2mlat_start_time_seconds", "gauge", "When the agent started, CLOCK_REALTIME seconds.");
   out += fmt::format("m2mlat_start_time_seconds{{{}}} {}\n", node, core::format_seconds(s.started_ns));
   if (s.clock) {

@@ -26,9 +26,9 @@ TEST(Metrics, SamplesOfTheStatus) {
   EXPECT_NE(text.find("m2mlat_up{" + node + "} 1\n"), std::string::npos) << text;
   EXPECT_NE(text.find("m2mlat_events_total{" + node + R"(,channel="wheel"} 10)"), std::string::npos) << text;
   EXPECT_NE(text.find("m2mlat_events_total{" + node + R"(,channel="a\\b\nc"} 3)"), std::string::npos) << text;
-  EXPECT_NE(text.find("m2mlat_suppressed_total{" + node + R"(,channel="wheel"} 2)"), std::string::npos);
-  EXPECT_NE(text.find("m2mlat_lost_total{" + node + "} 1\n"), std::string::npos);
-  EXPECT_NE(text.find("m2mlat_dropped_total{" + node + "} 4\n"), std::string::npos);
+  EXPECT_NE(text.find("m2mlat_suppressed_edges_total{" + node + R"(,channel="wheel"} 2)"), std::string::npos);
+  EXPECT_NE(text.find("m2mlat_lost_events_total{" + node + "} 1\n"), std::string::npos);
+  EXPECT_NE(text.find("m2mlat_dropped_edges_total{" + node + "} 4\n"), std::string::npos);
   EXPECT_NE(text.find("m2mlat_last_seq{" + node + "} 13\n"), std::string::npos);
   EXPECT_NE(text.find("m2mlat_session_open{" + node + "} 0\n"), std::string::npos);
   EXPECT_NE(text.find("m2mlat_start_time_seconds{" + node + "} 1780304400.000000001\n"), std::string::npos);
@@ -36,7 +36,7 @@ TEST(Metrics, SamplesOfTheStatus) {
   // Every line is a comment or `name{labels} value`, and each family is announced once.
   std::size_t helps = 0;
   for (std::size_t at = 0; (at = text.find("# HELP ", at)) != std::string::npos; ++at) ++helps;
-  EXPECT_EQ(helps, 10u);  // 8 of the status, 2 of the connections
+  EXPECT_EQ(helps, 11u);  // 8 of the status, 3 of the connections
   EXPECT_EQ(text.back(), '\n');
 }
 
@@ -65,15 +65,46 @@ TEST(Metrics, ConnectionCountsByOutcome) {
   c.timed_out = 50;
   const auto text = render_metrics(awkward_status(), c);
   EXPECT_NE(text.find(R"(m2mlat_http_connections_open{node="veh\"icle"} 3)"), std::string::npos) << text;
-  EXPECT_NE(text.find(R"(m2mlat_http_connections_total{node="veh\"icle",outcome="accepted"} 120)"),
+  EXPECT_NE(text.find(R"(m2mlat_http_connections_accepted_total{node="veh\"icle"} 120)"),
             std::string::npos);
-  EXPECT_NE(text.find(R"(m2mlat_http_connections_total{node="veh\"icle",outcome="evicted"} 7)"),
+  EXPECT_NE(text.find(R"(m2mlat_http_connections_ended_early_total{node="veh\"icle",reason="evicted"} 7)"),
             std::string::npos);
-  EXPECT_NE(text.find(R"(m2mlat_http_connections_total{node="veh\"icle",outcome="timed_out"} 50)"),
+  EXPECT_NE(text.find(R"(m2mlat_http_connections_ended_early_total{node="veh\"icle",reason="timed_out"} 50)"),
             std::string::npos);
-  EXPECT_NE(text.find(R"(m2mlat_http_connections_total{node="veh\"icle",outcome="refused"} 0)"),
+  EXPECT_NE(text.find(R"(m2mlat_http_connections_ended_early_total{node="veh\"icle",reason="refused"} 0)"),
             std::string::npos);
-  EXPECT_NE(text.find("# TYPE m2mlat_http_connections_total counter\n"), std::string::npos);
+  EXPECT_NE(text.find("# TYPE m2mlat_http_connections_ended_early_total counter\n"), std::string::npos);
+}
+
+// Prometheus' naming rules: every family's TYPE line names a counter ending in _total, or a gauge
+// that does not; names are lower-case snake case under m2mlat_; a time is in _seconds.
+TEST(Metrics, NamesFollowPrometheusConventions) {
+  auto s = awkward_status();
+  store::ClockSample c;
+  c.source = "chrony";
+  s.clock = c;
+  ConnectionCounts counts;
+  counts.accepted = 1;
+  const auto text = render_metrics(s, counts);
+  std::size_t families = 0;
+  for (std::size_t at = 0; (at = text.find("# TYPE ", at)) != std::string::npos; ++at) {
+    const auto line = text.substr(at + 7, text.find('\n', at) - at - 7);
+    const auto name = line.substr(0, line.find(' '));
+    const auto type = line.substr(line.find(' ') + 1);
+    ++families;
+    EXPECT_TRUE(name.starts_with("m2mlat_")) << name;
+    EXPECT_EQ(name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_"), std::string::npos) << name;
+    if (type == "counter") {
+      EXPECT_TRUE(name.ends_with("_total")) << name;
+    } else {
+      EXPECT_TRUE(type == "gauge" && !name.ends_with("_total")) << name << " " << type;
+    }
+    if (name.find("time") != std::string::npos || name.find("offset") != std::string::npos ||
+        name.find("error") != std::string::npos) {
+      EXPECT_TRUE(name.ends_with("_seconds")) << name;
+    }
+  }
+  EXPECT_EQ(families, 14u);
 }
 
 }  // namespace

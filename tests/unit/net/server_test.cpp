@@ -391,7 +391,7 @@ TEST_F(ServerTest, SlowConnectionsDoNotDelayValidClientsAndAreCutAtTheDeadline) 
   c.set_bearer_token_auth(token.c_str());
   const auto metrics = c.Get("/metrics");
   ASSERT_TRUE(metrics);
-  EXPECT_NE(metrics->body.find("m2mlat_http_connections_total{node=\"vehicle\",outcome=\"timed_out\"} 50\n"),
+  EXPECT_NE(metrics->body.find("m2mlat_http_connections_ended_early_total{node=\"vehicle\",reason=\"timed_out\"} 50\n"),
             std::string::npos)
       << metrics->body;
 }
