@@ -46,7 +46,9 @@
     return out;
   }
   const frame = { left: 52, right: 12, top: 10, bottom: 30 };
-  function axes(svg, w, h, xTicks, yTicks, xs, ys, xLabel) {
+  // Both axes carry their quantity and unit: xLabel under the x axis' right end, yLabel turned
+  // along the y axis.
+  function axes(svg, w, h, xTicks, yTicks, xs, ys, xLabel, yLabel) {
     for (const t of yTicks) {
       svg.appendChild(el('line', { class: 'grid', x1: frame.left, x2: w - frame.right, y1: ys(t), y2: ys(t) }));
       svg.appendChild(el('text', { class: 'tick', x: frame.left - 6, y: ys(t) + 4, 'text-anchor': 'end' }, String(t)));
@@ -55,7 +57,10 @@
       svg.appendChild(el('text', { class: 'tick', x: xs(t), y: h - frame.bottom + 16, 'text-anchor': 'middle' }, String(t)));
     svg.appendChild(el('line', { class: 'axis', x1: frame.left, x2: frame.left, y1: frame.top, y2: h - frame.bottom }));
     svg.appendChild(el('line', { class: 'axis', x1: frame.left, x2: w - frame.right, y1: h - frame.bottom, y2: h - frame.bottom }));
-    svg.appendChild(el('text', { class: 'tick', x: w - frame.right, y: h - 2, 'text-anchor': 'end' }, xLabel));
+    svg.appendChild(el('text', { class: 'tick axis-label', x: w - frame.right, y: h - 2, 'text-anchor': 'end' }, xLabel));
+    const yMid = (frame.top + h - frame.bottom) / 2;
+    svg.appendChild(el('text', { class: 'tick axis-label', x: 12, y: yMid, 'text-anchor': 'middle',
+      transform: `rotate(-90 12 ${yMid})` }, yLabel));
   }
   function clear(svg) {
     while (svg.firstChild) svg.removeChild(svg.firstChild);
@@ -87,7 +92,7 @@
     if (s.q1_ms !== null && s.q3_ms !== null)
       svg.appendChild(el('rect', { class: 'band', x: frame.left, width: w - frame.left - frame.right,
         y: ys(s.q3_ms), height: Math.max(ys(s.q1_ms) - ys(s.q3_ms), 0) }));
-    axes(svg, w, h, ticks(xLo, 0, 6), ticks(yLo, yHi, 5), xs, ys, 's before the newest pair');
+    axes(svg, w, h, ticks(xLo, 0, 6), ticks(yLo, yHi, 5), xs, ys, 'time (s before the newest pair)', 'latency (ms)');
     if (s.median_ms !== null)
       svg.appendChild(el('line', { class: 'median', x1: frame.left, x2: w - frame.right, y1: ys(s.median_ms), y2: ys(s.median_ms) }));
     for (const p of pts)
@@ -107,7 +112,7 @@
     const top = Math.max(...hist.bins.map((b) => b.count));
     const xs = (x) => frame.left + ((x - xLo) / (xHi - xLo)) * (w - frame.left - frame.right);
     const ys = (y) => h - frame.bottom - (y / top) * (h - frame.top - frame.bottom);
-    axes(svg, w, h, ticks(xLo, xHi, 5), ticks(0, top, 4).filter((t) => Number.isInteger(t)), xs, ys, 'ms');
+    axes(svg, w, h, ticks(xLo, xHi, 5), ticks(0, top, 4).filter((t) => Number.isInteger(t)), xs, ys, 'latency (ms)', 'pairs');
     for (const b of hist.bins) {
       if (b.count === 0) continue;
       const x0 = xs(nsToMs(b.lower_ns));
@@ -172,6 +177,29 @@
       (loop.warnings.length ? ' \u00b7 ' + loop.warnings.join('; ') : ''));
   }
 
+  // ---- boards down: the red banner at the top and the badge -------------------------------------
+  // A board stale or unreachable is named at the top at once (the table below says more); the badge
+  // then turns red too, whatever the state of the page's own link to the coordinator.
+  let stream = { state: 'waiting', text: 'connecting' };  // the page's link to the coordinator
+  let down = [];                                           // "node state" of each board not ok
+  function drawAlert(snap) {
+    const bad = (snap.nodes || []).filter((n) => n.state !== 'ok');
+    down = bad.map((n) => `${n.node || n.url} ${n.state}`);
+    const alert = $('alert');
+    alert.hidden = bad.length === 0;
+    setText('alert', bad.map((n) => {
+      const since = n.last_contact_ns ? 'last contact ' + fmtAge(snap.now_ns - n.last_contact_ns) : 'never answered';
+      return `${n.node || n.url} ${n.state.toUpperCase()} (${since}${n.last_error ? ': ' + n.last_error : ''})`;
+    }).join(' \u00b7 '));
+    drawConnection();
+  }
+  function drawConnection() {
+    const badge = $('connection');
+    const bad = stream.state === 'ok' && down.length > 0;
+    badge.className = 'badge badge-' + (bad ? 'error' : stream.state);
+    badge.textContent = bad ? `${stream.text} \u00b7 ${down.length} board${down.length > 1 ? 's' : ''} down` : stream.text;
+  }
+
   // ---- the whole page ----------------------------------------------------------------------
   function apply(snap) {
     const s = snap.summary;
@@ -193,14 +221,14 @@
     drawStrip(snap);
     drawHistogram(snap);
     drawNodes(snap);
+    drawAlert(snap);
     setText('footer', `updated ${new Date(snap.now_ns / 1e6).toISOString()} \u00b7 ${s.pairings} pairings, ` +
       `last took ${(s.update_cost_ns / 1e6).toFixed(1)} ms \u00b7 store seq ${s.store_last_seq}`);
   }
 
   function connection(state, text) {
-    const badge = $('connection');
-    badge.className = 'badge badge-' + state;
-    badge.textContent = text;
+    stream = { state, text };
+    drawConnection();
   }
 
   function start() {

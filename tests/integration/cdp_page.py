@@ -2,7 +2,9 @@
 """Loads a page in headless Chromium and reads it over the DevTools protocol, for the dashboard test.
 
 Usage: cdp_page.py CHROMIUM URL PROFILE_DIR STEP...   where each STEP is SECONDS=EXPRESSION: wait that
-long (the page keeps running), then evaluate the JavaScript expression in the page.
+long (the page keeps running), then evaluate the JavaScript expression in the page; a STEP
+SECONDS=!COMMAND instead runs COMMAND (split as a shell would, no shell) at that moment, with its
+exit status as the step's value (e.g. to kill a board while the page is open).
 
 The protocol runs over a pipe (--remote-debugging-pipe: fd 3 to Chromium, fd 4 back, NUL-terminated
 JSON messages), so no websocket client is needed. Prints one JSON object:
@@ -12,6 +14,7 @@ and exits 0; exits 2 if Chromium or the protocol fails.
 import json
 import os
 import select
+import shlex
 import subprocess
 import sys
 import time
@@ -125,6 +128,9 @@ def main():
         values = []
         for seconds, expression in steps:
             browser.pump(seconds)
+            if expression.startswith("!"):
+                values.append(subprocess.run(shlex.split(expression[1:]), check=False).returncode)
+                continue
             result = browser.call("Runtime.evaluate", {"expression": expression, "returnByValue": True},
                                   session=session)
             if "exceptionDetails" in result:

@@ -131,16 +131,53 @@ read_agents='[document.getElementById("samples").textContent, document.querySele
 "$PY" "$HERE/cdp_page.py" "$CHROMIUM" "$url" "$WORK/profile2" "4=$read_agents" "8=$read_agents" > collect.json \
   || fail "chromium could not load $url"
 $PY - collect.json <<'PY'
-import json, sys
+import json, re, sys
 page = json.load(open(sys.argv[1]))
 assert not page["errors"], "console errors: %s" % page["errors"]
 (n1, rows1, hidden1), (n2, rows2, hidden2) = page["values"]
 assert not hidden2, "the agents' table is hidden"
 rows = [r.split("\t") for r in rows2.strip().split("\n")]
 assert [r[:3] for r in rows] == [["operator", "cause", "ok"], ["vehicle", "effect", "ok"]], rows
+# the clock columns (offset, max error, sync) from the simulated boards' own clock samples
+for r in rows:
+    assert re.fullmatch(r"[+-]\d+\.\d{3} ms", r[7]) and re.fullmatch(r"\d+\.\d{3} ms", r[8]), r
+    assert r[9] in ("yes", "NO"), r
 n1 = int(n1) if n1.isdigit() else 0
 assert int(n2) > n1, "the sample count did not grow: %s then %s" % (n1, n2)
-print("collect dashboard: %s then %s samples, agents %s" % (n1, n2, [r[:3] for r in rows]))
+print("collect dashboard: %s then %s samples, agents %s" % (n1, n2, [r[:3] + r[7:10] for r in rows]))
+PY
+
+# A board lost in the car: the vehicle's agent is killed while the page is open. The top of the page
+# must turn red at once, naming the board, and the badge must stop saying a plain "live". The page is
+# read 2 s after loading (both boards ok), then every 0.25 s after the kill for up to 4 s.
+read_top='[!document.getElementById("alert").hidden, document.getElementById("alert").textContent,
+  getComputedStyle(document.getElementById("alert")).backgroundColor, document.getElementById("alert").getBoundingClientRect().top,
+  document.getElementById("connection").textContent, document.getElementById("connection").className,
+  [...document.querySelectorAll("#strip .axis-label, #histogram .axis-label")].map((t) => t.textContent)]'
+steps=("2=$read_top" "0=!kill -KILL ${recorders[1]}")
+for _ in $(seq 16); do steps+=("0.25=$read_top"); done
+"$PY" "$HERE/cdp_page.py" "$CHROMIUM" "$url" "$WORK/profile3" "${steps[@]}" > lost.json \
+  || fail "chromium could not load $url"
+wait "${recorders[1]}" 2>/dev/null || true
+$PY - lost.json <<'PY'
+import json, sys
+page = json.load(open(sys.argv[1]))
+assert not page["errors"], "console errors: %s" % page["errors"]
+before, killed, *after = page["values"]
+assert killed == 0, "kill failed: %s" % killed
+shown, text, colour, top, badge, badge_class, labels = before
+assert not shown and badge == "live" and badge_class == "badge badge-ok", before
+# the axes carry their units
+assert labels == ["time (s before the newest pair)", "latency (ms)", "latency (ms)", "pairs"], labels
+first = next((i for i, v in enumerate(after) if v[0]), None)
+assert first is not None, "no red banner within 4 s of the kill: %s" % after[-1]
+shown, text, colour, top, badge, badge_class, _ = after[first]
+assert text.startswith("vehicle UNREACHABLE") or text.startswith("vehicle STALE"), text
+assert "operator" not in text, text              # only the lost board is named
+assert colour == "rgb(179, 38, 30)", colour      # --bad, light scheme
+assert top == 0, top                             # at the very top of the page
+assert badge == "live \u00b7 1 board down" and badge_class == "badge badge-error", (badge, badge_class)
+print("board lost: red banner %.2f s after the kill: %r; badge %r" % ((first + 1) * 0.25, text, badge))
 PY
 kill -TERM "$watcher"
 wait "$watcher" || fail "m2mlat collect did not end cleanly on SIGTERM"

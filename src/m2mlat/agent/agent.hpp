@@ -72,7 +72,6 @@ class Agent final : public net::AgentBackend {
   std::mutex mutex_;          // guards the snapshot below
   capture::RecordCounters counters_;
   std::optional<store::Session> open_;
-  std::optional<store::ClockSample> clock_;
 };
 
 }  // namespace m2mlat::agent

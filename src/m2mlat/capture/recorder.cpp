@@ -100,6 +100,8 @@ class Recorder::Run {
   std::int64_t ended_session_ = 0;  // reported once run() returns
   core::TimePoint session_start_;   // the open session's start
   core::Duration started_{0}, last_progress_{0}, last_round_{0};
+  // CLOCK_REALTIME when the run began, ns: edges stamped earlier are replayed ones
+  std::int64_t started_realtime_ns_ = core::realtime_now().ns();
   bool limit_reached_ = false;
   bool finished_ = false;
   std::vector<std::unique_ptr<ReadResult>> chunks_;
@@ -123,9 +125,14 @@ Recorder::Run::Run(Recorder& recorder, int stop_fd, const std::function<std::str
   writer_options_.on_commit = [this](const store::Batch& committed, const store::AppendResult&) {
     const auto now = core::realtime_now().ns();
     // Only edges this machine's kernel timestamped: a simulated rig's times are on its own clocks.
-    for (const auto& event : committed.events)
-      if (event.time.clock() == core::Clock::realtime && (event.flags & core::kFlagSimulated) == 0)
+    // An edge stamped before the run began was replayed (an old log), not recorded as it happened.
+    for (const auto& event : committed.events) {
+      if (event.time.clock() != core::Clock::realtime || (event.flags & core::kFlagSimulated) != 0) continue;
+      if (event.time.ns() < started_realtime_ns_)
+        ++counters_.commit_latency_replayed;
+      else
         counters_.commit_latency.add(now - event.time.ns());
+    }
   };
 }
 
@@ -226,6 +233,7 @@ void Recorder::Run::take(ReadResult& batch) {
     sample.session_id = counters_.session_id;
     writer_->add(sample);
   }
+  if (!batch.clock_samples.empty()) counters_.last_clock = batch.clock_samples.back();
   add_gaps(batch.gaps);
   add_events(batch.events);
 }
@@ -263,6 +271,7 @@ void Recorder::Run::add_clock_samples(bool final) {
     std::vector<store::ClockSample> samples;
     options_.before_commit(counters_.session_id, samples);
     for (const auto& sample : samples) writer_->add(sample);
+    if (!samples.empty()) counters_.last_clock = samples.back();
   }
   add_raw_samples(final, std::nullopt);
 }

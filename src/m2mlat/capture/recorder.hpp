@@ -51,6 +51,12 @@ struct RecordCounters {
   // From each stored event's timestamp to the return of the commit that made it durable (events on
   // CLOCK_REALTIME only: the commit's end is read on that clock), ns.
   LatencyHistogram commit_latency;
+  // Events left out of commit_latency because they were stamped before this run began (a kernel
+  // log replayed from a file): their "latency" would be their age, not the recorder's delay.
+  std::uint64_t commit_latency_replayed = 0;
+  // The newest clock sample stored, from the source itself (the simulated rig's daemons) or from
+  // before_commit (the clock monitor); what the agent's /v1/status reports as its clock.
+  std::optional<store::ClockSample> last_clock;
 };
 
 struct RecorderOptions {

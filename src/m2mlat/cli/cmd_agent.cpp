@@ -92,10 +92,15 @@ int run_agent(AgentCommand& c) {
   apply_rt(setup, flags.quiet);
   const auto counters = agent.run(stop.fd(), [&] { return stop.take(); });
   warn_after_run(setup);
-  if (!flags.quiet)
-    fmt::print(stderr, "m2mlat: {}: {} events stored, {} dropped, last seq {}, stopped by {}\n",
-               core::printable(flags.store_path), counters.events, counters.dropped,
+  if (!flags.quiet) {
+    // What "dropped" means, where there were any: nothing lost, but nothing a session holds either.
+    const char* why = counters.dropped == 0 ? ""
+                                            : " (edges read while no session was open, before the first "
+                                              "began or after a stop: not stored)";
+    fmt::print(stderr, "m2mlat: {}: {} events stored, {} dropped{}, last seq {}, stopped by {}\n",
+               core::printable(flags.store_path), counters.events, counters.dropped, why,
                counters.last_committed_seq, counters.stop_reason);
+  }
   return 0;
 }
 

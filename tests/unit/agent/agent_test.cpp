@@ -39,12 +39,26 @@ class ScriptedSource final : public capture::Source {
       ready_.push_back(e);
     }
   }
+  // A clock reading of the source's own (as the simulated rig's daemons give), handed over with
+  // the next read.
+  void push_clock(std::int64_t offset_ns) {
+    std::lock_guard lock(mutex_);
+    store::ClockSample s;
+    s.time = core::realtime_now();
+    s.source = "scripted";
+    s.offset_ns = offset_ns;
+    s.max_error_ns = 250'000;
+    s.synchronised = true;
+    clocks_.push_back(s);
+  }
   void read(capture::ReadResult& out, std::size_t max_events) override {
     std::lock_guard lock(mutex_);
     while (!ready_.empty() && out.events.size() < max_events) {
       out.events.push_back(ready_.front());
       ready_.erase(ready_.begin());
     }
+    for (auto& c : clocks_) out.clock_samples.push_back(c);
+    clocks_.clear();
   }
   int fd() const override { return -1; }
   core::Duration poll_interval() const override { return std::chrono::milliseconds(5); }
@@ -54,6 +68,7 @@ class ScriptedSource final : public capture::Source {
  private:
   std::mutex mutex_;
   std::vector<core::Event> ready_;
+  std::vector<store::ClockSample> clocks_;
   std::int64_t count_ = 0;
 };
 
@@ -179,6 +194,31 @@ TEST_F(AgentTest, ClockSamplesFromTheHookGoIntoTheOpenSessionAndTheStatus) {
   const auto first = json::parse(c.Get("/v1/clock-samples?limit=1")->body);
   EXPECT_EQ(first["session"], 1);
   EXPECT_EQ(first["source"], "test");
+  stop();
+  run.join();
+}
+
+// A simulated board has no clock monitor: its source hands over its own clock readings, which are
+// stored and must show in the status as the monitor's would (the coordinator's clock columns).
+TEST_F(AgentTest, ClockSamplesFromTheSourceShowInTheStatus) {
+  ScriptedSource source;
+  Agent agent(options(), source);
+  agent.start();
+  std::thread run([&] { agent.run(stop_.get()); });
+  httplib::Client c("127.0.0.1", agent.port());
+  ASSERT_TRUE(eventually([&] { return status(c).session.has_value(); }));
+  EXPECT_FALSE(status(c).clock.has_value());
+  source.push_clock(1234);
+  source.push(1);
+  ASSERT_TRUE(eventually([&] { return status(c).clock.has_value(); }));
+  EXPECT_EQ(status(c).clock->offset_ns, 1234);
+  EXPECT_EQ(status(c).clock->max_error_ns, 250'000);
+  EXPECT_TRUE(status(c).clock->synchronised);
+  source.push_clock(-77);
+  source.push(1);
+  ASSERT_TRUE(eventually([&] { return status(c).clock->offset_ns == -77; }));
+  const auto stored = json::parse(c.Get("/v1/clock-samples?limit=1")->body);
+  EXPECT_EQ(stored["source"], "scripted");
   stop();
   run.join();
 }
