@@ -137,7 +137,8 @@ int run_recv(const char* ip, int tcp_port, int udp_port) {
       buf.append(chunk, static_cast<std::size_t>(n));
       while (buf.size() >= 4) {
         const auto* p = reinterpret_cast<const unsigned char*>(buf.data());
-        const std::size_t len = (std::size_t{p[0]} << 24) | (std::size_t{p[1]} << 16) | (std::size_t{p[2]} << 8) | p[3];
+        const std::size_t len =
+            (std::size_t{p[0]} << 24) | (std::size_t{p[1]} << 16) | (std::size_t{p[2]} << 8) | p[3];
         if (buf.size() < 4 + len) break;
         note(buf.substr(4, len), t);
         buf.erase(0, 4 + len);
@@ -224,9 +225,9 @@ int run_send(const char* ip, int tcp_port, int udp_port, int count) {
     }
     for (const char proto : {'t', 'u'}) {
       const std::string id = proto + std::to_string(k);
-      const std::string body = "{\"id\": \"" + id + "\", \"stamp\": " +
-                               std::to_string(now_ns(CLOCK_REALTIME) / 1'000'000) + ", \"steer\": " +
-                               std::to_string(0.01 * k) + "}";
+      const std::string body = "{\"id\": \"" + id +
+                               "\", \"stamp\": " + std::to_string(now_ns(CLOCK_REALTIME) / 1'000'000) +
+                               ", \"steer\": " + std::to_string(0.01 * k) + "}";
       if (proto == 't') {
         const auto len = static_cast<std::uint32_t>(body.size());
         const std::string frame = std::string{static_cast<char>(len >> 24), static_cast<char>(len >> 16),
@@ -237,7 +238,8 @@ int run_send(const char* ip, int tcp_port, int udp_port, int count) {
         die("udp send");
       }
       const SentAt at = sent_at(proto == 't' ? tcp : udp);
-      std::printf("%s %lld %lld\n", id.c_str(), static_cast<long long>(at.snd), static_cast<long long>(at.sched));
+      std::printf("%s %lld %lld\n", id.c_str(), static_cast<long long>(at.snd),
+                  static_cast<long long>(at.sched));
     }
   }
   const timespec tenth{0, 100'000'000};
