@@ -9,6 +9,8 @@
 #                 its guests with it)
 #   i2c-stub.ko, i2c-dev.ko  Debian's modules: an SMBus adapter with a register file at a chosen
 #                 address, and /dev/i2c-N for it (the gyroscope tests read an "MPU-6050" there)
+#   veth.ko, sch_netem.ko  Debian's modules: virtual Ethernet pairs and netem's delay, for the
+#                 packet-capture test across a delayed link (packets.netem)
 # Everything is fetched with `apt-get download` and built once into $M2MLAT_VM_CACHE/<abi>/; later runs
 # find it there and return at once. Kernel sources are unpacked in a temporary folder and deleted:
 # nothing of the kernel ever enters the clone.
@@ -21,7 +23,7 @@ ABI=$(kernel_abi)
 OUT=$CACHE/$ABI
 # Debian's own modules the guests load, as paths below the image package's /lib/modules/<abi>/kernel.
 IMAGE_MODULES=(fs/configfs/configfs.ko drivers/net/ethernet/intel/e1000/e1000.ko drivers/i2c/i2c-stub.ko
-  drivers/i2c/i2c-dev.ko)
+  drivers/i2c/i2c-dev.ko drivers/net/veth.ko net/sched/sch_netem.ko)
 have_modules() {
   local m
   for m in "${IMAGE_MODULES[@]}"; do [ -s "$OUT/$(basename "$m")" ] || return 1; done

@@ -74,6 +74,13 @@ if [ ! -x "$GYRO_BIN" ] || [ "$VM_DIR/gyro_driver.cpp" -nt "$GYRO_BIN" ]; then
     -Wold-style-cast -Werror -o "$GYRO_BIN" "$VM_DIR/gyro_driver.cpp"
 fi
 
+TRAFFIC_BIN=$BUILD/m2mlat-vm-traffic
+if [ ! -x "$TRAFFIC_BIN" ] || [ "$VM_DIR/netem_traffic.cpp" -nt "$TRAFFIC_BIN" ]; then
+  log "building the netem test's traffic program"
+  g++ -std=c++20 -O2 -static -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion \
+    -Wold-style-cast -Werror -o "$TRAFFIC_BIN" "$VM_DIR/netem_traffic.cpp"
+fi
+
 # The initramfs: an uncompressed cpio (the kernel would spend seconds decompressing under TCG).
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
@@ -95,7 +102,16 @@ strip -o "$ROOT/bin/m2mlat" "$M2MLAT_BIN"
 install_libraries "$M2MLAT_BIN"
 cp "$DRIVER_BIN" "$ROOT/bin/m2mlat-vm-driver"
 cp "$GYRO_BIN" "$ROOT/bin/m2mlat-vm-gyro"
-cp "$KERNEL_DIR/configfs.ko" "$KERNEL_DIR/gpio-sim.ko" "$KERNEL_DIR/i2c-stub.ko" "$KERNEL_DIR/i2c-dev.ko" "$ROOT/lib/modules/"
+cp "$TRAFFIC_BIN" "$ROOT/bin/m2mlat-vm-traffic"
+cp "$KERNEL_DIR/configfs.ko" "$KERNEL_DIR/gpio-sim.ko" "$KERNEL_DIR/i2c-stub.ko" "$KERNEL_DIR/i2c-dev.ko" \
+  "$KERNEL_DIR/veth.ko" "$KERNEL_DIR/sch_netem.ko" "$ROOT/lib/modules/"
+# The netem test's ip and tc: the host's iproute2 (the guest kernel's Debian release; busybox's tc has
+# no netem), with their libraries. `ip netns` keeps its namespaces in /run/netns.
+mkdir -p "$ROOT/usr/sbin" "$ROOT/run"
+for tool in ip tc; do
+  cp "/usr/sbin/$tool" "$ROOT/usr/sbin/$tool"
+  install_libraries "/usr/sbin/$tool"
+done
 install -m 0755 "$VM_DIR/guest/init" "$ROOT/init"
 
 # Debian's gpiomon (gpiod 1.6, dynamically linked), for the performance comparison: its packages

@@ -595,6 +595,134 @@ t_gyro_led() {
   return $rc
 }
 
+# ---- packets across a netem link: m2mlat packets live on both ends (tests/integration/packets_netem.sh) --
+
+# The integration test's setup in this kernel, which has sch_netem (the build hosts' kernels do not):
+# three network namespaces (sender, router, receiver) joined by veth pairs, `tc qdisc ... netem
+# delay` on the router's link to the receiver (a capture on an interface sees its outgoing packets
+# after that interface's queueing discipline, so the delay must not sit on the sender's own), 100
+# length-prefixed JSON commands over TCP and 100 datagrams over UDP at 100 Hz (m2mlat-vm-traffic),
+# `m2mlat packets --interface` capturing live on both ends. Each command's one-way time from the
+# two captures must be within 0.1 ms of what the two ends' clocks say (the kernel's socket
+# timestamps: sent, received), and the median within 1 ms of netem's delay. ip and tc are the
+# host's iproute2 (busybox's tc has no netem).
+TRAFFIC=/bin/m2mlat-vm-traffic
+NETEM_DELAY_MS=${NETEM_DELAY_MS:-20}
+t_packets_netem() {
+  local ip=/usr/sbin/ip tc=/usr/sbin/tc snd=m2s rtr=m2r rcv=m2v side pids="" rc=0 m
+  "$M2MLAT" help 2>/dev/null | awk '$1 == "packets" { f = 1 } END { exit !f }' ||
+    { info "skipped: this m2mlat has no 'packets' subcommand"; return 77; }
+  for m in veth sch_netem; do
+    grep -q "^$m " /proc/modules || insmod "/lib/modules/$m.ko" || { info "insmod $m failed"; return 1; }
+  done
+  $ip netns add $snd && $ip netns add $rtr && $ip netns add $rcv || { info "ip netns add failed"; return 1; }
+  $ip link add s0 netns $snd type veth peer name r0 netns $rtr &&
+    $ip link add r1 netns $rtr type veth peer name v0 netns $rcv &&
+    $ip -n $snd addr add 10.201.1.1/24 dev s0 && $ip -n $rtr addr add 10.201.1.2/24 dev r0 &&
+    $ip -n $rtr addr add 10.201.2.1/24 dev r1 && $ip -n $rcv addr add 10.201.2.2/24 dev v0 &&
+    for side in "$snd s0" "$rtr r0" "$rtr r1" "$rcv v0" "$snd lo" "$rtr lo" "$rcv lo"; do
+      set -- $side
+      $ip -n "$1" link set "$2" up || return 1
+    done &&
+    $ip -n $snd route add default via 10.201.1.2 && $ip -n $rcv route add default via 10.201.2.1 &&
+    $ip netns exec $rtr sh -c 'echo 1 >/proc/sys/net/ipv4/ip_forward' ||
+    { info "setting up the namespaces failed"; return 1; }
+  $ip netns exec $rtr $tc qdisc add dev r1 root netem delay "${NETEM_DELAY_MS}ms" 2>tc.err ||
+    { info "tc qdisc add ... netem failed"; show tc.err; return 1; }
+  info "netem: $($ip netns exec $rtr $tc qdisc show dev r1)"
+
+  local filter="(tcp port 7000 or udp port 7001) and host 10.201.1.1"
+  for side in "$snd s0 snd" "$rcv v0 rcv"; do
+    set -- $side
+    $ip netns exec "$1" "$M2MLAT" packets --interface "$2" --filter "$filter" --key json:id --sender-ms stamp \
+      --node "$3" --write "$3.pcap" --csv -o "$3.live.csv" 2>"$3.err" &
+    pids="$pids $!"
+  done
+  for side in snd rcv; do
+    for m in $(seq 200); do grep -q "capturing on" "$side.err" 2>/dev/null && break; sleep 0.05; done
+    grep -q "capturing on .* (timestamps: host)" "$side.err" || { info "$side capture did not start"; show "$side.err"; rc=1; }
+  done
+  [ $rc = 0 ] || { kill $pids; return 1; }
+  $ip netns exec $rcv "$TRAFFIC" recv 10.201.2.2 7000 7001 >recv.log 2>recv.err &
+  local receiver=$!
+  for m in $(seq 200); do grep -q ready recv.err 2>/dev/null && break; sleep 0.05; done
+  $ip netns exec $snd "$TRAFFIC" send 10.201.2.2 7000 7001 100 >send.log 2>send.err ||
+    { info "the sender failed"; show send.err; rc=1; }
+  wait_exit $receiver 20 || { info "the receiver failed"; show recv.err; rc=1; }
+  sleep 0.2  # the captures see the last packets
+  kill -TERM $pids
+  for m in $pids; do wait_exit "$m" 20 || { info "a capture failed"; show snd.err; show rcv.err; rc=1; }; done
+  [ $rc = 0 ] || return 1
+
+  # The files written while capturing, matched by key, against the two ends' socket timestamps.
+  # The sender's kernel stamps each packet twice, on entering the device's queueing (sched) and in
+  # the driver (snd); the capture tap lies between the two, so the sender's clock says "sent within
+  # [sched, snd]" (under TCG that window is up to ~0.15 ms wide: the emulated CPU runs the stack
+  # slowly). The receiver's kernel stamps a datagram at the very instant the capture sees it (the
+  # same skb timestamp), but a TCP segment, which carries the sender's monotonic departure time, at
+  # its local delivery, after the tap (under TCG up to ~2 ms later): for TCP the receiver's clock
+  # says "received no later than". Per command: the capture's send time within 0.1 ms of the
+  # sender's window, its receive time within 0.1 ms of the receiver's stamp (UDP) or not more than
+  # 0.1 ms after it (TCP); so its one-way time within 0.1 ms of what the two clocks allow.
+  "$M2MLAT" packets snd.pcap --peer rcv.pcap --filter "$filter" --key json:id --sender-ms stamp --csv -o oneway.csv \
+    2>oneway.err || { info "m2mlat packets on the two files failed"; show oneway.err; return 1; }
+  # awk holds numbers as doubles, exact to 2^53 only: CLOCK_REALTIME in ns (about 1.8e18) is
+  # subtracted on its last 13 digits (10^4 s), with the wrap of that window undone.
+  awk -v expected=$((NETEM_DELAY_MS * 1000000)) '
+    function diff(a, b,  d) {
+      d = substr(a, length(a) - 12) - substr(b, length(b) - 12)
+      return d < -5e12 ? d + 1e13 : d > 5e12 ? d - 1e13 : d
+    }
+    function note(p, name, x) {
+      if (!((p, name) in lo) || x < lo[p, name]) lo[p, name] = x
+      if (!((p, name) in hi) || x > hi[p, name]) hi[p, name] = x
+    }
+    FILENAME == "send.log" { snd[$1] = $2; sched[$1] = $3; nsent++; next }
+    FILENAME == "recv.log" { received[$1] = $2; next }
+    /^#/ { next }
+    !header { header = 1; for (i = 1; i <= NF; i++) col[$i] = i; next }
+    {
+      key = $col["key"]; ow = $col["one_way_ns"]; p = substr(key, 1, 1) == "t" ? "TCP" : "UDP"
+      if (!(key in snd) || !(key in received)) { print "unknown key " key; bad = 1; next }
+      # the capture send time against the window [sched, snd]: negative before it, positive after
+      early = diff(sched[key], $col["sent_ns"]); late = diff($col["sent_ns"], snd[key])
+      out = early > 0 ? -early : late > 0 ? late : 0
+      # the capture receive time minus the receiver stamp
+      dr = diff($col["received_ns"], received[key])
+      note(p, "window", diff(snd[key], sched[key])); note(p, "out", out); note(p, "dr", dr)
+      if (out < -100000 || out > 100000) { printf "%s: sent %d ns outside the window [sched, snd]\n", key, out; bad = 1 }
+      if (dr > 100000 || (p == "UDP" && dr < -100000)) {
+        printf "%s: received %d ns from the receiver stamp\n", key, dr; bad = 1
+      }
+      if ($col["sender_to_sent_ns"] > s2s_max) s2s_max = $col["sender_to_sent_ns"]
+      v[++n] = ow
+    }
+    END {
+      if (n != 200 || nsent != 200) { printf "%d commands matched, %d sent, expected 200\n", n, nsent; bad = 1 }
+      # insertion sort of 200 values: the median as statistics.median takes it
+      for (i = 2; i <= n; i++) { x = v[i]; for (j = i - 1; j > 0 && v[j] > x; j--) v[j + 1] = v[j]; v[j + 1] = x }
+      median = n % 2 ? v[(n + 1) / 2] : (v[n / 2] + v[n / 2 + 1]) / 2
+      d = median - expected; if (d < 0) d = -d
+      if (d > 1000000) { printf "median one-way %d ns, netem delay %d ns\n", median, expected; bad = 1 }
+      printf "%d commands, one-way median %.3f ms (netem %d ms), min %.3f ms, max %.3f ms\n",
+        n, median / 1e6, expected / 1e6, v[1] / 1e6, v[n] / 1e6
+      for (p = 0; p < 2; p++) {
+        k = p ? "UDP" : "TCP"
+        printf "%s: capture send time outside the sender window [sched, snd] %.1f..%.1f us", k, lo[k, "out"] / 1e3, hi[k, "out"] / 1e3
+        printf " (window %.1f..%.1f us wide);", lo[k, "window"] / 1e3, hi[k, "window"] / 1e3
+        printf " capture receive time minus receiver stamp %.1f..%.1f us\n", lo[k, "dr"] / 1e3, hi[k, "dr"] / 1e3
+      }
+      printf "sender stamp (whole ms) to capture at most %.3f ms\n", s2s_max / 1e6
+      exit bad
+    }' FS=' ' send.log recv.log FS=',' oneway.csv >judge.txt
+  rc=$?
+  show judge.txt
+  m=$(grep -c ',packet,' snd.live.csv)
+  [ "$m" = 200 ] || { info "the sender's live markers: $m, expected 200"; rc=1; }
+  for m in $snd $rtr $rcv; do $ip netns del $m; done
+  return $rc
+}
+
 # ---- performance: m2mlat record against Debian's gpiomon on the same streams of edges ---------------
 
 # capture_run NAME TOOL PACE_US N: runs TOOL (record | gpiomon) under the driver's rusage while N edges
@@ -700,4 +828,5 @@ run_test gyro.no-bus t_gyro_no_bus
 run_test gyro.trace t_gyro_trace
 run_test gyro.errors t_gyro_errors
 run_test gyro.led-onset t_gyro_led
+run_test packets.netem t_packets_netem
 run_test perf.record-vs-gpiomon t_perf_gpiomon
