@@ -56,6 +56,17 @@ void ArchiveFlags::add_to(CLI::App& sub) {
                 "Only the archive's campaigns started on or before this date (YYYY-MM-DD, UTC)");
 }
 
+archive::CampaignFilter ArchiveFlags::filter(const std::vector<std::string>& scenarios) const {
+  archive::CampaignFilter f;
+  f.rigs = rigs;
+  f.labels = labels;
+  f.campaigns = campaigns;
+  f.scenarios = scenarios;
+  if (!since.empty()) f.since_ns = archive::parse_date(since, "--since");
+  if (!until.empty()) f.until_ns = archive::parse_date(until, "--until") + 86'400'000'000'000;  // + one day
+  return f;
+}
+
 std::vector<analysis::ScenarioResult> analyse_archive(InputFlags& inputs, const ArchiveFlags& flags,
                                                       const analysis::PipelineOptions& options, bool& used) {
   std::vector<std::string> urls;
@@ -71,15 +82,7 @@ std::vector<analysis::ScenarioResult> analyse_archive(InputFlags& inputs, const 
   if (!used) return {};
   if (urls.size() > 1) throw core::Error(core::ErrorKind::usage, "give one archive (postgresql://...)");
 
-  archive::CampaignFilter filter;
-  filter.rigs = flags.rigs;
-  filter.labels = flags.labels;
-  filter.campaigns = flags.campaigns;
-  filter.scenarios = inputs.scenarios;
-  if (!flags.since.empty()) filter.since_ns = archive::parse_date(flags.since, "--since");
-  // --until names the last day included.
-  if (!flags.until.empty())
-    filter.until_ns = archive::parse_date(flags.until, "--until") + 86'400'000'000'000;
+  const auto filter = flags.filter(inputs.scenarios);
 
   auto connection =
       archive::Connection::open(archive::resolve_conninfo(urls.empty() ? "" : urls.front(), flags.url_file));

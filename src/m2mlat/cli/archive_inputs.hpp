@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "m2mlat/analysis/pipeline.hpp"
+#include "m2mlat/archive/read.hpp"
 #include "m2mlat/cli/inputs.hpp"
 
 namespace m2mlat::cli {
@@ -20,6 +21,9 @@ struct ArchiveFlags {
   std::vector<std::string> rigs, labels, campaigns;
   std::string since, until;  // YYYY-MM-DD, UTC
   void add_to(CLI::App& sub);
+  // The campaigns these flags and `scenarios` select (--until names the last day included). Throws
+  // core::Error(usage) for a date that is not YYYY-MM-DD.
+  archive::CampaignFilter filter(const std::vector<std::string>& scenarios) const;
 };
 
 // Takes the archive's URLs out of inputs.inputs and, when there is one (or --archive, or a filter

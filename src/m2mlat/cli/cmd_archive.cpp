@@ -11,6 +11,7 @@
 #include "m2mlat/archive/connection.hpp"
 #include "m2mlat/archive/push.hpp"
 #include "m2mlat/archive/read.hpp"
+#include "m2mlat/cli/archive_inputs.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
@@ -28,9 +29,8 @@ struct PushCommand {
 };
 
 struct ListCommand {
-  std::string url, url_file;
-  std::vector<std::string> rigs, labels, scenarios, campaigns;
-  std::string since, until;
+  ArchiveFlags flags;  // the URL (positional here), its file and the filters
+  std::vector<std::string> scenarios;
   bool json = false;
 };
 
@@ -74,14 +74,8 @@ int run_push(const PushCommand& c) {
 }
 
 int run_list(const ListCommand& c) {
-  archive::CampaignFilter filter;
-  filter.rigs = c.rigs;
-  filter.labels = c.labels;
-  filter.scenarios = c.scenarios;
-  filter.campaigns = c.campaigns;
-  if (!c.since.empty()) filter.since_ns = archive::parse_date(c.since, "--since");
-  if (!c.until.empty()) filter.until_ns = archive::parse_date(c.until, "--until") + 86'400'000'000'000;
-  auto connection = archive::Connection::open(archive::resolve_conninfo(c.url, c.url_file));
+  const auto filter = c.flags.filter(c.scenarios);
+  auto connection = archive::Connection::open(archive::resolve_conninfo(c.flags.url, c.flags.url_file));
   const auto campaigns = archive::list_campaigns(connection, filter);
   const auto names = archive::scenario_names(campaigns);
   if (c.json) {
@@ -138,14 +132,14 @@ Runner attach_archive(CLI::App& sub) {
 
   auto list = std::make_shared<ListCommand>();
   auto* l = sub.add_subcommand("list", "The archive's campaigns and scenarios, with counts");
-  l->add_option("url", list->url, "The archive's postgresql://... URL (none: --url-file or PG* variables)");
-  l->add_option("--url-file", list->url_file, "A file whose first line is the connection string");
-  l->add_option("--rig", list->rigs, "Only campaigns of this rig (repeatable)");
-  l->add_option("--campaign", list->campaigns, "Only this campaign: its name or store id (repeatable)");
-  l->add_option("--label", list->labels, "Only campaigns with this label (repeatable)");
+  l->add_option("url", list->flags.url, "The archive's postgresql://... URL (none: --url-file or PG* variables)");
+  l->add_option("--url-file", list->flags.url_file, "A file whose first line is the connection string");
+  l->add_option("--rig", list->flags.rigs, "Only campaigns of this rig (repeatable)");
+  l->add_option("--campaign", list->flags.campaigns, "Only this campaign: its name or store id (repeatable)");
+  l->add_option("--label", list->flags.labels, "Only campaigns with this label (repeatable)");
   l->add_option("--scenario", list->scenarios, "Only this scenario, or <campaign>/<scenario> (repeatable)");
-  l->add_option("--since", list->since, "Only campaigns started on or after this date (YYYY-MM-DD, UTC)");
-  l->add_option("--until", list->until, "Only campaigns started on or before this date (YYYY-MM-DD, UTC)");
+  l->add_option("--since", list->flags.since, "Only campaigns started on or after this date (YYYY-MM-DD, UTC)");
+  l->add_option("--until", list->flags.until, "Only campaigns started on or before this date (YYYY-MM-DD, UTC)");
   l->add_flag("--json", list->json, "Print m2mlat-archive-list/1 JSON");
   return [p, l, push, list] {
     if (p->parsed()) return run_push(*push);
