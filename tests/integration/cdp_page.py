@@ -4,13 +4,15 @@
 Usage: cdp_page.py CHROMIUM URL PROFILE_DIR STEP...   where each STEP is SECONDS=EXPRESSION: wait that
 long (the page keeps running), then evaluate the JavaScript expression in the page; a STEP
 SECONDS=!COMMAND instead runs COMMAND (split as a shell would, no shell) at that moment, with its
-exit status as the step's value (e.g. to kill a board while the page is open).
+exit status as the step's value (e.g. to kill a board while the page is open); a STEP SECONDS=@FILE
+writes a screenshot of the page to FILE (PNG; the step's value is its size in bytes).
 
 The protocol runs over a pipe (--remote-debugging-pipe: fd 3 to Chromium, fd 4 back, NUL-terminated
 JSON messages), so no websocket client is needed. Prints one JSON object:
 {"values": [<value of each step>], "errors": [<console errors, uncaught exceptions, failed loads>]}
 and exits 0; exits 2 if Chromium or the protocol fails.
 """
+import base64
 import json
 import os
 import select
@@ -130,6 +132,13 @@ def main():
             browser.pump(seconds)
             if expression.startswith("!"):
                 values.append(subprocess.run(shlex.split(expression[1:]), check=False).returncode)
+                continue
+            if expression.startswith("@"):
+                shot = browser.call("Page.captureScreenshot", {"format": "png"}, session=session)
+                png = base64.b64decode(shot["data"])
+                with open(expression[1:], "wb") as f:
+                    f.write(png)
+                values.append(len(png))
                 continue
             result = browser.call("Runtime.evaluate", {"expression": expression, "returnByValue": True},
                                   session=session)

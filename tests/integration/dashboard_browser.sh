@@ -3,10 +3,13 @@
 # (driven over the DevTools protocol by cdp_page.py) keeps the page open for some seconds. The page
 # must run without any console error, uncaught exception or failed load; its sample count must grow
 # while it stays open (the event stream updates it without a reload); and the final numbers of
-# `watch` must be those of `m2mlat stats` on the finished store. Skipped (exit 0 with a note) where
-# Chromium is not installed.
+# `watch` must be those of `m2mlat stats` on the finished store. Screenshots of the collect page, and of
+# it with a board lost, are kept in test-artifacts/ beside the executable. Skipped (exit 0 with a note)
+# where Chromium is not installed.
 HERE=$(cd "$(dirname "$0")" && pwd)  # before lib.bash changes into the temporary folder
 source "$HERE/lib.bash"
+ARTIFACTS=$(dirname "$M2MLAT")/test-artifacts  # the screenshots of docs/dashboard.md come from here
+mkdir -p "$ARTIFACTS"
 CHROMIUM=${CHROMIUM:-/usr/bin/chromium}
 if [ ! -x "$CHROMIUM" ]; then
   echo "SKIP: no $CHROMIUM (apt-get install chromium)"
@@ -127,14 +130,16 @@ done
 watcher=$!
 url=$(dashboard_url collect.err)
 read_agents='[document.getElementById("samples").textContent, document.querySelector("#nodes tbody").innerText,
-  document.getElementById("agents").hidden]'
-"$PY" "$HERE/cdp_page.py" "$CHROMIUM" "$url" "$WORK/profile2" "4=$read_agents" "8=$read_agents" > collect.json \
-  || fail "chromium could not load $url"
+  document.getElementById("agents").hidden, document.documentElement.scrollWidth - document.documentElement.clientWidth]'
+"$PY" "$HERE/cdp_page.py" "$CHROMIUM" "$url" "$WORK/profile2" "4=$read_agents" "8=$read_agents" \
+  "0=@$ARTIFACTS/dashboard.png" > collect.json || fail "chromium could not load $url"
 $PY - collect.json <<'PY'
 import json, re, sys
 page = json.load(open(sys.argv[1]))
 assert not page["errors"], "console errors: %s" % page["errors"]
-(n1, rows1, hidden1), (n2, rows2, hidden2) = page["values"]
+(n1, rows1, hidden1, over1), (n2, rows2, hidden2, over2), shot = page["values"]
+assert over2 <= 0, "the page is %s px wider than the window (it scrolls sideways)" % over2
+assert shot > 10000, "no screenshot: %s bytes" % shot
 assert not hidden2, "the agents' table is hidden"
 rows = [r.split("\t") for r in rows2.strip().split("\n")]
 assert [r[:3] for r in rows] == [["operator", "cause", "ok"], ["vehicle", "effect", "ok"]], rows
@@ -156,6 +161,7 @@ read_top='[!document.getElementById("alert").hidden, document.getElementById("al
   [...document.querySelectorAll("#strip .axis-label, #histogram .axis-label")].map((t) => t.textContent)]'
 steps=("2=$read_top" "0=!kill -KILL ${recorders[1]}")
 for _ in $(seq 16); do steps+=("0.25=$read_top"); done
+steps+=("0=@$ARTIFACTS/dashboard_board_down.png")
 "$PY" "$HERE/cdp_page.py" "$CHROMIUM" "$url" "$WORK/profile3" "${steps[@]}" > lost.json \
   || fail "chromium could not load $url"
 wait "${recorders[1]}" 2>/dev/null || true
@@ -163,7 +169,8 @@ $PY - lost.json <<'PY'
 import json, sys
 page = json.load(open(sys.argv[1]))
 assert not page["errors"], "console errors: %s" % page["errors"]
-before, killed, *after = page["values"]
+before, killed, *after, shot = page["values"]
+assert shot > 10000, "no screenshot: %s bytes" % shot
 assert killed == 0, "kill failed: %s" % killed
 shown, text, colour, top, badge, badge_class, labels = before
 assert not shown and badge == "live" and badge_class == "badge badge-ok", before

@@ -28,7 +28,7 @@ h1{font-size:1.5em;margin:.4em 0}h2{font-size:1.2em;margin:1.6em 0 .4em;border-b
 code{font-size:.9em;word-break:break-all}
 table{border-collapse:collapse;font-size:.84em;margin:.4em 0;width:100%}
 th,td{border-bottom:1px solid #e3e3e3;padding:3px 5px;text-align:right;vertical-align:bottom}
-td{overflow-wrap:anywhere}
+td{overflow-wrap:normal}
 th:first-child,td:first-child{text-align:left}
 @media (max-width:640px){
 table,thead,tbody,tr,td{display:block;width:100%}
@@ -62,6 +62,13 @@ svg .ref{stroke:#b00;stroke-dasharray:4 3;stroke-width:1}
 @media print{body{font-size:11pt}main{max-width:none;padding:0}h2{break-after:avoid}}
 )";
 
+// A value and its unit stay on one line when a cell wraps ("100.0 %", "1.2 ms").
+std::string with_unit_kept(std::string text) {
+  for (const std::string_view unit : {" %", " ms"})
+    for (auto at = text.find(unit); at != std::string::npos; at = text.find(unit, at + 1)) text.replace(at, 1, "&#160;");
+  return text;
+}
+
 std::string html_table(const std::vector<std::string>& header,
                        const std::vector<std::vector<std::string>>& rows, const std::string& name) {
   // Each cell carries its column's name (data-label): on a narrow screen the rows stack as cards, each
@@ -73,7 +80,7 @@ std::string html_table(const std::vector<std::string>& header,
     s += "<tr>";
     for (std::size_t k = 0; k < r.size(); ++k)
       s += fmt::format("<td data-label=\"{}\">{}</td>", k < header.size() ? xml_escape(header[k]) : "",
-                       xml_escape(r[k]));
+                       with_unit_kept(xml_escape(r[k])));
     s += "</tr>\n";
   }
   return s + "</tbody></table>\n";
