@@ -14,8 +14,14 @@ space := $(empty) $(empty)
 
 # Debian 12 / Ubuntu 24.04 packages: what building m2mlat needs (all `make demo` installs), then what
 # the tests need besides (the test frameworks, the Clang tree, the programs the tests run).
+# libpq-dev is named with the machine's architecture: its amd64 and arm64 packages cannot be installed
+# side by side (not Multi-Arch: same), so the arm64 cross-build's libpq-dev:arm64 replaces it, and the
+# next build of this machine's own must put it back (a check for "libpq-dev" alone would find the
+# arm64 one installed).
+HOST_ARCH := $(shell dpkg --print-architecture 2>/dev/null || echo amd64)
 BUILD_PACKAGES := build-essential cmake ninja-build pkg-config \
-  libsqlite3-dev libcpp-httplib-dev libpcap-dev libpq-dev libcli11-dev nlohmann-json3-dev libfmt-dev libtomlplusplus-dev libboost-math-dev
+  libsqlite3-dev libcpp-httplib-dev libpcap-dev libpq-dev:$(HOST_ARCH) libcli11-dev nlohmann-json3-dev libfmt-dev \
+  libtomlplusplus-dev libboost-math-dev
 PACKAGES := $(BUILD_PACKAGES) clang-14 sqlite3 libgtest-dev libgmock-dev libbenchmark-dev \
   python3 python3-numpy python3-pandas python3-scipy chromium chrony rt-tests linuxptp libclang-rt-14-dev \
   postgresql
