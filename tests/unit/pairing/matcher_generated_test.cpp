@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <map>
 #include <string>
 
 #include "generated_logs.hpp"
@@ -16,6 +18,10 @@ using generated::LogOptions;
 
 struct Tally {
   std::int64_t true_pairs = 0, pairs = 0, found = 0, wrong_clear = 0, wrong_flagged = 0, clear = 0;
+  // Of wrong_clear: pairs that took an edge less than kBounceSpanLimit from the true one on one side
+  // (a spurious edge just before a true one, which the refractory filter then drops as a bounce): the
+  // latency is off by less than that, which the pair's worst-case bound includes (docs/matcher.md).
+  std::int64_t wrong_clear_in_cluster = 0;
   int runs = 0, most_between = 0;
 };
 
@@ -27,12 +33,22 @@ void run_into(Tally& t, const LogOptions& options) {
   ++t.runs;
   t.most_between = std::max(t.most_between, log.max_edges_between);
   t.true_pairs += static_cast<std::int64_t>(log.truth.size());
+  std::map<std::int64_t, std::int64_t> effect_of, cause_of;  // the true pairs, both ways
+  for (const auto& [c, e] : log.truth) effect_of[c] = e, cause_of[e] = c;
+  const auto near = [](std::int64_t a, std::int64_t b) { return std::abs(a - b) < kBounceSpanLimit.count(); };
   for (const auto& p : result.pairs) {
     ++t.pairs;
     const bool right = log.truth.contains({p.cause_index, p.effect_index});
     t.found += right;
     if (!p.ambiguous()) ++t.clear;
     if (!right) (p.ambiguous() ? t.wrong_flagged : t.wrong_clear) += 1;
+    if (right || p.ambiguous()) continue;
+    const auto e = effect_of.find(p.cause_index);
+    const auto c = cause_of.find(p.effect_index);
+    const auto at = [](const std::vector<std::int64_t>& v, std::int64_t k) { return v[static_cast<std::size_t>(k)]; };
+    if ((e != effect_of.end() && near(at(log.effect, e->second), at(log.effect, p.effect_index))) ||
+        (c != cause_of.end() && near(at(log.cause, c->second), at(log.cause, p.cause_index))))
+      ++t.wrong_clear_in_cluster;
   }
 }
 
@@ -55,10 +71,11 @@ void expect_promise(const std::string& name, LogOptions options, int seeds, Boun
   }
   const double found = 100.0 * static_cast<double>(t.found) / static_cast<double>(t.true_pairs);
   const double clear = 100.0 * static_cast<double>(t.clear) / static_cast<double>(t.true_pairs);
-  std::printf("%-28s runs %3d  true %6lld  found %6.2f %%  unflagged %6.2f %%  wrong: unflagged %lld, "
-              "flagged %lld  (most edges between cause and effect: %d)\n",
+  std::printf("%-28s runs %3d  true %6lld  found %6.2f %%  unflagged %6.2f %%  wrong: unflagged %lld "
+              "(%lld within 3 ms), flagged %lld  (most edges between cause and effect: %d)\n",
               name.c_str(), t.runs, static_cast<long long>(t.true_pairs), found, clear,
-              static_cast<long long>(t.wrong_clear), static_cast<long long>(t.wrong_flagged), t.most_between);
+              static_cast<long long>(t.wrong_clear), static_cast<long long>(t.wrong_clear_in_cluster),
+              static_cast<long long>(t.wrong_flagged), t.most_between);
   EXPECT_LE(t.wrong_clear, bound.max_wrong_clear) << name;
   EXPECT_GE(found, bound.min_found_pct) << name;
   EXPECT_GE(100.0 * static_cast<double>(t.clear - t.wrong_clear) / static_cast<double>(t.true_pairs),
