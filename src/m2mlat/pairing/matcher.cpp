@@ -16,6 +16,7 @@ namespace {
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 constexpr std::size_t kMaxEvents = std::size_t{1} << 31;  // per side: a chain's count (2 a pair) fits 32 bits
 static_assert(kMaxCandidates < kNone, "candidate ids are 32 bits, kNone excluded");
+static_assert(3 * kMaxCandidates < kNone, "a chain's count (3 a pair at most) fits 32 bits");
 constexpr std::int64_t kAllBounces = std::numeric_limits<std::int64_t>::max();  // see match()
 
 // Gives a vector's memory back now. (`v = {}` would not: it picks the initializer_list assignment,
@@ -155,19 +156,21 @@ struct Candidates {
 // worth of pairing cause i at that latency (ns of the window): > 0 to be allowed, kDisallowed to
 // forbid. Returns for each cause the matched effect or kNone.
 //
-// G(i, j) = (count, value)(i, j) + max(0, max{ G(i', j') : i' < i, j' < j }) is the best (count, then
-// value) of an ordered chain of pairs ending in (i, j). Causes are processed in order; for effects we keep best[j] = max
+// G(i, j) = (count, value)(i, j) + max(0, max{ G(i', j') : i' < i, j' < j },
+// G(i - 1, j - 1) + (follows(i, j), 0)) is the best (count, then value) of an ordered chain of pairs
+// ending in (i, j); follows(i, j) is the extra count of a pair that continues its predecessors' sweep
+// (SweepStretch), found in the previous cause's row, which is kept. Causes are processed in order; for effects we keep best[j] = max
 // over the causes so far of G(., j). Because candidate windows only move forward, effects left behind
 // by the window are folded into one `frozen` maximum, so each cause costs O(its window), and best[]
 // only needs the effects inside the current window: it is a ring of the widest window's size
 // (a power of two), not one entry per effect.
 constexpr std::int64_t kDisallowed = -1;
 
-template <typename Count, typename Value>
-std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count count, Value value) {
+template <typename Count, typename Value, typename Follows>
+std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count count, Value value, Follows follows) {
   struct Best {                       // 16 bytes
     std::int64_t fit = 0;             // the chain's total value
-    std::uint32_t count = 0;          // its pairs' counts (at most 2 each, fewer than 2^31 causes)
+    std::uint32_t count = 0;          // its pairs' counts (at most 3 each, at most kMaxCandidates pairs)
     std::uint32_t candidate = kNone;  // the chain's last candidate, or kNone for the empty chain
     bool operator>(const Best& o) const { return count != o.count ? count > o.count : fit > o.fit; }
   };
@@ -193,7 +196,9 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
   Best frozen;                        // best over effects [0, folded)
   std::size_t folded = 0;
   std::vector<std::pair<std::uint32_t, Best>> row;  // this cause's chain ends, applied after the row
+  std::vector<std::pair<std::uint32_t, Best>> previous;  // the previous cause's
   row.reserve(widest);
+  previous.reserve(widest);
 
   Window w = sides.window();
   for (std::size_t i = 0; i < causes.size(); ++i) {
@@ -205,14 +210,24 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
       slot = Best{};  // the slot now serves effect folded + ring_size
     }
     Best running = frozen;  // max over effects < j, from causes < i
+    std::swap(row, previous);
     row.clear();
+    std::size_t adjacent = 0;  // previous[adjacent]: the previous cause's chain end at effect j - 1, if any
     for (auto j = w.lo; j < w.hi; ++j) {
       const std::int64_t v = value(i, effects[j] - causes[i]);
       if (v > 0) {
         const auto id = static_cast<std::uint32_t>(cand.effect.size());
+        Best chain{running.fit + v, running.count + count(i, v), id};
+        std::uint32_t pred = running.candidate;
+        while (adjacent < previous.size() && previous[adjacent].first + 1 < j) ++adjacent;
+        if (i > 0 && j > 0 && adjacent < previous.size() && previous[adjacent].first + 1 == j) {
+          const Best& before = previous[adjacent].second;
+          const Best linked{before.fit + v, before.count + count(i, v) + follows(i, j), id};
+          if (linked > chain) chain = linked, pred = before.candidate;
+        }
         cand.effect.push_back(j);
-        cand.pred.push_back(running.candidate);
-        row.emplace_back(j, Best{running.fit + v, running.count + count(i, v), id});
+        cand.pred.push_back(pred);
+        row.emplace_back(j, chain);
       }
       if (best[j & mask] > running) running = best[j & mask];
     }
@@ -235,6 +250,70 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
   }
   return match;
 }
+
+// The vehicle's wheel may turn at half the operator's speed: its bursts take a gap this many times wider.
+constexpr std::int64_t kVehicleGapFactor = 2;
+// How far the stretch of a sweep's spacing (effect interval / cause interval) may stray from its median
+// over the recording, either way, for true consecutive pairs: the vehicle's wheel turns at 0.6-0.95 of
+// the operator's speed, and its lag differs from pass to pass by tens of ms. (3/2, as a fraction, so
+// that the alignment stays in integers.)
+constexpr double kPatternFactor = 1.5;
+constexpr std::int64_t kPatternNumerator = 3, kPatternDenominator = 2;
+
+// The stretch of the effect side's spacing against the cause side's, in millionths: for two
+// consecutive pairs (i - 1, j - 1) and (i, j), 10^6 x effect interval / cause interval. The vehicle's
+// wheel replays the operator's sweep at a similar speed, so the true pairs of a sweep keep near one
+// stretch, while a chain shifted by one pass compares the intervals of different passes and breaks it
+// wherever the spacing changes (at each end of a sweep, and at every lost or extra pass). Only passes
+// of one sweep on both sides (closer than the burst gap) are compared: between manoeuvres the spacing
+// follows the operator, not the wheel. The band is kPatternFactor either side of the median stretch of
+// the previous pass's consecutive pairs; an alignment pass counts a pair that follows its cause's and
+// its effect's predecessors within the band once more (SweepStretch::follows).
+class SweepStretch {
+ public:
+  SweepStretch(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects, std::int64_t gap_ns)
+      : causes_(causes), effects_(effects), gap_ns_(gap_ns) {}
+
+  // The band from the consecutive pairs of an alignment (matched effect per cause, or kNone).
+  void fit(const std::vector<std::uint32_t>& matched) {
+    std::vector<std::int64_t> stretches;
+    for (std::size_t i = 1; i < matched.size(); ++i)
+      if (matched[i] != kNone && matched[i - 1] != kNone && matched[i - 1] + 1 == matched[i]) {
+        const std::int64_t s = stretch(i, matched[i]);
+        if (s >= 0) stretches.push_back(s);
+      }
+    low_ = 1, high_ = 0;  // no band
+    if (stretches.size() < 2) return;
+    const auto mid = stretches.begin() + static_cast<std::ptrdiff_t>(stretches.size() / 2);
+    std::nth_element(stretches.begin(), mid, stretches.end());
+    low_ = *mid * kPatternDenominator / kPatternNumerator;
+    high_ = *mid * kPatternNumerator / kPatternDenominator;
+  }
+
+  // 1 when cause i and effect j (both > 0) follow cause i - 1 and effect j - 1 within one sweep and
+  // within the band, else 0.
+  std::uint32_t follows(std::size_t i, std::uint32_t j) const {
+    const std::int64_t s = stretch(i, j);
+    return s >= 0 && s >= low_ && s <= high_ ? 1u : 0u;
+  }
+
+ private:
+  // The stretch of (i - 1, j - 1) -> (i, j) in millionths, or -1 when either interval spans a burst gap
+  // (the vehicle's side: kVehicleGapFactor of it) or kMaxInterval, so that 10^6 times it fits 64 bits
+  // whatever burst gap was given.
+  std::int64_t stretch(std::size_t i, std::uint32_t j) const {
+    constexpr std::int64_t kMaxInterval = 1'000'000'000'000;  // ns: 1000 s
+    const std::int64_t cause_interval = causes_[i] - causes_[i - 1], effect_interval = effects_[j] - effects_[j - 1];
+    if (cause_interval <= 0 || cause_interval >= gap_ns_ || effect_interval >= kVehicleGapFactor * gap_ns_ ||
+        effect_interval >= kMaxInterval)
+      return -1;
+    return effect_interval * 1'000'000 / cause_interval;
+  }
+
+  std::span<const std::int64_t> causes_, effects_;
+  std::int64_t gap_ns_;
+  std::int64_t low_ = 1, high_ = 0;  // the band, millionths; low_ > high_: none (too few pairs yet)
+};
 
 // The locally typical latency and how far a true pair may stray from it, per cause (ns).
 struct LocalReference {
@@ -325,7 +404,6 @@ std::vector<std::uint32_t> bursts(std::span<const std::int64_t> times, std::int6
 // Every pair with its cause or its effect in a doubtful burst is flagged. The vehicle's wheel may turn
 // slower than the operator's (down to half its speed): its bursts take a gap twice as wide, so that a
 // slow sweep stays one burst.
-constexpr std::int64_t kVehicleGapFactor = 2;
 
 // The two sides' bursts and which of them are doubtful.
 struct BurstMarks {
@@ -375,7 +453,6 @@ void mark_shifted_bursts(const std::vector<std::uint32_t>& matched, std::size_t 
 // chain shifted inside a burst.
 void mark_broken_patterns(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
                           const std::vector<std::uint32_t>& matched, BurstMarks& b) {
-  constexpr double kPatternFactor = 1.5;
   struct Step {
     std::uint32_t cause, effect;  // the later pair's edges
     double ratio;
@@ -664,9 +741,11 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   const LocalReference global_only{{global}, {kFirstPassAcceptance}};
   LocalReference reference;  // of the pass before
   const auto fit_only = [](std::size_t, std::int64_t) { return 0u; };
-  auto matched = align(sides, candidates, fit_only, [&](std::size_t, std::int64_t latency) {
-    return pair_worth(global_only, 0, latency, options.tolerance.count());
-  });
+  const auto no_link = [](std::size_t, std::uint32_t) { return 0u; };
+  auto matched = align(
+      sides, candidates, fit_only,
+      [&](std::size_t, std::int64_t latency) { return pair_worth(global_only, 0, latency, options.tolerance.count()); },
+      no_link);
   // Pass 2: against the local reference of pass 1; the most pairs (a typical one counting twice), then
   // the largest worth. (A third such pass, against pass 2's reference, changed nothing measurable.)
   const auto worth = [&](std::size_t i, std::int64_t latency) {
@@ -674,7 +753,12 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   };
   constexpr std::int64_t kLooseWorth = kPairWorth - kDeviationCost;
   reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
-  matched = align(sides, candidates, [](std::size_t, std::int64_t v) { return v > kLooseWorth ? 2u : 1u; }, worth);
+  const auto gap = options.burst_gap.count() > 0 ? options.burst_gap : burst_gap_for(options.magnets_deg);
+  SweepStretch sweep(causes.ns, effects.ns, gap.count());
+  sweep.fit(matched);
+  const auto links = [&sweep](std::size_t i, std::uint32_t j) { return sweep.follows(i, j); };
+  matched = align(sides, candidates, [](std::size_t, std::int64_t v) { return v > kLooseWorth ? 2u : 1u; }, worth, links);
+  sweep.fit(matched);
   reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
   // Pass 3: a pair far from the typical latency that an unmatched edge could replace counts nothing
   // (only its worth), so that such pairs never displace a typical one: a lost edge and a spurious one
@@ -687,7 +771,7 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
                    beyond_acceptance(reference, i, effects.ns[matched[i]] - causes.ns[i]);
     matched = align(
         sides, candidates,
-        [&](std::size_t i, std::int64_t v) { return v > kLooseWorth ? 2u : demoted[i] ? 0u : 1u; }, worth);
+        [&](std::size_t i, std::int64_t v) { return v > kLooseWorth ? 2u : demoted[i] ? 0u : 1u; }, worth, links);
   }
   candidates = Candidates();
 
@@ -698,7 +782,6 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   auto flags = uncertain_pairs(sides, matched, reference, options.tolerance.count());
   reference = LocalReference();
   {
-    const auto gap = options.burst_gap.count() > 0 ? options.burst_gap : burst_gap_for(options.magnets_deg);
     const auto ambiguous = ambiguous_pairs(causes.ns, effects.ns, matched, gap.count(),
                                            std::max<std::size_t>(1, options.magnets_deg.size()));
     for (std::size_t i = 0; i < flags.size(); ++i)

@@ -11,8 +11,9 @@
 //  2. pass 1 aligns against a global reference latency (the mode of all candidate latencies);
 //  3. the reference is then made local: a running median (and spread) of the neighbouring pairs;
 //  4. pass 2 aligns again against it, the most pairs first (a typical pair, within the local
-//     acceptance, counting twice), then the best fit; a latency far from the typical one (a stalled
-//     link) is still paired where it displaces no typical pair;
+//     acceptance, counting twice, and once more where it continues its predecessors' sweep at the
+//     recording's usual stretch of the spacing), then the best fit; a latency far from the typical one
+//     (a stalled link) is still paired where it displaces no typical pair;
 //  5. pass 3 repeats pass 2 with the far pairs that an unmatched edge could replace counting nothing.
 // Each alignment is exact in integers and deterministic. Its cost is linear in the number of candidate
 // pairs (events times the average number of effect edges inside one latency window), with 8 bytes

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <map>
 #include <string>
 
 #include "generated_logs.hpp"
@@ -16,6 +18,10 @@ using generated::LogOptions;
 
 struct Tally {
   std::int64_t true_pairs = 0, pairs = 0, found = 0, wrong_clear = 0, wrong_flagged = 0, clear = 0;
+  // Of wrong_clear: pairs that took an edge less than kBounceSpanLimit from the true one on one side
+  // (a spurious edge just before a true one, which the refractory filter then drops as a bounce): the
+  // latency is off by less than that, which the pair's worst-case bound includes (docs/matcher.md).
+  std::int64_t wrong_clear_in_cluster = 0;
   int runs = 0, most_between = 0;
 };
 
@@ -27,12 +33,22 @@ void run_into(Tally& t, const LogOptions& options) {
   ++t.runs;
   t.most_between = std::max(t.most_between, log.max_edges_between);
   t.true_pairs += static_cast<std::int64_t>(log.truth.size());
+  std::map<std::int64_t, std::int64_t> effect_of, cause_of;  // the true pairs, both ways
+  for (const auto& [c, e] : log.truth) effect_of[c] = e, cause_of[e] = c;
+  const auto near = [](std::int64_t a, std::int64_t b) { return std::abs(a - b) < kBounceSpanLimit.count(); };
   for (const auto& p : result.pairs) {
     ++t.pairs;
     const bool right = log.truth.contains({p.cause_index, p.effect_index});
     t.found += right;
     if (!p.ambiguous()) ++t.clear;
     if (!right) (p.ambiguous() ? t.wrong_flagged : t.wrong_clear) += 1;
+    if (right || p.ambiguous()) continue;
+    const auto e = effect_of.find(p.cause_index);
+    const auto c = cause_of.find(p.effect_index);
+    const auto at = [](const std::vector<std::int64_t>& v, std::int64_t k) { return v[static_cast<std::size_t>(k)]; };
+    if ((e != effect_of.end() && near(at(log.effect, e->second), at(log.effect, p.effect_index))) ||
+        (c != cause_of.end() && near(at(log.cause, c->second), at(log.cause, p.cause_index))))
+      ++t.wrong_clear_in_cluster;
   }
 }
 
@@ -55,10 +71,11 @@ void expect_promise(const std::string& name, LogOptions options, int seeds, Boun
   }
   const double found = 100.0 * static_cast<double>(t.found) / static_cast<double>(t.true_pairs);
   const double clear = 100.0 * static_cast<double>(t.clear) / static_cast<double>(t.true_pairs);
-  std::printf("%-28s runs %3d  true %6lld  found %6.2f %%  unflagged %6.2f %%  wrong: unflagged %lld, "
-              "flagged %lld  (most edges between cause and effect: %d)\n",
+  std::printf("%-28s runs %3d  true %6lld  found %6.2f %%  unflagged %6.2f %%  wrong: unflagged %lld "
+              "(%lld within 3 ms), flagged %lld  (most edges between cause and effect: %d)\n",
               name.c_str(), t.runs, static_cast<long long>(t.true_pairs), found, clear,
-              static_cast<long long>(t.wrong_clear), static_cast<long long>(t.wrong_flagged), t.most_between);
+              static_cast<long long>(t.wrong_clear), static_cast<long long>(t.wrong_clear_in_cluster),
+              static_cast<long long>(t.wrong_flagged), t.most_between);
   EXPECT_LE(t.wrong_clear, bound.max_wrong_clear) << name;
   EXPECT_GE(found, bound.min_found_pct) << name;
   EXPECT_GE(100.0 * static_cast<double>(t.clear - t.wrong_clear) / static_cast<double>(t.true_pairs),
@@ -77,7 +94,7 @@ std::string wheel_name(const std::vector<double>& wheel) { return std::to_string
 // Measured shares of the true pairs that reach the statistics (found and not flagged) in clean logs and
 // with bounces and a step, per wheel of kWheels: a complete sweep is flagged only where the spacing of
 // its passes does not follow the other side's.
-const std::vector<double> kCleanShare{98.5, 97.0, 90.0, 73.0};
+const std::vector<double> kCleanShare{98.5, 97.0, 90.0, 74.0};
 
 TEST(MatcherGenerated, CleanLogsGiveExactlyTheTruePairs) {
   for (std::size_t w = 0; w < kWheels.size(); ++w)
@@ -92,7 +109,7 @@ TEST(MatcherGenerated, StallsOfUpToSixSeconds) {
   o.stalls_per_minute = 3;
   for (const auto& wheel : kWheels)
     expect_promise("stalls, " + wheel_name(wheel), with_wheel(o, wheel), 10,
-                   wheel.size() < 4 ? kPromise : Bound{0, 78.0});  // open: four magnets 90 degrees apart
+                   wheel.size() < 4 ? kPromise : Bound{0, 90.0});  // open: four magnets 90 degrees apart
 }
 
 TEST(MatcherGenerated, LostEdgesOnOneSideSpuriousOnTheOther) {
@@ -103,8 +120,8 @@ TEST(MatcherGenerated, LostEdgesOnOneSideSpuriousOnTheOther) {
     // Open (docs/matcher.md): a spurious edge landing where a lost edge's partner would be is
     // indistinguishable; several magnets lose more pairs.
     const std::vector<Bound> bounds = effect_loses
-                                          ? std::vector<Bound>{{0, 99.0}, {0, 97.0}, {0, 93.0}, {1, 91.0}}
-                                          : std::vector<Bound>{{0, 99.0}, {2, 96.5}, {1, 92.0}, {0, 89.0}};
+                                          ? std::vector<Bound>{{0, 99.0}, {0, 97.5}, {0, 94.0}, {1, 94.0}}
+                                          : std::vector<Bound>{{0, 99.0}, {2, 97.0}, {1, 92.5}, {0, 89.5}};
     for (std::size_t w = 0; w < kWheels.size(); ++w)
       expect_promise(std::string(effect_loses ? "effect lost, cause spurious, " : "cause lost, effect spurious, ") +
                          wheel_name(kWheels[w]),
@@ -132,7 +149,7 @@ TEST(MatcherGenerated, EverythingAtOnce) {
   o.cause_spurious = o.effect_spurious = 0.02;
   o.bounce_probability = 0.05;
   o.effect_step_s = 0.04;
-  const std::vector<Bound> bounds{{2, 98.5}, {8, 95.0}, {6, 92.0}, {1, 75.0}};  // open: docs/matcher.md
+  const std::vector<Bound> bounds{{2, 98.5}, {8, 95.0}, {6, 93.0}, {1, 83.0}};  // open: docs/matcher.md
   for (std::size_t w = 0; w < kWheels.size(); ++w)
     expect_promise("all, " + wheel_name(kWheels[w]), with_wheel(o, kWheels[w]), 10, bounds[w]);
 }
