@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <memory>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/pairing/refractory.hpp"
@@ -144,10 +145,21 @@ std::int64_t global_reference(const Sides& sides, std::size_t candidates) {
 }
 
 // Candidates of an alignment pass, in cause order: the effect index and the predecessor candidate
-// (8 bytes each), with the first candidate of every cause. Reserved once for every window's size and
-// reused by the second pass, so that its pages are touched once.
+// (8 bytes each), with the first candidate of every cause. Allocated once for every window's size and
+// reused by the later passes, so that their pages are touched once. Plain arrays, not vectors: each
+// candidate is written once without a capacity check, and nothing is zeroed first.
 struct Candidates {
-  std::vector<std::uint32_t> effect, pred, row_start;
+  std::unique_ptr<std::uint32_t[]> effect, pred;
+  std::size_t capacity = 0;
+  std::vector<std::uint32_t> row_start;
+  void reserve(std::size_t n) {
+    if (n <= capacity) return;
+    effect.reset();
+    pred.reset();
+    effect = std::make_unique_for_overwrite<std::uint32_t[]>(n);
+    pred = std::make_unique_for_overwrite<std::uint32_t[]>(n);
+    capacity = n;
+  }
 };
 
 // One alignment pass: the order-preserving one-to-one set of candidate pairs with the largest count
@@ -181,10 +193,10 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
       widest = std::max<std::size_t>(widest, w.hi - w.lo);
     }
   }
-  cand.effect.clear();
-  cand.pred.clear();
-  cand.effect.reserve(window_total);
-  cand.pred.reserve(window_total);
+  cand.reserve(window_total);
+  std::uint32_t* const cand_effect = cand.effect.get();
+  std::uint32_t* const cand_pred = cand.pred.get();
+  std::uint32_t next_id = 0;  // candidates written so far (at most window_total)
   cand.row_start.assign(causes.size() + 1, 0);
   std::size_t ring_size = 1;
   while (ring_size < widest) ring_size *= 2;
@@ -192,34 +204,36 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
   std::vector<Best> best(ring_size);  // best[j & mask] for the effects j in [folded, window end)
   Best frozen;                        // best over effects [0, folded)
   std::size_t folded = 0;
-  std::vector<std::pair<std::uint32_t, Best>> row;  // this cause's chain ends, applied after the row
-  row.reserve(widest);
+  // This cause's chain ends, applied after the row: (effect, chain), at most the widest window's.
+  std::vector<std::pair<std::uint32_t, Best>> row(widest);
 
   Window w = sides.window();
   for (std::size_t i = 0; i < causes.size(); ++i) {
     w.at(i);
-    cand.row_start[i] = static_cast<std::uint32_t>(cand.effect.size());
+    cand.row_start[i] = next_id;
     for (; folded < w.lo; ++folded) {
       Best& slot = best[folded & mask];
       if (slot > frozen) frozen = slot;
       slot = Best{};  // the slot now serves effect folded + ring_size
     }
     Best running = frozen;  // max over effects < j, from causes < i
-    row.clear();
+    std::size_t row_size = 0;
     for (auto j = w.lo; j < w.hi; ++j) {
       const std::int64_t v = value(i, effects[j] - causes[i]);
       if (v > 0) {
-        const auto id = static_cast<std::uint32_t>(cand.effect.size());
-        cand.effect.push_back(j);
-        cand.pred.push_back(running.candidate);
-        row.emplace_back(j, Best{running.fit + v, running.count + count(i, v), id});
+        const std::uint32_t id = next_id++;
+        cand_effect[id] = j;
+        cand_pred[id] = running.candidate;
+        row[row_size++] = {j, Best{running.fit + v, running.count + count(i, v), id}};
       }
       if (best[j & mask] > running) running = best[j & mask];
     }
-    for (const auto& [j, chain] : row)
+    for (std::size_t r = 0; r < row_size; ++r) {
+      const auto& [j, chain] = row[r];
       if (chain > best[j & mask]) best[j & mask] = chain;
+    }
   }
-  cand.row_start[causes.size()] = static_cast<std::uint32_t>(cand.effect.size());
+  cand.row_start[causes.size()] = next_id;
 
   // Effects past the last window were never written: their slots hold the empty chain.
   Best overall = frozen;
@@ -229,9 +243,9 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
   // Walk the chain back; candidates are numbered in cause order, so the row pointer only moves down.
   std::vector<std::uint32_t> match(causes.size(), kNone);
   std::size_t i = causes.size();
-  for (auto c = overall.candidate; c != kNone; c = cand.pred[c]) {
+  for (auto c = overall.candidate; c != kNone; c = cand_pred[c]) {
     while (cand.row_start[i] > c) --i;
-    match[i] = cand.effect[c];
+    match[i] = cand_effect[c];
   }
   return match;
 }
@@ -284,15 +298,23 @@ LocalReference local_reference(std::span<const std::int64_t> causes, std::span<c
     const std::size_t mid = window.size() / 2;
     const std::int64_t median = window[mid];
     // The median absolute deviation without a copy: the deviations below and above the median are two
-    // ascending runs of the sorted window; merge them up to the middle one.
+    // ascending runs of the sorted window; merge them up to the middle one. Written without branches
+    // (the choice between the runs is data, and mispredicting it was most of this function's time).
+    // `below` stays >= 1 inside the loop (it starts at mid and drops at most mid - 1 times before the
+    // last read); `above` may reach the end of an even-sized window, whose slot reads as "none".
     std::int64_t mad = 0;
-    for (std::size_t below = mid, above = mid + 1, taken = 0; taken < mid; ++taken) {
-      const std::int64_t low = below > 0 ? median - window[below - 1] : std::numeric_limits<std::int64_t>::max();
-      const std::int64_t high = above < window.size() ? window[above] - median : std::numeric_limits<std::int64_t>::max();
-      if (low <= high)
-        mad = low, --below;
-      else
-        mad = high, ++above;
+    {
+      const std::int64_t* w = window.data();
+      const std::size_t size = window.size();
+      for (std::size_t below = mid, above = mid + 1, taken = 0; taken < mid; ++taken) {
+        const std::int64_t low = median - w[below - 1];
+        const std::int64_t above_value = w[std::min(above, size - 1)] - median;
+        const std::int64_t high = above < size ? above_value : std::numeric_limits<std::int64_t>::max();
+        const bool take_low = low <= high;
+        mad = take_low ? low : high;
+        below -= take_low ? 1 : 0;
+        above += take_low ? 0 : 1;
+      }
     }
     const std::int64_t acceptance = std::max(kMinAcceptance, mad * kSpreadNumerator / kSpreadDenominator);
     const std::size_t next = next_pair(current + 1);  // the cause of pair p + 1, or the end
