@@ -6,7 +6,7 @@ Usage: report.py WORK_DIR EVENTS_PER_SIDE BOOTSTRAP [--markdown]
 WORK_DIR holds, for each program P in cli (m2mlat stats), lean (m2mlat_lean_stats) and baseline
 (bench/baseline.py) and each bootstrap setting B in 0 and BOOTSTRAP: P-B.out (the program's JSON
 output) and P-B.measure (bench/measure.py's wall seconds and peak memory); and micro.json (Google
-Benchmark's JSON output of m2mlat_bench). One table: step, m2mlat figure, baseline figure, ratio,
+Benchmark's JSON output of m2mlat_bench) and rate.json (m2mlat_rate_bench's figures, if present). One table: step, m2mlat figure, baseline figure, ratio,
 and whether each target of issue 19 is met: `m2mlat stats` at least 10x faster than the baseline
 without bootstrap and 20x with 2000 resamples (with fewer resamples the row says what it would need),
 at no more than 40 % of its peak memory; the matcher within 1.2x of a plain merge of the same arrays.
@@ -169,6 +169,19 @@ def floor(table, benchmarks):
                   f"{ratio:.1f}x", verdict(ratio <= MERGE_TARGET) + f" (<= {MERGE_TARGET:g}x)")
 
 
+def high_rate(table, r):
+    """m2mlat_rate_bench: a gyroscope stream through the store, per sample."""
+    samples = 2 * r["samples_per_side"]
+    table.section(f"high-rate stream: {r['rate_hz']} Hz for {r['seconds']} s on each of two boards "
+                  f"({r['samples_per_side']:,} samples a side), appended to the store, read back")
+    table.row("on disk (store files after close)", f"{r['bytes'] / samples:.2f} bytes/sample ({r['bytes'] / 1e6:.0f} MB)")
+    table.row("append, one transaction a second", f"{r['append_cpu_s'] / samples * 1e9:.0f} ns CPU/sample "
+              f"({r['append_cpu_s']:.2f} s CPU, {r['append_wall_s']:.2f} s wall)")
+    table.row("read back whole (Store::rate_trace)", f"{r['read_cpu_s'] / samples * 1e9:.0f} ns CPU/sample "
+              f"({r['read_cpu_s']:.2f} s CPU, {r['read_wall_s']:.2f} s wall)")
+    table.row("peak memory", f"{r['peak_mib']} MiB")
+
+
 def main():
     args = [a for a in sys.argv[1:] if a != "--markdown"]
     if len(args) != 3:
@@ -177,6 +190,8 @@ def main():
     table = Table()
     end_to_end(table, work, events, bootstrap)
     failed = micro(table, os.path.join(work, "micro.json"))
+    if os.path.exists(os.path.join(work, "rate.json")):
+        high_rate(table, load(os.path.join(work, "rate.json")))
     print(table.markdown() if "--markdown" in sys.argv else table.text())
     print("\nspeed-up = baseline's wall time / m2mlat's; memory = m2mlat's peak resident memory / the baseline's. "
           f"Targets (issue 19), for `m2mlat stats`: speed-up >= {SPEED_TARGET:g}x without bootstrap and "
