@@ -144,21 +144,29 @@ std::int64_t global_reference(const Sides& sides, std::size_t candidates) {
   return sides.min_ns + static_cast<std::int64_t>(best_bin) * kBin + kBin / 2;
 }
 
-// Candidates of an alignment pass, in cause order: the effect index and the predecessor candidate
-// (8 bytes each), with the first candidate of every cause. Allocated once for every window's size and
-// reused by the later passes, so that their pages are touched once. Plain arrays, not vectors: each
-// candidate is written once without a capacity check, and nothing is zeroed first.
+// Candidates of an alignment pass, in cause order: the effect and the predecessor candidate, with
+// the first candidate and the window's first effect of every cause. The effect is kept as its offset
+// in the cause's window, one byte, while every window holds at most 256 effects (5 bytes a candidate
+// instead of 8: the candidates are the matcher's largest memory, 12 a cause with the default window),
+// else as its index. Allocated once for every window's size and reused by the later passes, so that
+// their pages are touched once. Plain arrays, not vectors: each candidate is written once without a
+// capacity check, and nothing is zeroed first.
 struct Candidates {
-  std::unique_ptr<std::uint32_t[]> effect, pred;
+  std::unique_ptr<std::uint32_t[]> pred, effect;  // `effect` when the windows are wide
+  std::unique_ptr<std::uint8_t[]> offset;         // `offset` (effect - window start) when narrow
   std::size_t capacity = 0;
-  std::vector<std::uint32_t> row_start;
-  void reserve(std::size_t n) {
-    if (n <= capacity) return;
-    effect.reset();
-    pred.reset();
-    effect = std::make_unique_for_overwrite<std::uint32_t[]>(n);
+  bool narrow = false;
+  std::vector<std::uint32_t> row_start, row_lo;
+  void reserve(std::size_t n, bool narrow_windows) {
+    if (n <= capacity && narrow_windows == narrow) return;
+    pred.reset(), effect.reset(), offset.reset();
     pred = std::make_unique_for_overwrite<std::uint32_t[]>(n);
+    if (narrow_windows)
+      offset = std::make_unique_for_overwrite<std::uint8_t[]>(n);
+    else
+      effect = std::make_unique_for_overwrite<std::uint32_t[]>(n);
     capacity = n;
+    narrow = narrow_windows;
   }
 };
 
@@ -193,11 +201,14 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
       widest = std::max<std::size_t>(widest, w.hi - w.lo);
     }
   }
-  cand.reserve(window_total);
+  const bool narrow = widest <= 256;  // every offset in a window fits a byte
+  cand.reserve(window_total, narrow);
   std::uint32_t* const cand_effect = cand.effect.get();
+  std::uint8_t* const cand_offset = cand.offset.get();
   std::uint32_t* const cand_pred = cand.pred.get();
   std::uint32_t next_id = 0;  // candidates written so far (at most window_total)
   cand.row_start.assign(causes.size() + 1, 0);
+  cand.row_lo.resize(causes.size());
   std::size_t ring_size = 1;
   while (ring_size < widest) ring_size *= 2;
   const std::size_t mask = ring_size - 1;
@@ -211,6 +222,7 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
   for (std::size_t i = 0; i < causes.size(); ++i) {
     w.at(i);
     cand.row_start[i] = next_id;
+    cand.row_lo[i] = w.lo;
     for (; folded < w.lo; ++folded) {
       Best& slot = best[folded & mask];
       if (slot > frozen) frozen = slot;
@@ -222,7 +234,10 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
       const std::int64_t v = value(i, effects[j] - causes[i]);
       if (v > 0) {
         const std::uint32_t id = next_id++;
-        cand_effect[id] = j;
+        if (narrow)
+          cand_offset[id] = static_cast<std::uint8_t>(j - w.lo);
+        else
+          cand_effect[id] = j;
         cand_pred[id] = running.candidate;
         row[row_size++] = {j, Best{running.fit + v, running.count + count(i, v), id}};
       }
@@ -245,7 +260,7 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
   std::size_t i = causes.size();
   for (auto c = overall.candidate; c != kNone; c = cand_pred[c]) {
     while (cand.row_start[i] > c) --i;
-    match[i] = cand_effect[c];
+    match[i] = narrow ? cand.row_lo[i] + cand_offset[c] : cand_effect[c];
   }
   return match;
 }
@@ -669,7 +684,7 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   Kept effects(effect_ns, options.refractory);
   const Sides sides{causes.ns, effects.ns, options.min_latency.count(), options.max_latency.count()};
   const std::int64_t min_ns = sides.min_ns, max_ns = sides.max_ns;
-  // Memory follows the number of candidate pairs (8 bytes each in the passes): refuse a window that
+  // Memory follows the number of candidate pairs (5 to 8 bytes each in the passes): refuse a window that
   // holds more than the limit before anything is allocated for them.
   const std::size_t candidate_total = candidate_count(sides);
   if (candidate_total > kMaxCandidates)
