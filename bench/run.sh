@@ -5,8 +5,8 @@
 #   bench/run.sh [BUILD_DIR] [--events N] [--bootstrap B] [--markdown]
 #
 # BUILD_DIR (default: build) holds m2mlat, bench/m2mlat_bench, bench/m2mlat_lean_stats and
-# bench/m2mlat_rate_bench (built
-# with -DCMAKE_BUILD_TYPE=Release or RelWithDebInfo; `make bench` builds and runs this).
+# bench/m2mlat_rate_bench (built with -DCMAKE_BUILD_TYPE=Release or RelWithDebInfo; `make bench`
+# builds and runs this).
 # --events N: events per side (default 10,000,000; 100000 is the CI smoke test, well under a
 # minute). --bootstrap B: resamples of the runs with confidence intervals (default 200).
 # --markdown prints the table as Markdown.
@@ -14,13 +14,14 @@
 # Steps: simulate two kernel logs of ~N edges each (preset static_5g, three magnets 20 degrees apart,
 # field sensors: misses, bounces, spurious edges); run `m2mlat stats --cause-file --effect-file
 # --json --bootstrap B`, m2mlat_lean_stats and bench/baseline.py on them, each with B = 0 and B,
-# through bench/measure.py (wall time, peak memory); run m2mlat_bench with the same N and B; print
-# the table; then m2mlat_rate_bench: 8 kHz samples a side through the store for an hour (at 10^7
-# events; proportionally less for fewer, at least 10 s). Everything goes to a temporary directory under $TMPDIR (or /tmp), removed at the end.
+# through bench/measure.py (wall time, peak memory); run m2mlat_bench with the same N and B, and
+# m2mlat_rate_bench (8 kHz samples a side through the store for an hour at 10^7 events,
+# proportionally less for fewer, at least 10 s); print the table. Everything goes to a temporary
+# directory under $TMPDIR (or /tmp), removed at the end.
 set -euo pipefail
 
 usage() {
-  sed -n '5,11p' "$0" | sed 's/^# \{0,1\}//' >&2
+  sed -n '5,12p' "$0" | sed 's/^# \{0,1\}//' >&2
   exit 2
 }
 
