@@ -4,8 +4,9 @@
 #
 #   bench/run.sh [BUILD_DIR] [--events N] [--bootstrap B] [--markdown]
 #
-# BUILD_DIR (default: build) holds m2mlat, bench/m2mlat_bench and bench/m2mlat_lean_stats (built
-# with -DCMAKE_BUILD_TYPE=Release or RelWithDebInfo; `make bench` builds and runs this).
+# BUILD_DIR (default: build) holds m2mlat, bench/m2mlat_bench, bench/m2mlat_lean_stats and
+# bench/m2mlat_rate_bench (built with -DCMAKE_BUILD_TYPE=Release or RelWithDebInfo; `make bench`
+# builds and runs this).
 # --events N: events per side (default 10,000,000; 100000 is the CI smoke test, well under a
 # minute). --bootstrap B: resamples of the runs with confidence intervals (default 200).
 # --markdown prints the table as Markdown.
@@ -13,12 +14,14 @@
 # Steps: simulate two kernel logs of ~N edges each (preset static_5g, three magnets 20 degrees apart,
 # field sensors: misses, bounces, spurious edges); run `m2mlat stats --cause-file --effect-file
 # --json --bootstrap B`, m2mlat_lean_stats and bench/baseline.py on them, each with B = 0 and B,
-# through bench/measure.py (wall time, peak memory); run m2mlat_bench with the same N and B; print
-# the table. Everything goes to a temporary directory under $TMPDIR (or /tmp), removed at the end.
+# through bench/measure.py (wall time, peak memory); run m2mlat_bench with the same N and B, and
+# m2mlat_rate_bench (8 kHz samples a side through the store for an hour at 10^7 events,
+# proportionally less for fewer, at least 10 s); print the table. Everything goes to a temporary
+# directory under $TMPDIR (or /tmp), removed at the end.
 set -euo pipefail
 
 usage() {
-  sed -n '5,11p' "$0" | sed 's/^# \{0,1\}//' >&2
+  sed -n '5,12p' "$0" | sed 's/^# \{0,1\}//' >&2
   exit 2
 }
 
@@ -47,7 +50,8 @@ python=/usr/bin/python3  # Debian's, with python3-numpy and python3-pandas
 m2mlat=$build/m2mlat
 bench=$build/bench/m2mlat_bench
 lean=$build/bench/m2mlat_lean_stats
-for exe in "$m2mlat" "$bench" "$lean"; do
+rate=$build/bench/m2mlat_rate_bench
+for exe in "$m2mlat" "$bench" "$lean" "$rate"; do
   [[ -x $exe ]] || { echo "run.sh: $exe not found: build first (make build, or cmake --build $build)" >&2; exit 1; }
 done
 "$python" -c 'import numpy, pandas' 2>/dev/null ||
@@ -99,5 +103,12 @@ say "micro-benchmarks (m2mlat_bench --events $events --bootstrap $bootstrap)"
 TMPDIR=$work "$bench" --events "$events" --bootstrap "$bootstrap" "${min_time[@]}" \
   --benchmark_out="$work/micro.json" --benchmark_out_format=json >"$work/micro.txt" 2>&1 ||
   { cat "$work/micro.txt" >&2; say "m2mlat_bench failed"; exit 1; }
+
+# The high-rate stream: an hour of 8 kHz samples a side at 10^7 events, proportionally less below.
+rate_seconds=$((events >= 10000000 ? 3600 : events * 3600 / 10000000))
+((rate_seconds >= 10)) || rate_seconds=10
+say "high-rate stream (m2mlat_rate_bench --seconds $rate_seconds)"
+TMPDIR=$work "$rate" --seconds "$rate_seconds" --json "$work/rate.json" >"$work/rate.txt" 2>&1 ||
+  { cat "$work/rate.txt" >&2; say "m2mlat_rate_bench failed"; exit 1; }
 
 "$python" "$here/report.py" "$work" "$events" "$bootstrap" $markdown

@@ -22,6 +22,12 @@ std::int64_t good_again(std::span<const store::ClockSample> samples, std::int64_
   return best;
 }
 
+// Gives a vector's memory back now (assigning {} would keep its capacity).
+template <typename Vector>
+void free_vector(Vector& v) {
+  Vector().swap(v);
+}
+
 std::int64_t add_bound(std::int64_t a, std::int64_t b) {
   return a > std::numeric_limits<std::int64_t>::max() - b ? std::numeric_limits<std::int64_t>::max() : a + b;
 }
@@ -62,16 +68,30 @@ SideSteps correct_side(store::Timestamps& side, std::span<const store::ClockStep
   std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return side.seq[a] < side.seq[b]; });
   const auto t = [&](std::size_t k) { return side.t_ns[order[k]]; };  // k-th recorded stamp (raw)
 
-  std::vector<std::int64_t> shift(n, 0);  // by recording position
-  std::vector<StepMark> mark(n, StepMark::none);
-  std::vector<std::int64_t> max_ns(n, 0);
-  std::vector<double> var(n, 0.0);
+  // What each step does, worked out without touching every later event once per step (that made
+  // this O(steps x events): 80 % of `m2mlat stats` on a kernel log of 10^7 lines). A step acts on
+  // every event recorded from its boundary on, and boundaries never move back from one step to the
+  // next, so the steps acting on the event at recording position k are the first applied(k) steps,
+  // except where k is one of the step's exceptions (an event stamped where old and new readings
+  // overlap, or before the clock is good again: marked unknown, not corrected). The corrections of
+  // an event without exceptions are then running totals over the steps, taken in step order as
+  // before, so every figure is the one the per-event loop gave.
+  // suffix_min[k] = the smallest stamp recorded at or after position k (non-decreasing in k): where
+  // the last stamp below a time lies, and where no later stamp can be below it.
+  std::vector<std::int64_t> suffix_min(n);
+  for (std::size_t k = n; k-- > 0;) suffix_min[k] = k + 1 < n ? std::min(t(k), suffix_min[k + 1]) : t(k);
+  std::vector<std::size_t> boundaries;
+  boundaries.reserve(steps.size());
+  std::vector<std::pair<std::size_t, std::size_t>> exceptions;  // (recording position, step)
   std::size_t from = 0;  // events before this recording position are before every later step
-  for (const auto& step : steps) {
-    // The first recorded event at or after the step's window, from which every event is a candidate.
-    std::size_t start = from;
-    for (std::size_t k = from; k < n; ++k)
-      if (t(k) < step.earliest_ns) start = k + 1;
+  for (std::size_t s = 0; s < steps.size(); ++s) {
+    const auto& step = steps[s];
+    // The first recorded event at or after the step's window, from which every event is a candidate:
+    // one past the last recorded stamp before it (at or after `from`).
+    const auto below = std::partition_point(suffix_min.begin(), suffix_min.end(),
+                                            [&](std::int64_t m) { return m < step.earliest_ns; });
+    const auto last_before = static_cast<std::size_t>(below - suffix_min.begin());  // positions < it
+    std::size_t start = std::max(from, last_before);
     std::size_t boundary = start;  // first recorded event after the step
     std::int64_t ambiguous_below = step.earliest_ns;  // stamps in [earliest, this) may lie on either side
     if (step.size_ns) {
@@ -86,24 +106,55 @@ SideSteps correct_side(store::Timestamps& side, std::span<const store::ClockStep
           }
       }
     }
-    const std::int64_t good = step.size_ns ? kNever : good_again(samples, step.at_ns);
-    for (std::size_t k = boundary; k < n; ++k) {
-      // Not placed by the recording order and stamped where old and new readings overlap: either side.
-      if (boundary == start && t(k) < ambiguous_below) {
-        mark[k] = StepMark::unknown;
-      } else if (step.size_ns) {
-        shift[k] += *step.size_ns;
-        if (mark[k] == StepMark::none) mark[k] = StepMark::corrected;
-        max_ns[k] = add_bound(max_ns[k], step.size_max_ns);
-        const auto est = static_cast<double>(step.size_est_ns);
-        var[k] += step.size_est_ns == store::kUnknownSize ? 0.0 : est * est;
-      } else if (t(k) < good) {
-        mark[k] = StepMark::unknown;
-      }
-    }
+    // The exceptions: not placed by the recording order and stamped where old and new readings
+    // overlap (either side), or after a step of unknown size before the clock is good again.
+    std::int64_t exception_below = std::numeric_limits<std::int64_t>::min();
+    if (boundary == start) exception_below = ambiguous_below;
+    if (!step.size_ns) exception_below = std::max(exception_below, good_again(samples, step.at_ns));
+    for (std::size_t k = boundary; k < n && suffix_min[k] < exception_below; ++k)
+      if (t(k) < exception_below) exceptions.emplace_back(k, s);
+    boundaries.push_back(boundary);
     out.first_after.push_back(boundary < n ? side.seq[order[boundary]] : -1);
     from = boundary;
   }
+  free_vector(suffix_min);
+  std::sort(exceptions.begin(), exceptions.end());
+  // Running totals over the first j steps of the corrections a step of known size makes.
+  std::vector<std::int64_t> total_shift(steps.size() + 1, 0), total_max(steps.size() + 1, 0);
+  std::vector<double> total_var(steps.size() + 1, 0.0);
+  std::vector<std::size_t> sized(steps.size() + 1, 0);  // steps of known size among the first j
+  for (std::size_t j = 0; j < steps.size(); ++j) {
+    const auto& step = steps[j];
+    total_shift[j + 1] = total_shift[j], total_max[j + 1] = total_max[j], total_var[j + 1] = total_var[j];
+    sized[j + 1] = sized[j];
+    if (!step.size_ns) continue;
+    total_shift[j + 1] += *step.size_ns;
+    total_max[j + 1] = add_bound(total_max[j], step.size_max_ns);
+    const auto est = static_cast<double>(step.size_est_ns);
+    total_var[j + 1] += step.size_est_ns == store::kUnknownSize ? 0.0 : est * est;
+    ++sized[j + 1];
+  }
+  std::vector<std::int64_t> shift(n, 0);  // by recording position
+  std::vector<StepMark> mark(n, StepMark::none);
+  std::vector<std::uint32_t> applied(n, 0);  // steps acting on the event (without exceptions: all corrected)
+  {
+    std::size_t m = 0, e = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      while (m < boundaries.size() && boundaries[m] <= k) ++m;
+      applied[k] = static_cast<std::uint32_t>(m);
+      shift[k] = total_shift[m];
+      if (sized[m] > 0) mark[k] = StepMark::corrected;
+      for (; e < exceptions.size() && exceptions[e].first == k; ++e) {
+        const auto& step = steps[exceptions[e].second];
+        mark[k] = StepMark::unknown;
+        if (step.size_ns) shift[k] -= *step.size_ns;  // this step's correction is not made
+      }
+    }
+  }
+  // A corrected event's bounds: those of every step acting on it (an event with an exception is
+  // marked unknown and carries none).
+  const auto max_ns = [&](std::size_t k) { return total_max[applied[k]]; };
+  const auto var = [&](std::size_t k) { return total_var[applied[k]]; };
 
   // Apply and re-sort by corrected time.
   std::vector<std::int64_t> corrected(n);
@@ -122,8 +173,8 @@ SideSteps correct_side(store::Timestamps& side, std::span<const store::ClockStep
     sorted.seq.push_back(side.seq[i]);
     sorted.t_ns.push_back(corrected[i]);
     out.mark.push_back(mark[k]);
-    out.size_max_ns.push_back(mark[k] == StepMark::corrected ? max_ns[k] : 0);
-    out.size_est_ns.push_back(mark[k] == StepMark::corrected ? std::llround(std::sqrt(var[k])) : 0);
+    out.size_max_ns.push_back(mark[k] == StepMark::corrected ? max_ns(k) : 0);
+    out.size_est_ns.push_back(mark[k] == StepMark::corrected ? std::llround(std::sqrt(var(k))) : 0);
     if (mark[k] == StepMark::corrected) ++out.corrected;
     if (mark[k] == StepMark::unknown) ++out.unknown;
   }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <memory>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/pairing/refractory.hpp"
@@ -144,11 +145,30 @@ std::int64_t global_reference(const Sides& sides, std::size_t candidates) {
   return sides.min_ns + static_cast<std::int64_t>(best_bin) * kBin + kBin / 2;
 }
 
-// Candidates of an alignment pass, in cause order: the effect index and the predecessor candidate
-// (8 bytes each), with the first candidate of every cause. Reserved once for every window's size and
-// reused by the second pass, so that its pages are touched once.
+// Candidates of an alignment pass, in cause order: the effect and the predecessor candidate, with
+// the first candidate and the window's first effect of every cause. The effect is kept as its offset
+// in the cause's window, one byte, while every window holds at most 256 effects (5 bytes a candidate
+// instead of 8: the candidates are the matcher's largest memory, 12 a cause with the default window),
+// else as its index. Allocated once for every window's size and reused by the later passes, so that
+// their pages are touched once. Plain arrays, not vectors: each candidate is written once without a
+// capacity check, and nothing is zeroed first.
 struct Candidates {
-  std::vector<std::uint32_t> effect, pred, row_start;
+  std::unique_ptr<std::uint32_t[]> pred, effect;  // `effect` when the windows are wide
+  std::unique_ptr<std::uint8_t[]> offset;         // `offset` (effect - window start) when narrow
+  std::size_t capacity = 0;
+  bool narrow = false;
+  std::vector<std::uint32_t> row_start, row_lo;
+  void reserve(std::size_t n, bool narrow_windows) {
+    if (n <= capacity && narrow_windows == narrow) return;
+    pred.reset(), effect.reset(), offset.reset();
+    pred = std::make_unique_for_overwrite<std::uint32_t[]>(n);
+    if (narrow_windows)
+      offset = std::make_unique_for_overwrite<std::uint8_t[]>(n);
+    else
+      effect = std::make_unique_for_overwrite<std::uint32_t[]>(n);
+    capacity = n;
+    narrow = narrow_windows;
+  }
 };
 
 // One alignment pass: the order-preserving one-to-one set of candidate pairs with the largest count
@@ -184,26 +204,30 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
       widest = std::max<std::size_t>(widest, w.hi - w.lo);
     }
   }
-  cand.effect.clear();
-  cand.pred.clear();
-  cand.effect.reserve(window_total);
-  cand.pred.reserve(window_total);
+  const bool narrow = widest <= 256;  // every offset in a window fits a byte
+  cand.reserve(window_total, narrow);
+  std::uint32_t* const cand_effect = cand.effect.get();
+  std::uint8_t* const cand_offset = cand.offset.get();
+  std::uint32_t* const cand_pred = cand.pred.get();
+  std::uint32_t next_id = 0;  // candidates written so far (at most window_total)
   cand.row_start.assign(causes.size() + 1, 0);
+  cand.row_lo.resize(causes.size());
   std::size_t ring_size = 1;
   while (ring_size < widest) ring_size *= 2;
   const std::size_t mask = ring_size - 1;
   std::vector<Best> best(ring_size);  // best[j & mask] for the effects j in [folded, window end)
   Best frozen;                        // best over effects [0, folded)
   std::size_t folded = 0;
-  std::vector<std::pair<std::uint32_t, Best>> row;  // this cause's chain ends, applied after the row
-  std::vector<std::pair<std::uint32_t, Best>> previous;  // the previous cause's
-  row.reserve(widest);
-  previous.reserve(widest);
+  // This cause's chain ends, applied after the row, and the previous cause's: (effect, chain), at most
+  // the widest window's each.
+  std::vector<std::pair<std::uint32_t, Best>> row(widest), previous(widest);
+  std::size_t row_size = 0, previous_size = 0;
 
   Window w = sides.window();
   for (std::size_t i = 0; i < causes.size(); ++i) {
     w.at(i);
-    cand.row_start[i] = static_cast<std::uint32_t>(cand.effect.size());
+    cand.row_start[i] = next_id;
+    cand.row_lo[i] = w.lo;
     for (; folded < w.lo; ++folded) {
       Best& slot = best[folded & mask];
       if (slot > frozen) frozen = slot;
@@ -211,30 +235,36 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
     }
     Best running = frozen;  // max over effects < j, from causes < i
     std::swap(row, previous);
-    row.clear();
+    previous_size = row_size;
+    row_size = 0;
     std::size_t adjacent = 0;  // previous[adjacent]: the previous cause's chain end at effect j - 1, if any
     for (auto j = w.lo; j < w.hi; ++j) {
       const std::int64_t v = value(i, effects[j] - causes[i]);
       if (v > 0) {
-        const auto id = static_cast<std::uint32_t>(cand.effect.size());
+        const std::uint32_t id = next_id++;
         Best chain{running.fit + v, running.count + count(i, v), id};
         std::uint32_t pred = running.candidate;
-        while (adjacent < previous.size() && previous[adjacent].first + 1 < j) ++adjacent;
-        if (i > 0 && j > 0 && adjacent < previous.size() && previous[adjacent].first + 1 == j) {
+        while (adjacent < previous_size && previous[adjacent].first + 1 < j) ++adjacent;
+        if (i > 0 && j > 0 && adjacent < previous_size && previous[adjacent].first + 1 == j) {
           const Best& before = previous[adjacent].second;
           const Best linked{before.fit + v, before.count + count(i, v) + follows(i, j), id};
           if (linked > chain) chain = linked, pred = before.candidate;
         }
-        cand.effect.push_back(j);
-        cand.pred.push_back(pred);
-        row.emplace_back(j, chain);
+        if (narrow)
+          cand_offset[id] = static_cast<std::uint8_t>(j - w.lo);
+        else
+          cand_effect[id] = j;
+        cand_pred[id] = pred;
+        row[row_size++] = {j, chain};
       }
       if (best[j & mask] > running) running = best[j & mask];
     }
-    for (const auto& [j, chain] : row)
+    for (std::size_t r = 0; r < row_size; ++r) {
+      const auto& [j, chain] = row[r];
       if (chain > best[j & mask]) best[j & mask] = chain;
+    }
   }
-  cand.row_start[causes.size()] = static_cast<std::uint32_t>(cand.effect.size());
+  cand.row_start[causes.size()] = next_id;
 
   // Effects past the last window were never written: their slots hold the empty chain.
   Best overall = frozen;
@@ -244,9 +274,9 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
   // Walk the chain back; candidates are numbered in cause order, so the row pointer only moves down.
   std::vector<std::uint32_t> match(causes.size(), kNone);
   std::size_t i = causes.size();
-  for (auto c = overall.candidate; c != kNone; c = cand.pred[c]) {
+  for (auto c = overall.candidate; c != kNone; c = cand_pred[c]) {
     while (cand.row_start[i] > c) --i;
-    match[i] = cand.effect[c];
+    match[i] = narrow ? cand.row_lo[i] + cand_offset[c] : cand_effect[c];
   }
   return match;
 }
@@ -363,15 +393,23 @@ LocalReference local_reference(std::span<const std::int64_t> causes, std::span<c
     const std::size_t mid = window.size() / 2;
     const std::int64_t median = window[mid];
     // The median absolute deviation without a copy: the deviations below and above the median are two
-    // ascending runs of the sorted window; merge them up to the middle one.
+    // ascending runs of the sorted window; merge them up to the middle one. Written without branches
+    // (the choice between the runs is data, and mispredicting it was most of this function's time).
+    // `below` stays >= 1 inside the loop (it starts at mid and drops at most mid - 1 times before the
+    // last read); `above` may reach the end of an even-sized window, whose slot reads as "none".
     std::int64_t mad = 0;
-    for (std::size_t below = mid, above = mid + 1, taken = 0; taken < mid; ++taken) {
-      const std::int64_t low = below > 0 ? median - window[below - 1] : std::numeric_limits<std::int64_t>::max();
-      const std::int64_t high = above < window.size() ? window[above] - median : std::numeric_limits<std::int64_t>::max();
-      if (low <= high)
-        mad = low, --below;
-      else
-        mad = high, ++above;
+    {
+      const std::int64_t* w = window.data();
+      const std::size_t size = window.size();
+      for (std::size_t below = mid, above = mid + 1, taken = 0; taken < mid; ++taken) {
+        const std::int64_t low = median - w[below - 1];
+        const std::int64_t above_value = w[std::min(above, size - 1)] - median;
+        const std::int64_t high = above < size ? above_value : std::numeric_limits<std::int64_t>::max();
+        const bool take_low = low <= high;
+        mad = take_low ? low : high;
+        below -= take_low ? 1 : 0;
+        above += take_low ? 0 : 1;
+      }
     }
     const std::int64_t acceptance = std::max(kMinAcceptance, mad * kSpreadNumerator / kSpreadDenominator);
     const std::size_t next = next_pair(current + 1);  // the cause of pair p + 1, or the end
@@ -724,7 +762,7 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   Kept effects(effect_ns, options.refractory);
   const Sides sides{causes.ns, effects.ns, options.min_latency.count(), options.max_latency.count()};
   const std::int64_t min_ns = sides.min_ns, max_ns = sides.max_ns;
-  // Memory follows the number of candidate pairs (8 bytes each in the passes): refuse a window that
+  // Memory follows the number of candidate pairs (5 to 8 bytes each in the passes): refuse a window that
   // holds more than the limit before anything is allocated for them.
   const std::size_t candidate_total = candidate_count(sides);
   if (candidate_total > kMaxCandidates)
