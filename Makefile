@@ -21,7 +21,7 @@ space := $(empty) $(empty)
 HOST_ARCH := $(shell dpkg --print-architecture 2>/dev/null || echo amd64)
 BUILD_PACKAGES := build-essential cmake ninja-build pkg-config \
   libsqlite3-dev libcpp-httplib-dev libpcap-dev libpq-dev:$(HOST_ARCH) libcli11-dev nlohmann-json3-dev libfmt-dev \
-  libtomlplusplus-dev libboost-math-dev
+  libtomlplusplus-dev libboost-math-dev libzstd-dev liblz4-dev
 PACKAGES := $(BUILD_PACKAGES) clang-14 sqlite3 libgtest-dev libgmock-dev libbenchmark-dev \
   python3 python3-numpy python3-pandas python3-scipy chromium chrony rt-tests linuxptp libclang-rt-14-dev \
   postgresql
@@ -126,7 +126,7 @@ PKG_DIR ?= dist
 # The unit tests built and run for arm64 (empty: every namespace's).
 ARM64_TEST_NAMESPACES ?=
 ARM64_PACKAGES := crossbuild-essential-arm64 g++-aarch64-linux-gnu qemu-user file libc6:arm64 libstdc++6:arm64 \
-  libsqlite3-dev:arm64 libfmt-dev:arm64 libcpp-httplib-dev:arm64 libpcap-dev:arm64 libpq-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 \
+  libsqlite3-dev:arm64 libfmt-dev:arm64 libcpp-httplib-dev:arm64 libpcap-dev:arm64 libzstd-dev:arm64 liblz4-dev:arm64 libpq-dev:arm64 libgtest-dev:arm64 libgmock-dev:arm64 \
   libtomlplusplus-dev:arm64 libboost-dev:arm64 libboost-math-dev:arm64
 PACKAGE_PACKAGES := dpkg-dev help2man debootstrap file sqlite3
 

@@ -27,6 +27,7 @@ BOARD = [
      "reads the boards' stores"),
     (r"^m2mlat budget --synctest sync\.json", 66, "reads a synchronisation test's result"),
     (r"^m2mlat packets operator\.pcap\b", 66, "reads the boards' packet captures"),
+    (r"^m2mlat bag station\.mcap\b", 66, "reads a ROS 2 bag the stack recorded"),
     (r"^m2mlat schedtest --core 2\b", 2, "this machine has no CPU 2"),
 ]
 SKIP = [

@@ -26,7 +26,7 @@ for arch in amd64 arm64; do
   depends=$(field Depends)
   # The package names alone, one a line, compared as fixed strings ("libstdc++6" is no regex).
   tr ',' '\n' <<<"$depends" | sed 's/^ *//; s/ .*//' | sort >"$WORK/$arch.depends"
-  for lib in libc6 libstdc++6 libgcc-s1 libsqlite3-0 libfmt9 libcpp-httplib0.11 libpcap0.8 libpq5 adduser; do
+  for lib in libc6 libstdc++6 libgcc-s1 libsqlite3-0 libfmt9 libcpp-httplib0.11 libpcap0.8 libzstd1 liblz4-1 libpq5 adduser; do
     grep -qxF "$lib" "$WORK/$arch.depends" || fail "$deb: Depends lacks $lib: $depends"
   done
   case $depends in *-cross*) fail "$deb: Depends names the cross toolchain: $depends" ;; esac

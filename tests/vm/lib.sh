@@ -12,7 +12,7 @@ CACHE=${M2MLAT_VM_CACHE:-/var/cache/m2mlat-vm}
 # Host packages: QEMU, the guest's userland (busybox), the tools to unpack Debian's kernel packages and
 # to pack the initramfs, the compiler for the module, the guest's m2mlat and the static driver, and ccache.
 VM_HOST_PACKAGES=(qemu-system-x86 busybox-static cpio xz-utils kmod binutils gzip build-essential iproute2
-  ccache libsqlite3-dev libfmt-dev libcpp-httplib-dev libpcap-dev libpq-dev)
+  ccache libsqlite3-dev libfmt-dev libcpp-httplib-dev libpcap-dev libzstd-dev liblz4-dev libpq-dev)
 
 log() { printf '[vm %s] %s\n' "$(date +%H:%M:%S)" "$*" >&2; }
 die() { printf '[vm] error: %s\n' "$*" >&2; exit 1; }

@@ -3,13 +3,21 @@
 
 #include <fmt/format.h>
 #include <poll.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cerrno>
+#include <cstring>
 #include <exception>
 #include <thread>
 
 #include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/fd.hpp"
+#include "m2mlat/markers/mark_datagram.hpp"
+#include "m2mlat/markers/stored_markers.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::agent {
@@ -25,6 +33,78 @@ void Agent::start() {
   // The store must exist before the server's threads open it read-only.
   { auto store = store::Store::open(options_.store_path, options_.store_options); }
   server_->start();
+  if (options_.marks) {
+    marks_ = std::make_unique<markers::MarkReceiver>(options_.marks->address, options_.marks->port);
+    std::lock_guard lock(mutex_);
+    mark_status_.address = marks_->address();
+    mark_status_.stamps = marks_->kernel_stamps() ? "kernel" : "receiver";
+  }
+}
+
+std::string Agent::mark_address() const { return marks_ ? marks_->address() : std::string(); }
+
+void Agent::refuse_mark(std::string_view reason, const std::string& detail) {
+  std::lock_guard lock(mutex_);
+  auto& rejected = mark_status_.rejected;
+  auto it = std::find_if(rejected.begin(), rejected.end(), [&](const auto& r) { return r.first == reason; });
+  if (it == rejected.end()) {
+    rejected.emplace_back(reason, 0);
+    it = std::prev(rejected.end());
+  }
+  ++it->second;
+  mark_status_.last_rejection = fmt::format("{}: {}", reason, detail);
+}
+
+void Agent::mark_loop(int wake_fd) {
+  auto store = store::Store::open(options_.store_path, options_.store_options);
+  // Datagrams read per commit at most: a burst is stored in few transactions, and a flood cannot
+  // keep the thread from seeing the stop.
+  constexpr std::size_t kMarksPerCommit = 256;
+  for (;;) {
+    std::array<pollfd, 2> fds{pollfd{marks_->fd(), POLLIN, 0}, pollfd{wake_fd, POLLIN, 0}};
+    if (::poll(fds.data(), fds.size(), -1) < 0) {
+      if (errno == EINTR) continue;
+      throw core::Error(core::ErrorKind::io, fmt::format("marker port: poll: {}", std::strerror(errno)));
+    }
+    std::vector<store::MarkerRecord> rows;
+    std::vector<std::string> senders;
+    bool drained = false;
+    while (rows.size() < kMarksPerCommit) {
+      auto got = marks_->receive();
+      if (!got) {
+        drained = true;
+        break;
+      }
+      if (!got->marker) {
+        refuse_mark(got->reason, got->detail);
+        continue;
+      }
+      std::optional<std::int64_t> session;
+      {
+        std::lock_guard lock(mutex_);
+        if (open_) session = open_->id;
+      }
+      if (!session) {
+        refuse_mark("session", fmt::format("{}: no session open", got->marker->origin));
+        continue;
+      }
+      rows.push_back(markers::to_record(*got->marker, *session));
+      senders.push_back(got->marker->origin);
+    }
+    if (!rows.empty()) {
+      try {
+        store.append_markers(rows);
+        std::lock_guard lock(mutex_);
+        mark_status_.stored += rows.size();
+      } catch (const core::Error& e) {
+        // The session ended between the read and the commit, or the store refused: nothing of the
+        // batch is stored, and each datagram is counted as refused.
+        for (const auto& sender : senders) refuse_mark("store", fmt::format("{}: {}", sender, e.what()));
+      }
+    }
+    // Stopping: only once what had arrived is stored.
+    if ((fds[1].revents & POLLIN) != 0 && drained) return;
+  }
 }
 
 int Agent::port() const { return server_->port(); }
@@ -60,6 +140,9 @@ capture::RecordCounters Agent::run(int stop_fd, const std::function<std::string(
     std::lock_guard lock(mutex_);
     started_ns_ = core::realtime_now().ns();
   }
+  // The marker thread runs until the API stops (markers may come while the data is served).
+  core::Fd wake(::eventfd(0, EFD_CLOEXEC));
+  if (marks_ && !wake) throw core::Error(core::ErrorKind::io, fmt::format("eventfd: {}", std::strerror(errno)));
   std::thread thread([&] {
     try {
       result = recorder.run(stop_fd, stop_name);
@@ -67,6 +150,16 @@ capture::RecordCounters Agent::run(int stop_fd, const std::function<std::string(
       failure = std::current_exception();
     }
   });
+  std::exception_ptr mark_failure;
+  std::thread mark_thread;
+  if (marks_)
+    mark_thread = std::thread([&] {
+      try {
+        mark_loop(wake.get());
+      } catch (...) {
+        mark_failure = std::current_exception();
+      }
+    });
   // The first session, through the same path as the API's.
   try {
     begin_session({options_.recorder.session.label, options_.recorder.session.scenario});
@@ -86,8 +179,16 @@ capture::RecordCounters Agent::run(int stop_fd, const std::function<std::string(
     }
     if (stop_name) stop_name();
   }
+  if (mark_thread.joinable()) {
+    const std::uint64_t one = 1;
+    if (::write(wake.get(), &one, sizeof one) < 0) {
+      // An eventfd write fails only on overflow, impossible after one write; join anyway.
+    }
+    mark_thread.join();
+  }
   server_->stop();
   if (failure) std::rethrow_exception(failure);
+  if (mark_failure) std::rethrow_exception(mark_failure);
   return result;
 }
 
@@ -109,6 +210,7 @@ net::Status Agent::live_status() {
   s.dropped = counters_.dropped;
   s.clock = counters_.last_clock;  // the monitor's or the source's own (a simulated board's)
   s.started_ns = started_ns_;
+  if (marks_) s.marks = mark_status_;
   return s;
 }
 

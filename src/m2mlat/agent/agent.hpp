@@ -6,8 +6,9 @@
 // recorder through a capture::SessionControl and are carried out between batches.
 //
 // Start-up order: store (created if missing), server bound (so the port is known and a refusal
-// comes before anything is recorded), recorder thread, first session. Shutdown in reverse: the
-// recorder commits what it has and ends the session, then the server stops.
+// comes before anything is recorded), the marker port bound (when asked for), recorder thread and
+// marker thread, first session. Shutdown in reverse: the recorder commits what it has and ends the
+// session, the marker thread stores what it read, then the server stops.
 #pragma once
 
 #include <cstdint>
@@ -21,6 +22,7 @@
 #include "m2mlat/capture/recorder.hpp"
 #include "m2mlat/capture/session_control.hpp"
 #include "m2mlat/capture/source.hpp"
+#include "m2mlat/markers/mark_receiver.hpp"
 #include "m2mlat/net/server.hpp"
 #include "m2mlat/store/records.hpp"
 
@@ -33,6 +35,13 @@ struct AgentOptions {
   // on_progress and on_commit are the agent's; before_commit is passed on (the clock monitor).
   capture::RecorderOptions recorder;
   net::ServerOptions server;  // store_path is set from store_path
+  // The software markers' UDP port (`--mark-port`; docs/markers.md): datagrams stamped on arrival and
+  // stored in the open session. Not opened when empty.
+  struct MarkPort {
+    std::string address = "127.0.0.1";  // numeric; localhost by default: marks come from this board
+    int port = 0;                       // 0: any free port (tests)
+  };
+  std::optional<MarkPort> marks;
 };
 
 class Agent final : public net::AgentBackend {
@@ -46,6 +55,8 @@ class Agent final : public net::AgentBackend {
   void start();
   int port() const;
   std::string address() const;
+  // The marker port's "address:port" ("" without one), known after start().
+  std::string mark_address() const;
   bool tls() const;
 
   // Records until stop_fd polls readable or the source fails; a source that finishes (a simulated
@@ -61,17 +72,23 @@ class Agent final : public net::AgentBackend {
  private:
   void on_progress(const capture::RecordCounters& counters);
   void before_commit(std::int64_t session_id, std::vector<store::ClockSample>& samples);
+  // The marker port's thread: reads datagrams until wake_fd polls readable, stores each accepted
+  // mark in the open session (its own store connection), counts the refused ones by reason.
+  void mark_loop(int wake_fd);
+  void refuse_mark(std::string_view reason, const std::string& detail);
 
   AgentOptions options_;
   capture::Source& source_;
   capture::SessionControl control_;
   std::unique_ptr<net::AgentServer> server_;
+  std::unique_ptr<markers::MarkReceiver> marks_;
   std::int64_t started_ns_ = 0;
 
   std::mutex request_mutex_;  // one session request at a time
   std::mutex mutex_;          // guards the snapshot below
   capture::RecordCounters counters_;
   std::optional<store::Session> open_;
+  net::MarkStatus mark_status_;  // the marker port's counters (when it has one)
 };
 
 }  // namespace m2mlat::agent

@@ -1,6 +1,8 @@
 // `m2mlat agent`: one node's recorder with the agent HTTP API (docs/api.md). Takes the options of
 // `m2mlat record` (a TOML configuration or flags; the sim source is always paced and, unless
 // --sim-set manoeuvres=N says otherwise, practically endless) plus where to listen, the bearer token and TLS.
+// With --mark-port, software markers (m2mlat-mark/1 datagrams) are stamped on arrival and stored in the
+// open session (/v1/markers; `marks HOST:PORT` is printed after `listening`).
 // With --gyro, the gyroscope's raw samples are stored in the session they were sampled in and served
 // as rate blocks (/v1/rate-blocks).
 // Prints `listening HOST:PORT` on stdout once the port is bound (--listen 127.0.0.1:0 picks a free
@@ -9,6 +11,7 @@
 
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "m2mlat/agent/agent.hpp"
 #include "m2mlat/capture/stop_signal.hpp"
@@ -30,6 +33,9 @@ struct AgentCommand {
   std::string listen = "127.0.0.1:8470";
   std::string token_file, tls_cert, tls_key, port_file;
   std::size_t max_connections = 256;
+  std::optional<int> mark_port;  // the software markers' UDP port (docs/markers.md)
+  std::string mark_address = "127.0.0.1";
+  std::string mark_port_file;
 };
 
 // "HOST:PORT" or "[V6]:PORT" -> host, port.
@@ -73,6 +79,9 @@ int run_agent(AgentCommand& c) {
   options.server.tls_cert = c.tls_cert;
   options.server.tls_key = c.tls_key;
   options.server.max_connections = c.max_connections;
+  if (c.mark_port) options.marks = agent::AgentOptions::MarkPort{c.mark_address, *c.mark_port};
+  else if (!c.mark_port_file.empty())
+    throw core::Error(core::ErrorKind::usage, "--mark-port-file needs --mark-port");
 
   capture::StopSignal stop;  // before any thread starts, so that every thread blocks the signals
   // The gyroscope's sampler runs across sessions; its samples go to the session they were sampled
@@ -84,6 +93,13 @@ int run_agent(AgentCommand& c) {
     core::write_output_file(c.port_file, fmt::format("{}\n", agent.port()));
   }
   fmt::print("listening {}\n", agent.address());
+  if (options.marks) {
+    if (!c.mark_port_file.empty()) {
+      const auto colon = agent.mark_address().rfind(':');
+      core::write_output_file(c.mark_port_file, fmt::format("{}\n", agent.mark_address().substr(colon + 1)));
+    }
+    fmt::print("marks {}\n", agent.mark_address());
+  }
   std::fflush(stdout);
   if (!flags.quiet)
     fmt::print(stderr, "m2mlat: agent of node {} on {}://{}{}\n", core::printable(setup.node),
@@ -116,6 +132,13 @@ Runner attach_agent(CLI::App& sub) {
   sub.add_option("--tls-cert", c->tls_cert, "PEM certificate: serve HTTPS");
   sub.add_option("--tls-key", c->tls_key, "PEM private key of --tls-cert");
   sub.add_option("--port-file", c->port_file, "Write the bound port to this file");
+  sub.add_option("--mark-port", c->mark_port,
+                 "UDP port for software markers (m2mlat-mark/1 datagrams, `m2mlat mark`; 0: any free one)")
+      ->check(CLI::Range(0, 65535));
+  sub.add_option("--mark-address", c->mark_address,
+                 "Numeric address the marker port is bound to (0.0.0.0 or :: accepts other machines' marks)")
+      ->capture_default_str();
+  sub.add_option("--mark-port-file", c->mark_port_file, "Write the bound marker port to this file");
   sub.add_option("--max-connections", c->max_connections,
                  "Connections open at once (a thread each); beyond, the longest idle one is closed")
       ->check(CLI::Range(std::size_t{1}, std::size_t{4096}))

@@ -1,4 +1,5 @@
-// `m2mlat export`: a store's events, the pairs recomputed from them, or a gyroscope's raw trace, as files.
+// `m2mlat export`: a store's events, the pairs recomputed from them, a gyroscope's raw trace, or its
+// markers, as files.
 #include <fmt/format.h>
 
 #include <fmt/ranges.h>
@@ -17,6 +18,8 @@
 #include "m2mlat/core/output_file.hpp"
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/formats/rate_trace_csv.hpp"
+#include "m2mlat/markers/markers_file.hpp"
+#include "m2mlat/markers/stored_markers.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::cli {
@@ -79,6 +82,30 @@ int export_gyro(const ExportCommand& c) {
   return 0;
 }
 
+// The store's markers (software markers, markers read from bags) as m2mlat-markers/1 CSV, in time
+// order, optionally of some scenarios' sessions and one node.
+int export_markers(const ExportCommand& c) {
+  if (!c.format.empty() && c.format != "markers-csv")
+    throw core::Error(core::ErrorKind::usage, fmt::format("--format '{}': --what markers writes markers-csv",
+                                                          c.format));
+  store::Options options;
+  options.read_only = true;
+  auto store = store::Store::open(c.store_path, options);
+  std::vector<markers::Marker> selected;
+  if (c.scenarios.empty()) {
+    selected = markers::store_markers(store);
+  } else {
+    for (const auto& scenario : c.scenarios)
+      for (auto& m : markers::store_markers(store, scenario)) selected.push_back(std::move(m));
+    std::stable_sort(selected.begin(), selected.end(),
+                     [](const markers::Marker& a, const markers::Marker& b) { return a.time < b.time; });
+  }
+  if (!c.node.empty())
+    std::erase_if(selected, [&](const markers::Marker& m) { return m.node != c.node; });
+  core::write_output_file(c.out, markers::markers_csv(selected));
+  return 0;
+}
+
 int run_export(const ExportCommand& c) {
   if (c.what == "pairs") {
     StatsFlags no_bootstrap;
@@ -97,7 +124,8 @@ int run_export(const ExportCommand& c) {
     return 0;
   }
   if (c.what == "gyro") return export_gyro(c);
-  if (c.what != "events") throw core::Error(core::ErrorKind::usage, "--what: events, pairs or gyro");
+  if (c.what == "markers") return export_markers(c);
+  if (c.what != "events") throw core::Error(core::ErrorKind::usage, "--what: events, pairs, gyro or markers");
 
   store::Options options;
   options.read_only = true;
@@ -131,13 +159,14 @@ Runner attach_export(CLI::App& sub) {
   auto c = std::make_shared<ExportCommand>();
   sub.add_option("store", c->store_path, "The store to export from")->required();
   sub.add_option("--what", c->what,
-                 "events, pairs (recomputed by the matcher), or gyro (one raw trace as m2mlat-gyro/1)")
+                 "events, pairs (recomputed by the matcher), gyro (one raw trace as m2mlat-gyro/1), or markers "
+                 "(m2mlat-markers/1)")
       ->capture_default_str();
   sub.add_option("-o,--out", c->out, "Output file ('-' = standard output)")->capture_default_str();
   sub.add_option("--format", c->format,
-                 "events-csv (default), events-jsonl; pairs-csv (default), pairs-jsonl, rig-paired-csv");
+                 "events-csv (default), events-jsonl; pairs-csv (default), pairs-jsonl, rig-paired-csv; markers-csv");
   sub.add_option("--scenario", c->scenarios, "Only these scenarios (repeatable)");
-  sub.add_option("--node", c->node, "Only the events (or raw trace) of this node");
+  sub.add_option("--node", c->node, "Only the events (or raw trace, or markers) of this node");
   sub.add_option("--channel", c->channel, "--what gyro: the trace's channel");
   sub.add_option("--session", c->session, "--what gyro: the trace's session id");
   c->selection.add_to(sub);

@@ -32,11 +32,12 @@ int run_merge(const MergeCommand& c) {
                       {"events", r.events},
                       {"clock_samples", r.clock_samples},
                       {"losses", r.losses},
-                      {"rate_blocks", r.rate_blocks}});
+                      {"rate_blocks", r.rate_blocks},
+                      {"markers", r.markers}});
     if (!c.json)
-      fmt::print("{} ({}): {} new events, {} clock samples, {} losses, {} raw rate blocks\n",
+      fmt::print("{} ({}): {} new events, {} clock samples, {} losses, {} raw rate blocks, {} markers\n",
                  core::printable(r.path), core::printable(fmt::format("{}", fmt::join(r.nodes, ", "))),
-                 r.events, r.clock_samples, r.losses, r.rate_blocks);
+                 r.events, r.clock_samples, r.losses, r.rate_blocks, r.markers);
   }
   if (c.json) print_json({{"campaign", c.campaign}, {"merged", report}});
   return 0;

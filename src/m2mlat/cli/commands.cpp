@@ -30,6 +30,8 @@ Runner attach_onsettest(CLI::App& sub);
 Runner attach_budget(CLI::App& sub);
 Runner attach_packets(CLI::App& sub);
 Runner attach_archive(CLI::App& sub);
+Runner attach_mark(CLI::App& sub);
+Runner attach_bag(CLI::App& sub);
 
 namespace {
 constexpr std::array kCommands{
@@ -54,6 +56,8 @@ constexpr std::array kCommands{
     Command{"onsettest", "Measure the onset detectors' bias and spread on simulated gyroscope motions", &attach_onsettest},
     Command{"budget", "The error budget of a latency sample: sync, kernel, circuit and calibration terms", &attach_budget},
     Command{"packets", "Commands in a packet capture (file or live) as markers; one-way times across two captures", &attach_packets},
+    Command{"mark", "Send a software marker (m2mlat-mark/1 datagram) to an agent's marker port", &attach_mark},
+    Command{"bag", "Messages of named topics of a ROS 2 bag (MCAP) as markers: log time and header.stamp", &attach_bag},
     Command{"agent", "Record one node and serve its events over the agent HTTP API (docs/api.md)", &attach_agent},
     Command{"report", "Statistics, comparisons and figures (text, Markdown, CSV, JSON, HTML, pgfplots)", &attach_report},
     Command{"archive", "The lab's archive in PostgreSQL: push campaign stores, list campaigns (stats/report read it)", &attach_archive},

@@ -149,8 +149,10 @@ const store::Session* Puller::lookup(std::int64_t session_id) {
 
 void Puller::ingest(store::Store& store, std::vector<store::StoredEvent> events,
                     std::vector<store::StoredClockSample> samples, std::vector<store::StoredLoss> losses,
-                    std::vector<store::StoredRateBlock> blocks) {
-  if (events.empty() && samples.empty() && losses.empty() && blocks.empty() && unsent_.empty()) return;
+                    std::vector<store::StoredRateBlock> blocks, std::vector<store::StoredMarker> markers) {
+  if (events.empty() && samples.empty() && losses.empty() && blocks.empty() && markers.empty() &&
+      unsent_.empty())
+    return;
   store::IngestBatch batch;
   batch.origin = origin_;
   // The sessions the items name (a cheap guarantee that the store knows them) and those changed.
@@ -159,6 +161,7 @@ void Puller::ingest(store::Store& store, std::vector<store::StoredEvent> events,
   for (const auto& s : samples) named.insert(s.sample.session_id);
   for (const auto& l : losses) named.insert(l.loss.session_id);
   for (const auto& b : blocks) named.insert(b.block.session_id);
+  for (const auto& m : markers) named.insert(m.marker.session_id);
   for (auto id : named) {
     const auto* session = lookup(id);
     if (session == nullptr)
@@ -171,6 +174,7 @@ void Puller::ingest(store::Store& store, std::vector<store::StoredEvent> events,
   batch.clock_samples = std::move(samples);
   batch.losses = std::move(losses);
   batch.rate_blocks = std::move(blocks);
+  batch.markers = std::move(markers);
   cursor_ = store.ingest(batch);
   unsent_.clear();
   tracker_->stored(new_events, cursor_.events, core::now_ns(CLOCK_REALTIME));
@@ -211,6 +215,7 @@ void Puller::catch_up(store::Store& store) {
     if (!full) break;
   }
   if (!halted()) take_rate_blocks(store);
+  if (!halted()) take_markers(store);
   ingest(store, {}, {}, {});  // sessions whose end became known
 }
 
@@ -224,12 +229,22 @@ void Puller::take_rate_blocks(store::Store& store) {
   }
 }
 
+void Puller::take_markers(store::Store& store) {
+  while (!stopping() || draining_) {
+    auto markers = control_.markers_after(cursor_.markers, options_.page);
+    const bool full = markers.size() == options_.page;
+    ingest(store, {}, {}, {}, {}, std::move(markers));
+    if (!full) break;
+  }
+}
+
 void Puller::side_poll(store::Store& store) {
   note_status(control_.status());
   auto samples = control_.clock_samples_after(cursor_.clock_samples, options_.page);
   auto losses = control_.losses_after(cursor_.losses, options_.page);
   ingest(store, {}, std::move(samples), std::move(losses));
   take_rate_blocks(store);
+  take_markers(store);
 }
 
 void Puller::pull(store::Store& store) {

@@ -84,8 +84,9 @@ class Puller {
   void note_status(const net::Status& status);
   void ingest(store::Store& store, std::vector<store::StoredEvent> events,
               std::vector<store::StoredClockSample> samples, std::vector<store::StoredLoss> losses,
-              std::vector<store::StoredRateBlock> blocks = {});
+              std::vector<store::StoredRateBlock> blocks = {}, std::vector<store::StoredMarker> markers = {});
   void take_rate_blocks(store::Store& store);  // pages of /v1/rate-blocks until caught up
+  void take_markers(store::Store& store);      // pages of /v1/markers until caught up
   bool wait(std::chrono::milliseconds d);  // false if stopping
   bool stopping() const { return stop_.load(); }
 

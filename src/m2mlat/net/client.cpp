@@ -313,6 +313,21 @@ std::vector<store::StoredLoss> AgentClient::losses_after(std::int64_t after, std
   return out;
 }
 
+std::vector<store::StoredMarker> AgentClient::markers_after(std::int64_t after, std::size_t limit) {
+  check_limit(limit, url_);
+  auto out = ndjson<store::StoredMarker>(
+      fmt::format("/v1/markers?after={}&limit={}", after, limit),
+      [](const nlohmann::json& json, const std::string& where) { return marker_from_json(json, where); });
+  std::int64_t previous = after;
+  for (const auto& m : out) {
+    if (m.id <= previous)
+      throw core::Error(core::ErrorKind::data,
+                        fmt::format("{}/v1/markers: id {} does not follow {}", url_, m.id, previous));
+    previous = m.id;
+  }
+  return out;
+}
+
 std::vector<store::StoredRateBlock> AgentClient::rate_blocks_after(std::int64_t after, std::size_t limit) {
   check_limit(limit, url_);
   auto out = ndjson<store::StoredRateBlock>(

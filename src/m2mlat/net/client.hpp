@@ -87,6 +87,8 @@ class AgentClient {
   std::vector<store::StoredLoss> losses_after(std::int64_t after, std::size_t limit);
   // GET /v1/rate-blocks: at most kMaxRateBlocksPerPage blocks whatever the limit (1 .. 10000).
   std::vector<store::StoredRateBlock> rate_blocks_after(std::int64_t after, std::size_t limit);
+  // GET /v1/markers (limit 1 .. 10000).
+  std::vector<store::StoredMarker> markers_after(std::int64_t after, std::size_t limit);
   // POST /v1/sessions: ends the agent's open session and begins a new one; returns it.
   store::Session start_session(const std::string& label, const std::string& scenario);
   // POST /v1/sessions/current/stop: returns the ended session; std::nullopt if none was open (409).

@@ -68,6 +68,15 @@ std::string render_metrics(const Status& s, const ConnectionCounts& connections)
     out += fmt::format("m2mlat_http_connections_ended_early_total{{{},reason=\"{}\"}} {}\n", node, reason, n);
   family("m2mlat_start_time_seconds", "gauge", "When the agent started, CLOCK_REALTIME seconds.");
   out += fmt::format("m2mlat_start_time_seconds{{{}}} {}\n", node, core::format_seconds(s.started_ns));
+  if (s.marks) {
+    family("m2mlat_marks_stored_total", "counter", "Software markers received on the marker port and stored.");
+    out += fmt::format("m2mlat_marks_stored_total{{{}}} {}\n", node, s.marks->stored);
+    family("m2mlat_marks_rejected_total", "counter",
+           "Datagrams on the marker port refused, by reason (format, name, key, time, field, size, session, "
+           "store).");
+    for (const auto& [reason, n] : s.marks->rejected)
+      out += fmt::format("m2mlat_marks_rejected_total{{{},reason=\"{}\"}} {}\n", node, escape_label(reason), n);
+  }
   if (s.clock) {
     const auto source = fmt::format("{},source=\"{}\"", node, escape_label(s.clock->source));
     family("m2mlat_clock_offset_seconds", "gauge", "The clock's estimated offset from its reference.");

@@ -43,6 +43,7 @@ constexpr std::array kRoutes{
     Route{"/v1/clock-samples", true, false},
     Route{"/v1/losses", true, false},
     Route{"/v1/rate-blocks", true, false},
+    Route{"/v1/markers", true, false},
     Route{"/metrics", true, false},
 };
 
@@ -288,6 +289,9 @@ struct AgentServer::Impl {
             const auto after = parse_after(param(req, "after"));
             const auto limit = std::min(parse_limit(param(req, "limit")), kMaxRateBlocksPerPage);
             res.set_content(ndjson(reader()->rate_blocks_after(after, limit)), kNdjson);
+          }));
+    s.Get("/v1/markers", wrap([this](const httplib::Request& req, httplib::Response& res) {
+            id_page(req, res, &store::Store::markers_after);
           }));
     s.Get("/metrics", wrap([this](const httplib::Request&, httplib::Response& res) {
             res.set_content(render_metrics(status(), http.counts()),

@@ -277,6 +277,30 @@ json to_json(const store::StoredRateBlock& b) {
           {"samples", std::move(samples)}};
 }
 
+json to_json(const store::StoredMarker& m) {
+  const auto& r = m.marker;
+  return {{"id", m.id},
+          {"session", r.session_id},
+          {"name", r.name},
+          {"clock", core::to_string(r.time.clock())},
+          {"t_ns", r.time.ns()},
+          {"source", r.source},
+          {"uncertainty_ns", r.uncertainty_ns ? json(*r.uncertainty_ns) : json(nullptr)},
+          {"key", r.key},
+          {"sender_ns", r.sender_ns ? json(*r.sender_ns) : json(nullptr)},
+          {"origin", r.origin}};
+}
+
+json mark_status_json(const MarkStatus& m) {
+  json rejected = json::object();
+  for (const auto& [reason, n] : m.rejected) rejected[reason] = n;
+  return {{"address", m.address},
+          {"stamps", m.stamps},
+          {"stored", m.stored},
+          {"rejected", rejected},
+          {"last_rejection", m.last_rejection}};
+}
+
 json to_json(const Status& s) {
   json channels = json::array();
   for (const auto& c : s.channels)
@@ -297,6 +321,7 @@ json to_json(const Status& s) {
           {"dropped", s.dropped},
           {"last_seq", s.last_seq},
           {"clock", s.clock ? sample_fields(*s.clock) : json(nullptr)},
+          {"marks", s.marks ? mark_status_json(*s.marks) : json(nullptr)},
           {"started_ns", s.started_ns},
           {"now_ns", s.now_ns}};
 }
@@ -403,6 +428,22 @@ store::StoredRateBlock rate_block_from_json(const json& j, std::string_view wher
   return b;
 }
 
+store::StoredMarker marker_from_json(const json& j, std::string_view where) {
+  store::StoredMarker m;
+  m.id = get_int(j, where, "id", 1);
+  auto& r = m.marker;
+  r.session_id = get_int(j, where, "session", 1);
+  r.name = get_string(j, where, "name", true);
+  r.time = core::TimePoint::from_ns(get_clock(j, where), get_int(j, where, "t_ns"));
+  r.source = get_string(j, where, "source", true);
+  r.uncertainty_ns = get_optional_int(j, where, "uncertainty_ns");
+  if (r.uncertainty_ns && *r.uncertainty_ns < 0) refuse(where, "uncertainty_ns", "negative");
+  r.key = get_string(j, where, "key");
+  r.sender_ns = get_optional_int(j, where, "sender_ns");
+  r.origin = get_string(j, where, "origin");
+  return m;
+}
+
 Status status_from_json(const json& j, std::string_view where) {
   Status s;
   s.api = get_string(j, where, "api");
@@ -436,6 +477,22 @@ Status status_from_json(const json& j, std::string_view where) {
   if (!member(j, where, "clock").is_null()) s.clock = sample_from(j.at("clock"), nested(where, "clock"));
   s.started_ns = get_int(j, where, "started_ns");
   s.now_ns = get_int(j, where, "now_ns");
+  if (const auto& m = member(j, where, "marks"); !m.is_null()) {
+    if (!m.is_object()) refuse(where, "marks", "not an object or null");
+    const auto at = nested(where, "marks");
+    MarkStatus marks;
+    marks.address = get_string(m, at, "address");
+    marks.stamps = get_string(m, at, "stamps");
+    marks.stored = get_uint(m, at, "stored");
+    const auto& rejected = member(m, at, "rejected");
+    if (!rejected.is_object()) refuse(at, "rejected", "not an object");
+    for (const auto& [reason, n] : rejected.items()) {
+      if (!n.is_number_unsigned()) refuse(at, "rejected", fmt::format("'{}' is not a count", reason));
+      marks.rejected.emplace_back(reason, n.get<std::uint64_t>());
+    }
+    marks.last_rejection = get_string(m, at, "last_rejection");
+    s.marks = std::move(marks);
+  }
   return s;
 }
 

@@ -33,6 +33,18 @@ struct ChannelStatus {
   friend bool operator==(const ChannelStatus&, const ChannelStatus&) = default;
 };
 
+// The agent's software-marker port (`--mark-port`): what it stored and refused since it started.
+struct MarkStatus {
+  std::string address;  // where it listens, "127.0.0.1:7010"
+  std::string stamps;   // who stamps arrivals: "kernel" (SO_TIMESTAMPNS) or "receiver" (clock_gettime)
+  std::uint64_t stored = 0;
+  // Refused datagrams by reason (markers::kMarkReasons, "session": none open, "store": not stored),
+  // in that order, only reasons seen; and the last refusal's text, for the operator.
+  std::vector<std::pair<std::string, std::uint64_t>> rejected;
+  std::string last_rejection;
+  friend bool operator==(const MarkStatus&, const MarkStatus&) = default;
+};
+
 struct Status {
   std::string api{kApiName};
   std::string software_version;
@@ -48,6 +60,7 @@ struct Status {
   std::optional<store::ClockSample> clock;  // the latest clock sample
   std::int64_t started_ns = 0;              // CLOCK_REALTIME when the agent started
   std::int64_t now_ns = 0;                  // CLOCK_REALTIME when the status was made
+  std::optional<MarkStatus> marks;          // the marker port, when the agent has one
   friend bool operator==(const Status&, const Status&) = default;
 };
 
@@ -61,6 +74,7 @@ nlohmann::json to_json(const store::StoredClockSample& sample);
 nlohmann::json to_json(const store::StoredLoss& loss);
 // A block of raw rate samples: its fields and "samples": [[time_ns, bound_ns, x, y, z], ...].
 nlohmann::json to_json(const store::StoredRateBlock& block);
+nlohmann::json to_json(const store::StoredMarker& marker);
 nlohmann::json to_json(const Status& status);
 
 store::Session session_from_json(const nlohmann::json& json, std::string_view where);
@@ -77,6 +91,7 @@ store::StoredLoss loss_from_json(const nlohmann::json& json, std::string_view wh
 // Refuses a block of no or more than rate_block::kMaxSamples samples, a sample that is not five
 // integers in range (bound >= 0 in int32, x, y, z in int16) or a stamp before the one before it.
 store::StoredRateBlock rate_block_from_json(const nlohmann::json& json, std::string_view where);
+store::StoredMarker marker_from_json(const nlohmann::json& json, std::string_view where);
 Status status_from_json(const nlohmann::json& json, std::string_view where);
 
 // {"error":{"status":N,"message":"..."}}

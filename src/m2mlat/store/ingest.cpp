@@ -1,7 +1,7 @@
 // Campaign stores: taking in what other stores (an agent's, a board's file) hold, exactly once.
 //
 // Each origin store has a cursor row (origins) with the largest origin seq / id taken of each kind
-// (events, clock samples, losses, raw rate blocks),
+// (events, clock samples, losses, raw rate blocks, markers),
 // and a map from its session ids to local ones (origin_sessions). Items at or below the cursor are
 // skipped; the rest are inserted with local seqs and ids; the cursor moves in the same transaction.
 // So a batch given twice, a batch that overlaps an earlier one, or a pull resumed after a crash on
@@ -46,10 +46,12 @@ bool take(const std::string& path, std::string_view what, std::size_t index, std
 
 IngestCursor Store::ingest_cursor(const std::string& origin) const {
   sqlite::Statement query(impl_->db,
-                          "SELECT event_seq, clock_sample_id, loss_id, rate_block_id FROM origins WHERE origin = ?1");
+                          "SELECT event_seq, clock_sample_id, loss_id, rate_block_id, marker_id FROM origins "
+                          "WHERE origin = ?1");
   query.bind(1, origin);
   if (!query.step()) return {};
-  return {query.column_int64(0), query.column_int64(1), query.column_int64(2), query.column_int64(3)};
+  return {query.column_int64(0), query.column_int64(1), query.column_int64(2), query.column_int64(3),
+          query.column_int64(4)};
 }
 
 std::vector<std::string> Store::origins() const {
@@ -80,6 +82,7 @@ IngestCursor Store::ingest(const IngestBatch& batch) {
   for (std::size_t i = 0; i < batch.losses.size(); ++i) validate::loss(path(), i, batch.losses[i].loss);
   for (std::size_t i = 0; i < batch.rate_blocks.size(); ++i)
     validate::rate_block(path(), i, batch.rate_blocks[i].block);
+  for (std::size_t i = 0; i < batch.markers.size(); ++i) validate::marker(path(), i, batch.markers[i].marker);
 
   sqlite::Transaction transaction(s.db);
   const IngestCursor before = ingest_cursor(origin);
@@ -189,15 +192,25 @@ IngestCursor Store::ingest(const IngestBatch& batch) {
     s.insert_rate_block.step();
     s.insert_rate_block.reset();
   }
+  for (std::size_t i = 0; i < batch.markers.size(); ++i) {
+    const StoredMarker& item = batch.markers[i];
+    if (!take(path(), "marker", i, item.id, before.markers, after.markers)) continue;
+    MarkerRecord marker = item.marker;
+    marker.session_id = local_session(marker.session_id, "marker", i).id;
+    rows::bind_marker(s.insert_marker, marker);
+    s.insert_marker.step();
+    s.insert_marker.reset();
+  }
 
   sqlite::Statement cursor(s.db,
                            "UPDATE origins SET event_seq = ?2, clock_sample_id = ?3, loss_id = ?4, "
-                           "rate_block_id = ?5 WHERE origin = ?1");
+                           "rate_block_id = ?5, marker_id = ?6 WHERE origin = ?1");
   cursor.bind(1, origin);
   cursor.bind(2, after.events);
   cursor.bind(3, after.clock_samples);
   cursor.bind(4, after.losses);
   cursor.bind(5, after.rate_blocks);
+  cursor.bind(6, after.markers);
   cursor.step();
   transaction.commit();
   return after;

@@ -40,13 +40,16 @@ MergeResult merge_store(store::Store& campaign, const std::string& board_path, s
     batch.clock_samples = board.clock_samples_after(cursor.clock_samples, chunk);
     batch.losses = board.losses_after(cursor.losses, chunk);
     batch.rate_blocks = board.rate_blocks_after(cursor.rate_blocks, block_chunk);
+    batch.markers = board.markers_after(cursor.markers, chunk);
     const bool last = batch.events.size() < chunk && batch.clock_samples.size() < chunk &&
-                      batch.losses.size() < chunk && batch.rate_blocks.size() < block_chunk;
+                      batch.losses.size() < chunk && batch.rate_blocks.size() < block_chunk &&
+                      batch.markers.size() < chunk;
     const store::IngestCursor next = campaign.ingest(batch);
     result.events += static_cast<std::int64_t>(batch.events.size());
     result.clock_samples += static_cast<std::int64_t>(batch.clock_samples.size());
     result.losses += static_cast<std::int64_t>(batch.losses.size());
     result.rate_blocks += static_cast<std::int64_t>(batch.rate_blocks.size());
+    result.markers += static_cast<std::int64_t>(batch.markers.size());
     cursor = next;
     if (last) break;
   }

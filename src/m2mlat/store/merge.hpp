@@ -22,6 +22,7 @@ struct MergeResult {
   std::int64_t clock_samples = 0;
   std::int64_t losses = 0;
   std::int64_t rate_blocks = 0;    // blocks of raw rate samples taken now
+  std::int64_t markers = 0;        // markers taken now
 };
 
 // Takes into `campaign` what the store at `board_path` holds beyond the campaign's cursor for it,

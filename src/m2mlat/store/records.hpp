@@ -124,6 +124,30 @@ struct StoredRateBlock {
   RateBlock block;
 };
 
+// A marker of one session: a named point of a command's way through the pipeline (docs/markers.md),
+// the stored form of markers::Marker. The node is the session's.
+struct MarkerRecord {
+  std::int64_t session_id = 0;
+  std::string name;      // the point ("packet", "planner_out", ...); must not be empty
+  core::TimePoint time;  // its stamp, ns on its clock (CLOCK_REALTIME for every kind m2mlat makes)
+  // Who took the stamp (markers::StampSource's name: "kernel", "receiver", "bag_log", ...): lower-case
+  // letters, digits and '_', not empty.
+  std::string source;
+  std::optional<std::int64_t> uncertainty_ns;  // the stamp's uncertainty (ns, k = 1) when known; >= 0
+  std::string key;                             // the command's key across boards; may be empty
+  std::optional<std::int64_t> sender_ns;       // the sender's own CLOCK_REALTIME stamp, ns, if it gave one
+  std::string origin;                          // where it was seen (a datagram's sender address, a file)
+
+  friend bool operator==(const MarkerRecord&, const MarkerRecord&) = default;
+};
+
+// A marker with its row id in the store that holds it (increasing, never reused).
+struct StoredMarker {
+  std::int64_t id = 0;
+  MarkerRecord marker;
+  friend bool operator==(const StoredMarker&, const StoredMarker&) = default;
+};
+
 // Everything one commit writes, all or nothing.
 struct Batch {
   std::int64_t session_id = 0;      // the session the events belong to
@@ -131,6 +155,7 @@ struct Batch {
   std::vector<Loss> losses;
   std::vector<ClockSample> clock_samples;
   std::vector<RateBlock> rate_blocks;  // each names its own (open) session
+  std::vector<MarkerRecord> markers;   // each names its own (open) session
 };
 
 // The store-wide sequence numbers a commit gave its events; both 0 when it had none.
@@ -175,6 +200,7 @@ struct IngestCursor {
   std::int64_t clock_samples = 0;
   std::int64_t losses = 0;
   std::int64_t rate_blocks = 0;
+  std::int64_t markers = 0;
   friend bool operator==(const IngestCursor&, const IngestCursor&) = default;
 };
 
@@ -189,6 +215,7 @@ struct IngestBatch {
   std::vector<StoredClockSample> clock_samples;  // in origin id order
   std::vector<StoredLoss> losses;                // in origin id order
   std::vector<StoredRateBlock> rate_blocks;      // in origin id order
+  std::vector<StoredMarker> markers;             // in origin id order
 };
 
 }  // namespace m2mlat::store

@@ -81,6 +81,17 @@ constexpr Rule kRateBlockRules[] = {
     {"layout", "typeof(layout) <> 'integer' OR layout <> 1", "1 (the layout this m2mlat reads)"},
     {"samples", "typeof(samples) <> 'blob' OR length(samples) <> 18 * count", "a BLOB of 18 bytes a sample"},
 };
+constexpr Rule kMarkerRules[] = {
+    {"session_id", "session_id NOT IN (SELECT id FROM sessions)", "an existing session"},
+    {"name", "name = ''", "not empty"},
+    {"clock", kClockBroken, "0 to 3"},
+    {"t_ns", "typeof(t_ns) <> 'integer'", "an integer"},
+    {"source", "source = ''", "not empty"},
+    {"uncertainty_ns",
+     "uncertainty_ns IS NOT NULL AND (typeof(uncertainty_ns) <> 'integer' OR uncertainty_ns < 0)",
+     "an integer >= 0 or NULL"},
+    {"sender_ns", "sender_ns IS NOT NULL AND typeof(sender_ns) <> 'integer'", "an integer or NULL"},
+};
 
 constexpr Table kTables[] = {
     {"sessions", "id", kSessionRules},
@@ -88,6 +99,7 @@ constexpr Table kTables[] = {
     {"clock_samples", "id", kClockSampleRules},
     {"losses", "id", kLossRules},
     {"rate_blocks", "id", kRateBlockRules},
+    {"markers", "id", kMarkerRules},
 };
 
 }  // namespace

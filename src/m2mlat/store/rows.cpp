@@ -207,4 +207,33 @@ StoredRateBlock read_rate_block(const sqlite::Statement& row, const std::string&
   return out;
 }
 
+void bind_marker(sqlite::Statement& insert, const MarkerRecord& m) {
+  insert.bind(1, m.session_id);
+  insert.bind(2, m.name);
+  insert.bind(3, to_column(m.time.clock()));
+  insert.bind(4, m.time.ns());
+  insert.bind(5, m.source);
+  if (m.uncertainty_ns) insert.bind(6, *m.uncertainty_ns);
+  else insert.bind_null(6);
+  insert.bind(7, m.key);
+  if (m.sender_ns) insert.bind(8, *m.sender_ns);
+  else insert.bind_null(8);
+  insert.bind(9, m.origin);
+}
+
+StoredMarker read_marker(const sqlite::Statement& row, const std::string& path) {
+  StoredMarker out;
+  out.id = row.column_int64(9);
+  MarkerRecord& m = out.marker;
+  m.session_id = row.column_int64(0);
+  m.name = row.column_text(1);
+  m.time = read_time(row, 2, path, "markers");
+  m.source = row.column_text(4);
+  if (!row.column_is_null(5)) m.uncertainty_ns = row.column_int64(5);
+  m.key = row.column_text(6);
+  if (!row.column_is_null(7)) m.sender_ns = row.column_int64(7);
+  m.origin = row.column_text(8);
+  return out;
+}
+
 }  // namespace m2mlat::store::rows

@@ -38,6 +38,8 @@ inline constexpr std::string_view kLossColumns =
     "session_id, channel, clock, t_ns, first_missing, count, kind";
 inline constexpr std::string_view kRateBlockColumns =
     "session_id, channel, clock, counts_per_deg_s, first_index, count, layout, samples, id";
+inline constexpr std::string_view kMarkerColumns =
+    "session_id, name, clock, t_ns, source, uncertainty_ns, key, sender_ns, origin, id";
 
 // INSERT statements whose parameters the bind_* functions fill.
 inline constexpr std::string_view kInsertSession =
@@ -61,6 +63,9 @@ inline constexpr std::string_view kInsertLoss =
 inline constexpr std::string_view kInsertRateBlock =
     "INSERT INTO rate_blocks (session_id, channel, clock, counts_per_deg_s, first_index, count, first_ns, "
     "last_ns, layout, samples) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)";
+inline constexpr std::string_view kInsertMarker =
+    "INSERT INTO markers (session_id, name, clock, t_ns, source, uncertainty_ns, key, sender_ns, origin) "
+    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)";
 
 // `software_version` is bound as given; the caller fills an empty one.
 void bind_session(sqlite::Statement& insert, const Session& session);
@@ -70,6 +75,7 @@ void bind_clock_sample(sqlite::Statement& insert, const ClockSample& sample);
 void bind_loss(sqlite::Statement& insert, const Loss& loss);
 // The samples must be 1 to rate_block::kMaxSamples, in time order (validate::rate_block).
 void bind_rate_block(sqlite::Statement& insert, const RateBlock& block);
+void bind_marker(sqlite::Statement& insert, const MarkerRecord& marker);
 
 // `path` names the store in errors about values no m2mlat writes.
 Session read_session(const sqlite::Statement& row, const std::string& path);
@@ -78,5 +84,7 @@ ClockSample read_clock_sample(const sqlite::Statement& row, const std::string& p
 Loss read_loss(const sqlite::Statement& row, const std::string& path);
 // Columns kRateBlockColumns; decodes the BLOB, a damaged one reported naming the table and row.
 StoredRateBlock read_rate_block(const sqlite::Statement& row, const std::string& path);
+// Columns kMarkerColumns.
+StoredMarker read_marker(const sqlite::Statement& row, const std::string& path);
 
 }  // namespace m2mlat::store::rows

@@ -1,4 +1,4 @@
-// The schema's versions (1 to 3) and the migration runner. Columns, types and units are documented in
+// The schema's versions (1 to 4) and the migration runner. Columns, types and units are documented in
 // docs/store.md; how rows map to the in-memory values is in rows.cpp.
 #include "m2mlat/store/schema.hpp"
 
@@ -155,10 +155,33 @@ CREATE INDEX losses_by_session ON losses (session_id, clock, t_ns);
 ALTER TABLE origins ADD COLUMN rate_block_id INTEGER NOT NULL DEFAULT 0;
 )sql";
 
+// Version 4: markers (docs/markers.md), software markers received by an agent and markers read from
+// recordings, each of a session. source is who took the stamp (markers::StampSource's name);
+// uncertainty_ns and sender_ns are NULL when unknown / not given; key may be empty (a marker that
+// names no command). origins gets the cursor of the markers taken from each origin.
+constexpr std::string_view kVersion4 = R"sql(
+CREATE TABLE markers (
+  id             INTEGER PRIMARY KEY,
+  session_id     INTEGER NOT NULL REFERENCES sessions (id),
+  name           TEXT NOT NULL CHECK (name <> ''),
+  clock          INTEGER NOT NULL CHECK (clock BETWEEN 0 AND 3),
+  t_ns           INTEGER NOT NULL,
+  source         TEXT NOT NULL CHECK (source <> ''),
+  uncertainty_ns INTEGER CHECK (uncertainty_ns >= 0),
+  key            TEXT NOT NULL,
+  sender_ns      INTEGER,
+  origin         TEXT NOT NULL
+);
+CREATE INDEX markers_by_session ON markers (session_id, clock, t_ns);
+
+ALTER TABLE origins ADD COLUMN marker_id INTEGER NOT NULL DEFAULT 0;
+)sql";
+
 constexpr std::array kMigrations{
     Migration{"sessions, events, clock samples, losses, meta", kVersion1},
     Migration{"store identity, origins of a campaign store", kVersion2},
     Migration{"raw rate samples in blocks, the gyroscope's loss kinds", kVersion3},
+    Migration{"markers", kVersion4},
 };
 
 // Table name -> its column names, of the main database of `db` (SQLite's own tables left out).

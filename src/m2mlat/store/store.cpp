@@ -335,6 +335,7 @@ AppendResult Store::append(const Batch& batch) {
     validate::clock_sample(path(), i, batch.clock_samples[i]);
   for (std::size_t i = 0; i < batch.rate_blocks.size(); ++i)
     validate::rate_block(path(), i, batch.rate_blocks[i]);
+  for (std::size_t i = 0; i < batch.markers.size(); ++i) validate::marker(path(), i, batch.markers[i]);
 
   sqlite::Transaction transaction(s.db);
   AppendResult result;
@@ -387,6 +388,12 @@ AppendResult Store::append(const Batch& batch) {
     s.insert_rate_block.step();
     s.insert_rate_block.reset();
   }
+  for (const MarkerRecord& marker : batch.markers) {
+    if (checked.insert(marker.session_id).second) s.require_open_session(marker.session_id, "appending markers");
+    rows::bind_marker(s.insert_marker, marker);
+    s.insert_marker.step();
+    s.insert_marker.reset();
+  }
   transaction.commit();
   return result;
 }
@@ -413,6 +420,12 @@ void Store::append_losses(std::span<const Loss> losses) {
 void Store::append_rate_blocks(std::span<const RateBlock> blocks) {
   Batch batch;
   batch.rate_blocks.assign(blocks.begin(), blocks.end());
+  append(batch);
+}
+
+void Store::append_markers(std::span<const MarkerRecord> markers) {
+  Batch batch;
+  batch.markers.assign(markers.begin(), markers.end());
   append(batch);
 }
 
@@ -602,6 +615,28 @@ std::vector<StoredRateBlock> Store::rate_blocks_after(std::int64_t after_id, std
   query.bind(2, limit_column(limit));
   std::vector<StoredRateBlock> out;
   while (query.step()) out.push_back(rows::read_rate_block(query, path()));
+  return out;
+}
+
+std::vector<StoredMarker> Store::markers_after(std::int64_t after_id, std::size_t limit) const {
+  sqlite::Statement query(impl_->db, fmt::format("SELECT {} FROM markers WHERE id > ?1 ORDER BY id LIMIT ?2",
+                                                 rows::kMarkerColumns));
+  query.bind(1, after_id);
+  query.bind(2, limit_column(limit));
+  std::vector<StoredMarker> out;
+  while (query.step()) out.push_back(rows::read_marker(query, path()));
+  return out;
+}
+
+std::vector<StoredMarker> Store::markers(std::optional<std::int64_t> session_id) const {
+  sqlite::Statement query(impl_->db,
+                          fmt::format("SELECT {} FROM markers WHERE ?1 IS NULL OR session_id = ?1 "
+                                      "ORDER BY clock, t_ns, id",
+                                      rows::kMarkerColumns));
+  if (session_id) query.bind(1, *session_id);
+  else query.bind_null(1);
+  std::vector<StoredMarker> out;
+  while (query.step()) out.push_back(rows::read_marker(query, path()));
   return out;
 }
 

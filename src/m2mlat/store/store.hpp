@@ -1,5 +1,5 @@
-// The durable store: one SQLite file (WAL mode) holding sessions, events, clock samples and
-// recorded losses of one node or of a whole campaign.
+// The durable store: one SQLite file (WAL mode) holding sessions, events, clock samples, recorded
+// losses, raw rate samples and markers of one node or of a whole campaign.
 //
 // Guarantees: a batch is appended in one transaction, all or nothing; once append() returns, the
 // batch survives a process crash (and a power loss with Durability::full); a crash during a batch
@@ -71,6 +71,7 @@ class Store {
   void append_clock_samples(std::span<const ClockSample> samples);
   void append_losses(std::span<const Loss> losses);
   void append_rate_blocks(std::span<const RateBlock> blocks);
+  void append_markers(std::span<const MarkerRecord> markers);
 
   // Up to `limit` events with seq > after_seq, in seq order (the resume-by-seq read).
   std::vector<StoredEvent> events_after(std::int64_t after_seq, std::size_t limit) const;
@@ -106,9 +107,14 @@ class Store {
   // Up to `limit` blocks with id > after_id, in id order (the resume-by-id read of merge).
   std::vector<StoredRateBlock> rate_blocks_after(std::int64_t after_id, std::size_t limit) const;
 
+  // Markers (software markers, markers read from recordings): up to `limit` with id > after_id in id
+  // order (the resume-by-id read), or those of one session (or all) in time order (ties in id order).
+  std::vector<StoredMarker> markers_after(std::int64_t after_id, std::size_t limit) const;
+  std::vector<StoredMarker> markers(std::optional<std::int64_t> session_id = {}) const;
+
   // Campaign stores. ingest() appends, all or nothing, what `batch` holds beyond this store's cursor
   // for batch.origin: origin sessions are mapped to local ones (made on first sight, their end set
-  // when it becomes known), events/samples/losses/rate blocks get local seqs/ids, and the cursor advances in the
+  // when it becomes known), events/samples/losses/rate blocks/markers get local seqs/ids, and the cursor advances in the
   // same transaction, so every origin item is stored exactly once however often it is given.
   // Returns the new cursor. Refuses (changing nothing) items naming a session the batch does not
   // carry and never carried before, and an origin equal to this store's own id.

@@ -40,6 +40,7 @@ struct Store::Impl {
         insert_loss(db, rows::kInsertLoss),
         insert_clock_sample(db, rows::kInsertClockSample),
         insert_rate_block(db, rows::kInsertRateBlock),
+        insert_marker(db, rows::kInsertMarker),
         session_state(db, "SELECT node, end_ns IS NOT NULL FROM sessions WHERE id = ?1"),
         // LEFT JOIN: an event naming a missing session is refused by read_event, not skipped.
         events_after(db, fmt::format("SELECT {} FROM events e LEFT JOIN sessions s ON s.id = e.session_id "
@@ -81,6 +82,7 @@ struct Store::Impl {
   sqlite::Statement insert_loss;
   sqlite::Statement insert_clock_sample;
   sqlite::Statement insert_rate_block;
+  sqlite::Statement insert_marker;
   sqlite::Statement session_state;
   sqlite::Statement events_after;
 };

@@ -120,4 +120,19 @@ void rate_block(const std::string& store_path, std::size_t index, const RateBloc
   }
 }
 
+void marker(const std::string& store_path, std::size_t index, const MarkerRecord& m) {
+  const std::string what = fmt::format("marker {} of the batch", index);
+  if (m.name.empty()) fail(store_path, what, "field 'name' is empty");
+  known_clock(store_path, what, "time", m.time);
+  const bool source_ok = !m.source.empty() && std::all_of(m.source.begin(), m.source.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+  });
+  if (!source_ok)
+    fail(store_path, what,
+         fmt::format("field 'source' is '{}' (expected lower-case letters, digits and '_', e.g. kernel)",
+                     m.source));
+  if (m.uncertainty_ns && *m.uncertainty_ns < 0)
+    fail(store_path, what, fmt::format("field 'uncertainty_ns' is {} (expected >= 0)", *m.uncertainty_ns));
+}
+
 }  // namespace m2mlat::store::validate

@@ -23,5 +23,7 @@ void loss(const std::string& store_path, std::size_t index, const Loss& loss);
 // A channel name, a known clock, a positive finite scale, 1 to rate_block::kMaxSamples samples in
 // time order with non-negative bounds.
 void rate_block(const std::string& store_path, std::size_t index, const RateBlock& block);
+// A name, a known clock, a source of lower-case letters, digits and '_', a non-negative uncertainty.
+void marker(const std::string& store_path, std::size_t index, const MarkerRecord& marker);
 
 }  // namespace m2mlat::store::validate

@@ -116,6 +116,18 @@ class AgentTwin {
     std::lock_guard lock(store_mutex_);
     store_->append_rate_blocks(std::span<const store::RateBlock>(&b, 1));
   }
+  // A software marker in the open session (as the agent's marker port stores one).
+  void append_marker(const std::string& key) {
+    store::MarkerRecord m;
+    m.session_id = session_;
+    m.name = "planner_out";
+    m.time = core::TimePoint::from_ns(core::Clock::realtime, 1'700'000'000'000'000'000 + std::stoll(key));
+    m.source = "kernel";
+    m.key = key;
+    m.origin = "udp 127.0.0.1:4000";
+    std::lock_guard lock(store_mutex_);
+    store_->append_markers(std::span<const store::MarkerRecord>(&m, 1));
+  }
   // Ends the open session and begins another (as POST /v1/sessions does).
   std::int64_t new_session(const std::string& label) {
     std::lock_guard lock(store_mutex_);
@@ -316,6 +328,16 @@ class AgentTwin {
       const auto limit = std::min(static_cast<std::size_t>(param(req, "limit", 1000)), net::kMaxRateBlocksPerPage);
       for (const auto& b : store_->rate_blocks_after(param(req, "after", 0), limit))
         body += net::to_json(b).dump() + "\n";
+      res.set_content(body, "application/x-ndjson");
+    });
+    server_.Get("/v1/markers", [this](const httplib::Request& req, httplib::Response& res) {
+      take_fault(req.path);
+      if (!authorised(req, res)) return;
+      std::string body;
+      std::lock_guard lock(store_mutex_);
+      for (const auto& m :
+           store_->markers_after(param(req, "after", 0), static_cast<std::size_t>(param(req, "limit", 1000))))
+        body += net::to_json(m).dump() + "\n";
       res.set_content(body, "application/x-ndjson");
     });
     server_.Get("/v1/events/stream", [this](const httplib::Request& req, httplib::Response& res) {

@@ -269,6 +269,36 @@ TEST(Puller, TakesRateBlocksByPagesExactlyOnceAcrossPullers) {
   EXPECT_EQ(store.ingest_cursor(twin.store_id()).rate_blocks, 23);
 }
 
+// Software markers over two sessions: taken exactly once, each in the campaign's copy of its session,
+// by a first puller and (with new ones) a second that resumes from the store's cursor.
+TEST(Puller, TakesMarkersExactlyOnceAcrossPullers) {
+  TempDir dir;
+  AgentTwin twin(dir.file("operator.db"), "operator", core::Role::cause);
+  for (int i = 1; i <= 3; ++i) twin.append_marker(std::to_string(i));
+  const auto campaign = make_campaign(dir);
+  {
+    Puller first(options_for(twin, campaign), std::make_shared<NodeTracker>(twin.url(), std::chrono::seconds(3)),
+                 nullptr);
+    first.catch_up_once();
+  }
+  twin.new_session("second");
+  twin.append_marker("4");
+  Puller second(options_for(twin, campaign), std::make_shared<NodeTracker>(twin.url(), std::chrono::seconds(3)),
+                nullptr);
+  second.catch_up_once();
+  second.catch_up_once();
+  const auto store = store::Store::open(campaign, {store::Durability::normal, false});
+  const auto markers = store.markers();
+  ASSERT_EQ(markers.size(), 4u);
+  const auto sessions = store.sessions();
+  ASSERT_EQ(sessions.size(), 2u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(markers[i].marker.key, std::to_string(i + 1));
+    EXPECT_EQ(markers[i].marker.session_id, sessions[i < 3 ? 0 : 1].id);
+  }
+  EXPECT_EQ(store.ingest_cursor(twin.store_id()).markers, 4);
+}
+
 TEST(Coordinator, PullsTwoAgentsStartsAndStopsTheirSessions) {
   TempDir dir;
   AgentTwin op(dir.file("operator.db"), "operator", core::Role::cause);

@@ -84,6 +84,7 @@ Status status() {
   s.clock = sample().sample;
   s.started_ns = 1;
   s.now_ns = 2;
+  s.marks = MarkStatus{"127.0.0.1:8471", "kernel", 5, {{"format", 1}}, "format: 127.0.0.1:4000: ..."};
   return s;
 }
 
@@ -325,6 +326,28 @@ TEST(Wire, ARateBlockSurvivesTheWireAndEveryFieldIsChecked) {
   j["samples"] = json::array();
   for (int i = 0; i < 4097; ++i) j["samples"].push_back({i, 0, 0, 0, 0});
   EXPECT_NE(refusal([&] { rate_block_from_json(j, "where-42"); }).find("4096"), std::string::npos);
+}
+
+TEST(Wire, AMarkerSurvivesTheWireAndEveryFieldIsChecked) {
+  store::StoredMarker m;
+  m.id = 3;
+  m.marker.session_id = 2;
+  m.marker.name = "planner_out";
+  m.marker.time = core::TimePoint::from_ns(core::Clock::realtime, 1'780'304'400'000'000'123);
+  m.marker.source = "kernel";
+  m.marker.key = "812";
+  m.marker.sender_ns = 1'780'304'400'000'000'000;
+  m.marker.origin = "udp 127.0.0.1:4000";
+  EXPECT_EQ(marker_from_json(json::parse(to_json(m).dump()), "t"), m);
+  m.marker.uncertainty_ns = 7;
+  m.marker.sender_ns.reset();
+  EXPECT_EQ(marker_from_json(json::parse(to_json(m).dump()), "t"), m);
+  every_field_refused(to_json(m), [](const json& x) { marker_from_json(x, "where-42"); },
+                      {{"id", 0}, {"session", 0}, {"name", ""}, {"source", ""}, {"uncertainty_ns", -1},
+                       {"clock", "wall"}});
+  auto without = to_json(status());
+  without["marks"] = nullptr;
+  EXPECT_FALSE(status_from_json(without, "t").marks);
 }
 
 }  // namespace

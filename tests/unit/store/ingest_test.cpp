@@ -59,7 +59,7 @@ TEST(Ingest, TakesEverythingOnceAndMapsSessions) {
   campaign.begin_session(make_session("somebody-else"));  // local ids differ from the origin's
 
   const IngestCursor cursor = campaign.ingest(batch);
-  EXPECT_EQ(cursor, (IngestCursor{6, 1, 1, 0}));
+  EXPECT_EQ(cursor, (IngestCursor{6, 1, 1, 0, 0}));
   EXPECT_EQ(campaign.ingest_cursor(batch.origin), cursor);
   EXPECT_EQ(campaign.origins(), std::vector{batch.origin});
 
@@ -95,13 +95,13 @@ TEST(Ingest, ResumesAfterTheCursorAndLearnsSessionEnds) {
   const auto s = origin.begin_session(make_session("operator"));
   origin.append_events(s, std::vector{make_event("operator", "wheel", 1'700'000'000'100'000'000, 0)});
 
-  IngestBatch first{origin.store_id(), origin.sessions(), origin.events_after(0, 10), {}, {}, {}};
+  IngestBatch first{origin.store_id(), origin.sessions(), origin.events_after(0, 10), {}, {}, {}, {}};
   EXPECT_EQ(campaign.ingest(first).events, 1);
   origin.append_events(s, std::vector{make_event("operator", "wheel", 1'700'000'000'200'000'000, 1)});
   origin.end_session(s, rt(1'700'000'000'300'000'000));
   // The second pull carries only what is after the cursor, and the session's new end.
   const auto from = campaign.ingest_cursor(origin.store_id()).events;
-  IngestBatch second{origin.store_id(), origin.sessions(), origin.events_after(from, 10), {}, {}, {}};
+  IngestBatch second{origin.store_id(), origin.sessions(), origin.events_after(from, 10), {}, {}, {}, {}};
   EXPECT_EQ(campaign.ingest(second).events, 2);
   EXPECT_EQ(campaign.event_count(), 2);
   EXPECT_EQ(campaign.sessions().at(0).end, rt(1'700'000'000'300'000'000));
@@ -117,7 +117,7 @@ TEST(Ingest, LearnsTheConfigurationASessionEndedWith) {
   info.config_json = R"({"source":"led"})";
   const auto s = origin.begin_session(info);
   origin.append_events(s, std::vector{make_event("vehicle", "led", 1'700'000'000'100'000'000, 0)});
-  IngestBatch first{origin.store_id(), origin.sessions(), origin.events_after(0, 10), {}, {}, {}};
+  IngestBatch first{origin.store_id(), origin.sessions(), origin.events_after(0, 10), {}, {}, {}, {}};
   campaign.ingest(first);
   EXPECT_EQ(campaign.sessions().at(0).config_json, R"({"source":"led"})");
 
@@ -126,7 +126,7 @@ TEST(Ingest, LearnsTheConfigurationASessionEndedWith) {
   origin.end_session(s, rt(1'700'000'000'300'000'000),
                      std::string(R"({"led_bound_ns":1500,"source":"led"})"));
   EXPECT_EQ(origin.session(s)->config_json, R"({"led_bound_ns":1500,"source":"led"})");
-  IngestBatch second{origin.store_id(), origin.sessions(), {}, {}, {}, {}};
+  IngestBatch second{origin.store_id(), origin.sessions(), {}, {}, {}, {}, {}};
   campaign.ingest(second);
   const auto local = campaign.sessions().at(0);
   EXPECT_EQ(local.end, rt(1'700'000'000'300'000'000));

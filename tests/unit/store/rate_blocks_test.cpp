@@ -110,7 +110,7 @@ TEST(RateBlocks, AStoreOfThePreviousVersionIsMigratedWithItsRowsKept) {
   {
     auto db = sqlite::Database::open(path, sqlite::Database::Mode::read_write_create);
     const auto all = schema::migrations();
-    ASSERT_EQ(all.size(), 3u);
+    ASSERT_GE(all.size(), 3u);
     EXPECT_EQ(schema::migrate(db, all.first(2)), 2);
     db.exec(
         "INSERT INTO sessions (label, scenario, node, role, config_json, start_clock, start_ns, "
@@ -125,14 +125,14 @@ TEST(RateBlocks, AStoreOfThePreviousVersionIsMigratedWithItsRowsKept) {
                  core::Error);
   }
   auto store = Store::open(path);
-  EXPECT_EQ(store.schema_version(), 3);
+  EXPECT_EQ(store.schema_version(), schema::latest_version());
   ASSERT_EQ(store.sessions().size(), 1u);
   EXPECT_EQ(store.sessions()[0].label, "old");
   const auto losses = store.losses_after(0, 10);
   ASSERT_EQ(losses.size(), 1u);
   EXPECT_EQ(losses[0].id, 7);
   EXPECT_EQ(losses[0].loss.kind, "seqno_gap");
-  EXPECT_EQ(store.ingest_cursor("abc"), (IngestCursor{4, 5, 6, 0}));
+  EXPECT_EQ(store.ingest_cursor("abc"), (IngestCursor{4, 5, 6, 0, 0}));
 
   const auto id = store.begin_session(make_session("vehicle", "new"));
   store.append_rate_blocks(rate_block::split(id, "gyro", core::Clock::realtime, 131.0, samples(5)));
