@@ -477,7 +477,9 @@ Status status_from_json(const json& j, std::string_view where) {
   if (!member(j, where, "clock").is_null()) s.clock = sample_from(j.at("clock"), nested(where, "clock"));
   s.started_ns = get_int(j, where, "started_ns");
   s.now_ns = get_int(j, where, "now_ns");
-  if (const auto& m = member(j, where, "marks"); !m.is_null()) {
+  // Optional: agents older than the marker port send no "marks" (a coordinator reads both).
+  if (const auto it = j.find("marks"); it != j.end() && !it->is_null()) {
+    const auto& m = *it;
     if (!m.is_object()) refuse(where, "marks", "not an object or null");
     const auto at = nested(where, "marks");
     MarkStatus marks;
