@@ -14,7 +14,7 @@ namespace {
 constexpr std::string_view kMarkersHeader =
     "node,name,clock,time_ns,source,key,sender_ns,sender_to_capture_ns,origin";
 
-StampSource stamp_source(std::string_view file, long line, std::string_view text) {
+StampSource parse_stamp_source(std::string_view file, long line, std::string_view text) {
   for (const auto s : {StampSource::adapter, StampSource::host, StampSource::file})
     if (text == to_string(s)) return s;
   formats::throw_field_error(file, line, "source", text, "is not adapter, host or file");
@@ -64,7 +64,7 @@ std::vector<Marker> parse_markers_csv(std::string_view text, std::string_view na
     if (fields[2] != "realtime")
       formats::throw_field_error(name, n, "clock", fields[2], "is not realtime (markers are on CLOCK_REALTIME)");
     m.time = core::TimePoint::from_ns(core::Clock::realtime, formats::require_int64(name, n, "time_ns", fields[3]));
-    m.source = stamp_source(name, n, fields[4]);
+    m.source = parse_stamp_source(name, n, fields[4]);
     m.key = formats::field_text(fields[5]);
     if (!fields[6].empty()) {
       m.sender_time =
