@@ -1,9 +1,9 @@
 // Scenario results as JSON. NaN (undefined statistics) becomes null; exact values stay integer ns.
 #include "m2mlat/report/scenario_json.hpp"
 
-#include "m2mlat/report/breakdown_view.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/formats/json_number.hpp"
+#include "m2mlat/report/breakdown_view.hpp"
 
 namespace m2mlat::report {
 
