@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "m2mlat/analysis/board_record.hpp"
+#include "m2mlat/analysis/breakdown.hpp"
 #include "m2mlat/analysis/clock_steps.hpp"
 #include "m2mlat/analysis/selection.hpp"
 #include "m2mlat/analysis/uncertainty.hpp"
@@ -36,6 +37,9 @@ struct ScenarioResult {
   // What the boards' clock steps did to each event (clock_steps.hpp; parallel to input.cause and
   // input.effect): corrected onto the timescale before the step, or of unknown offset.
   ScenarioSteps steps;
+  // Where the time goes, stage by stage, when a stage rule and markers were given
+  // (scenario_breakdown.hpp): over the pairs in_statistics.
+  std::optional<Breakdown> breakdown;
   StepMark step_mark(const pairing::Pair& p) const;  // the worse of the pair's two events
   std::size_t pairs_marked(StepMark mark) const;     // unknown ones are flagged, out of the statistics
   // Whether match.pairs[i] is one of the pairs the summary is over (not ambiguous unless

@@ -13,6 +13,7 @@
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/archive_inputs.hpp"
+#include "m2mlat/cli/breakdown_flags.hpp"
 #include "m2mlat/cli/inputs.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/cli/report_files.hpp"
@@ -35,6 +36,7 @@ struct ReportCommand {
   MatchFlags match;
   StatsFlags stats;
   ChainFlags chains;
+  BreakdownFlags breakdown;
   std::vector<std::string> groups;  // NAME=s1,s2
   bool no_groups = false;
   std::vector<std::string> compares;  // SUBJECT:BASELINE
@@ -80,14 +82,15 @@ report::Report build(const ReportCommand& c) {
   const auto pipeline = pipeline_options(c.selection, c.match, c.stats);
   auto flags = c.inputs;
   bool archived = false;
-  for (auto& res : analyse_archive(flags, c.archive, pipeline, archived))
-    r.scenarios.push_back(report::scenario_report(std::move(res)));
+  auto results = analyse_archive(flags, c.archive, pipeline, archived);
   auto inputs = flags.pipeline_inputs();
   r.full_loops = analysis::take_full_loop_files(inputs.inputs, inputs.format, pipeline.summary);
   for (auto& chains : c.chains.take(inputs, c.selection, c.stats)) r.full_loops.push_back(std::move(chains));
   if (!inputs.inputs.empty() || !inputs.cause_file.empty() || (r.full_loops.empty() && !archived))
-    for (auto& res : analysis::analyse_inputs(inputs, pipeline))
-      r.scenarios.push_back(report::scenario_report(std::move(res)));
+    for (auto& res : analysis::analyse_inputs(inputs, pipeline)) results.push_back(std::move(res));
+  c.breakdown.apply(results, inputs.inputs);
+  c.breakdown.write_csv(results);
+  for (auto& res : results) r.scenarios.push_back(report::scenario_report(std::move(res)));
 
   report::assign_groups(r, parse_groups(c.groups), !c.no_groups);
 
@@ -106,6 +109,7 @@ Runner attach_report(CLI::App& sub) {
   c->match.add_to(sub);
   c->stats.add_to(sub);
   c->chains.add_to(sub);
+  c->breakdown.add_to(sub);
   auto* g = sub.add_option_group("report");
   g->add_option(
       "--group", c->groups,

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "m2mlat/analysis/clock_records.hpp"
+#include "m2mlat/analysis/sim_markers.hpp"
 #include "m2mlat/capture/sim_source.hpp"
 #include "m2mlat/capture/sim_to_store.hpp"
 #include "m2mlat/cli/command.hpp"
@@ -18,10 +19,12 @@
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/formats/kernel_log_writer.hpp"
 #include "m2mlat/formats/output_text.hpp"
+#include "m2mlat/markers/markers_file.hpp"
 #include "m2mlat/sim/generator.hpp"
 #include "m2mlat/sim/overrides.hpp"
 #include "m2mlat/sim/presets.hpp"
 #include "m2mlat/sim/simulate.hpp"
+#include "m2mlat/sim/stage_markers.hpp"
 
 namespace m2mlat::cli {
 
@@ -39,7 +42,29 @@ struct SimulateCommand {
   std::string label = "sim";
   std::string board = "both";  // the full loop: which board's store this is
   bool list = false;
+  bool markers = false;       // also markers.csv and stages.txt (sim/stage_markers.hpp)
+  double markers_drop = 0;    // each marker left out with this chance
 };
+
+// The run's stage markers (the command of each pass, from the operator's wheel to the vehicle's) as
+// m2mlat-markers/1, and the stage rule that cuts the events with them (docs/breakdown.md).
+void write_stage_markers(const sim::RigConfig& config, const std::string& dir, double drop) {
+  const auto run = sim::simulate(config);
+  const auto stages = sim::stage_markers(run, {drop});
+  const auto markers = analysis::to_markers(stages, run.config);
+  core::write_output_file((std::filesystem::path(dir) / "markers.csv").string(), markers::markers_csv(markers));
+  core::write_output_file(
+      (std::filesystem::path(dir) / "stages.txt").string(),
+      fmt::format("# The simulated rig's stages (docs/breakdown.md): NAME = the marker that ends it\n"
+                  "operator_software = first {0}:command after cause\n"
+                  "send              = same key {0}:send\n"
+                  "network           = same key {1}:receive\n"
+                  "vehicle_software  = same key {1}:apply\n"
+                  "actuator          = effect\n",
+                  config.cause_node, config.effect_node));
+  fmt::print("{}: markers.csv ({} markers of {} commands, {} dropped), stages.txt\n", core::printable(dir),
+             markers.size(), stages.chains.size(), stages.dropped);
+}
 
 // The full-loop presets (sim/full_loop.hpp): the run recorded as the boards would record it, into a
 // store per board (--board station|vehicle, the same --seed for both) or both in one.
@@ -175,6 +200,10 @@ int run_simulate(const SimulateCommand& c) {
   }
   if (c.store_path.empty() && c.out_dir.empty())
     throw core::Error(core::ErrorKind::usage, "say where the run goes: --store FILE and/or --out-dir DIR");
+  if (c.out_dir.empty() && (c.markers || c.markers_drop != 0))
+    throw core::Error(core::ErrorKind::usage, "--markers writes markers.csv into --out-dir DIR: give it");
+  if (!(c.markers_drop >= 0 && c.markers_drop <= 1))
+    throw core::Error(core::ErrorKind::usage, fmt::format("--markers-drop {} is not in [0, 1]", c.markers_drop));
   if (auto loop = sim::full_loop_preset(c.preset)) return full_loop_into_store(c, *loop);
   auto config = sim::preset(c.preset);
   if (c.seed != 0) config.seed = c.seed;
@@ -201,6 +230,7 @@ int run_simulate(const SimulateCommand& c) {
     write_files(config, c.out_dir, format, c.pin);
     fmt::print("{}: {} and {} events ({}), truth.csv\n", core::printable(c.out_dir),
                core::printable(config.cause_node), core::printable(config.effect_node), c.format);
+    if (c.markers) write_stage_markers(config, c.out_dir, c.markers_drop);
   }
   return 0;
 }
@@ -222,6 +252,10 @@ Runner attach_simulate(CLI::App& sub) {
   sub.add_option("--board", c->board, "full_loop, full_loop_baseline: the board(s) this store records")
       ->check(CLI::IsMember({"station", "vehicle", "both"}))
       ->capture_default_str();
+  sub.add_flag("--markers", c->markers,
+               "With --out-dir: also markers.csv (each command's way, operator to vehicle) and stages.txt "
+               "(the stage rule for stats --markers --stages)");
+  sub.add_option("--markers-drop", c->markers_drop, "Leave each marker out with this chance (incomplete chains)");
   sub.add_flag("--list", c->list, "List the presets and the settable fields");
   return [c] { return run_simulate(*c); };
 }

@@ -7,11 +7,13 @@
 #include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/archive_inputs.hpp"
+#include "m2mlat/cli/breakdown_flags.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/inputs.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/formats/import_file.hpp"
+#include "m2mlat/report/breakdown_view.hpp"
 #include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/scenario_json.hpp"
 #include "m2mlat/report/scenario_text.hpp"
@@ -60,6 +62,7 @@ struct StatsCommand {
   MatchFlags match;
   StatsFlags stats;
   ChainFlags chains;
+  BreakdownFlags breakdown;
   bool json = false;
   bool detail = false;
 };
@@ -73,6 +76,7 @@ Runner attach_stats(CLI::App& sub) {
   c->match.add_to(sub);
   c->stats.add_to(sub);
   c->chains.add_to(sub);
+  c->breakdown.add_to(sub);
   sub.add_flag("--json", c->json, "Print m2mlat-stats/1 JSON instead of tables");
   sub.add_flag("--detail", c->detail, "Print every statistic of each scenario");
   return [c] {
@@ -102,6 +106,8 @@ Runner attach_stats(CLI::App& sub) {
     if (!pipeline_inputs.inputs.empty() || !pipeline_inputs.cause_file.empty() ||
         (sync_files.empty() && loops.empty() && !archived))
       for (auto& r : analysis::analyse_inputs(pipeline_inputs, pipeline)) results.push_back(std::move(r));
+    c->breakdown.apply(results, pipeline_inputs.inputs);
+    c->breakdown.write_csv(results);
     if (c->json) {
       auto doc = report::stats_document(results);
       for (const auto& [path, sync] : sync_files)
@@ -116,6 +122,7 @@ Runner attach_stats(CLI::App& sub) {
     fmt::print("{}\n{}", report::pairing_table(results), report::scenario_table(results));
     if (const auto u = report::uncertainty_table(results); !u.empty()) fmt::print("\n{}", u);
     if (const auto s = report::clock_step_table(results); !s.empty()) fmt::print("\n{}", s);
+    if (const auto b = report::breakdown_table(report::with_breakdown(results)); !b.empty()) fmt::print("\n{}", b);
     if (c->detail)
       for (const auto& r : results) fmt::print("\n{}", report::scenario_detail(r));
     return 0;

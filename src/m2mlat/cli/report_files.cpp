@@ -13,6 +13,7 @@
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/output_file.hpp"
 #include "m2mlat/core/version.hpp"
+#include "m2mlat/report/breakdown_view.hpp"
 #include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/html_report.hpp"
 #include "m2mlat/report/pgfplots.hpp"
@@ -118,6 +119,11 @@ void write_report_folder(const report::Report& r, const std::string& dir_name) {
   core::write_output_file((dir / "comparisons.csv").string(), report::comparisons_csv(r));
   if (!r.full_loops.empty())
     core::write_output_file((dir / "full_loop.csv").string(), report::full_loop_csv(r.full_loops));
+  report::BreakdownResults breakdowns;
+  for (const auto& s : r.scenarios)
+    if (s.result.breakdown) breakdowns.push_back(&s.result);
+  if (!breakdowns.empty())
+    core::write_output_file((dir / "breakdown.csv").string(), report::breakdown_csv(breakdowns));
   report::write_pgfplots(r, dir / "pgfplots");
 }
 

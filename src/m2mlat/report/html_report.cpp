@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "m2mlat/report/breakdown_view.hpp"
 #include "m2mlat/report/comparison_text.hpp"
 #include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/plot_data.hpp"
@@ -425,6 +426,21 @@ std::string comparison_section(const Report& report) {
   return h;
 }
 
+// The stages of each scenario's events, when the report was given markers and a stage rule.
+std::string breakdown_section(const Report& report) {
+  BreakdownResults results;
+  for (const auto& s : report.scenarios)
+    if (s.result.breakdown) results.push_back(&s.result);
+  if (results.empty()) return {};
+  std::string h = "<h2>Where the time goes</h2>\n";
+  h += figure(breakdown_svg(results),
+              "Each bar: one scenario's complete events; each block: the mean of one stage (ms), from the cause "
+              "edge through the markers of the stage rule to the effect edge, so the blocks add up to the mean "
+              "M2M. The table gives each stage's median and quartiles.");
+  h += "<pre class=\"breakdown\">" + xml_escape(breakdown_table(results)) + "</pre>\n";
+  return h;
+}
+
 std::string distribution_sections(const Report& report) {
   std::string h = "<h2>Distributions</h2>\n";
   h += figure(box_chart(report),
@@ -530,6 +546,7 @@ std::string report_html(const Report& report) {
   h += full_loop_section(report);
   h += comparison_section(report);
   if (scenarios) h += distribution_sections(report);
+  h += breakdown_section(report);
   h += "<p class=\"meta\">Every number and chart is recomputed from the raw events by the command above; "
        "re-run it "
        "with other matcher windows, thresholds or groups to change them.</p>\n";

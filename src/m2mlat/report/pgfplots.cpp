@@ -9,6 +9,7 @@
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/output_file.hpp"
+#include "m2mlat/report/breakdown_view.hpp"
 #include "m2mlat/report/comparison_text.hpp"
 #include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/plot_data.hpp"
@@ -307,6 +308,14 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
       w.file(fmt::format("clock-{}.tex", name), tex + "\\end{axis}\n\\end{tikzpicture}\n");
       figures.push_back(fmt::format("clock-{}.tex", name));
     }
+  }
+
+  BreakdownResults breakdowns;
+  for (const auto& s : report.scenarios)
+    if (s.result.breakdown) breakdowns.push_back(&s.result);
+  for (const auto& [file, text] : breakdown_pgfplots(breakdowns)) {
+    w.file(file, text);
+    if (file.ends_with(".tex")) figures.push_back(file);
   }
 
   std::string doc =

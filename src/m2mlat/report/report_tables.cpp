@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "m2mlat/core/printable.hpp"
+#include "m2mlat/report/breakdown_view.hpp"
 #include "m2mlat/report/comparison_text.hpp"
 #include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/scenario_text.hpp"
@@ -60,6 +61,12 @@ std::string report_text(const Report& report) {
     out = pairing_table(results) + "\n" + scenario_table(results);
   if (!report.full_loops.empty()) out += (out.empty() ? "" : "\n") + full_loop_table(report.full_loops);
   if (const auto steps = clock_step_table(results); !steps.empty()) out += "\n" + steps;
+  {
+    BreakdownResults breakdowns;
+    for (const auto& s : report.scenarios)
+      if (s.result.breakdown) breakdowns.push_back(&s.result);
+    if (!breakdowns.empty()) out += "\n" + breakdown_table(breakdowns);
+  }
   bool any_uncertainty = false;
   for (const auto& s : report.scenarios) any_uncertainty |= s.median_uncertainty_ms().has_value();
   if (any_uncertainty) {

@@ -3,6 +3,7 @@
 
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/formats/json_number.hpp"
+#include "m2mlat/report/breakdown_view.hpp"
 
 namespace m2mlat::report {
 
@@ -106,6 +107,7 @@ nlohmann::json scenario_json(const analysis::ScenarioResult& r) {
     j["sample_uncertainty"] =
         uncertainty_json(analysis::summarize_uncertainty(r.uncertainty, r.refuse_gated));
   if (r.steps.steps() != 0) j["clock_steps"] = clock_steps_json(r);
+  if (r.breakdown) j["breakdown"] = breakdown_json(*r.breakdown);
   return j;
 }
 
