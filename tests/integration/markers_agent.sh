@@ -10,6 +10,10 @@ source "$HERE/lib.bash"
 source "$HERE/collect_lib.bash"
 
 start_agent operator cause 3 operator.db 127.0.0.1:0 --mark-port 0 --commit-interval 50ms
+OPERATOR_PORT=$AGENT_PORT
+start_agent vehicle effect 3 vehicle.db 127.0.0.1:0 --commit-interval 50ms  # the effect side, for pairs
+VEHICLE_URL="http://127.0.0.1:$AGENT_PORT"
+AGENT_PORT=$OPERATOR_PORT
 MARK_PORT=$(wait_for_line operator.log 'marks 127\.0\.0\.1:[0-9]+' | sed 's/.*://')
 URL="http://127.0.0.1:$AGENT_PORT"
 
@@ -59,9 +63,9 @@ assert 'm2mlat_marks_rejected_total{node="operator",reason="format"} 1' in metri
 print("status:", marks)
 PY
 
-"$M2MLAT" collect --agent "$URL" --store campaign.db --duration 1s --quiet >collect.out 2>collect.err ||
+"$M2MLAT" collect --agent "$URL" --agent "$VEHICLE_URL" --store campaign.db --duration 1s --quiet >collect.out 2>collect.err ||
   { cat collect.err >&2; fail "collect failed"; }
-"$M2MLAT" collect --agent "$URL" --store campaign.db --duration 0.5s --quiet >>collect.out 2>>collect.err ||
+"$M2MLAT" collect --agent "$URL" --agent "$VEHICLE_URL" --store campaign.db --duration 0.5s --quiet >>collect.out 2>>collect.err ||
   { cat collect.err >&2; fail "the second collect failed"; }
 "$M2MLAT" export operator.db --what markers -o agent-markers.csv
 "$M2MLAT" export campaign.db --what markers -o campaign-markers.csv
@@ -87,5 +91,21 @@ for r in rows:
     assert r["origin"].startswith("udp 127.0.0.1:"), r
     print(f'{r["key"]}: arrival {t - before} ns after the shell\'s start, window {after - before} ns, '
           f'source {r["source"]}, sender to arrival {r["sender_to_capture_ns"] or "-"} ns')
+PY
+
+# The stored markers reach the stage breakdown of the campaign's pairs with no --markers file: every
+# pair in the statistics is counted, complete or not (the shell's marks fall between some causes and
+# their effects).
+printf 'to_operator_cmd = first operator:operator_cmd after cause\nrest = effect\n' >stages.txt
+"$M2MLAT" stats campaign.db --stages stages.txt --json >breakdown.json || fail "stats --stages on the campaign failed"
+"$PY" - <<'PY'
+import json
+scenarios = json.load(open("breakdown.json"))["scenarios"]
+assert scenarios, "no scenario"
+for s in scenarios:
+    b = s["breakdown"]
+    assert b["events"] > 0 and b["complete"] + b["incomplete"] == b["events"], b
+    assert [x["name"] for x in b["stages"]] == ["to_operator_cmd", "rest"], b
+    print(f'breakdown from the stored markers: {b["events"]} events, {b["complete"]} complete')
 PY
 echo "markers_agent: ok"
