@@ -25,17 +25,28 @@ std::vector<pairing::Pair> pairs_from_rows(std::span<const formats::PairRow> row
 }
 
 void write_pairs_file(const std::string& path, formats::Format format,
-                      std::span<const ScenarioResult> results) {
+                      std::span<const ScenarioResult> results, const PairSessions& sessions) {
   std::vector<formats::PairRow> rows;
+  std::vector<formats::PairGroup> groups;
+  std::vector<std::int64_t> session_column;
   UncertaintyColumns columns;
   bool any_clock = false;
-  for (const auto& r : results) {
+  bool any_session = false;
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    const auto& r = results[k];
     auto scenario_rows = pair_rows(r.match.pairs);
     for (std::size_t i = 0; i < scenario_rows.size(); ++i)
       scenario_rows[i].flags |= pair_flags(r.step_mark(r.match.pairs[i]));
     rows.insert(rows.end(), scenario_rows.begin(), scenario_rows.end());
+    groups.push_back({r.input.scenario, r.input.cause_ref, r.input.effect_ref, scenario_rows.size()});
     append_columns(columns, r.uncertainty, r.match.pairs.size());
     any_clock |= !r.uncertainty.empty();
+    if (k < sessions.sessions.size() && sessions.sessions[k].size() == scenario_rows.size()) {
+      session_column.insert(session_column.end(), sessions.sessions[k].begin(), sessions.sessions[k].end());
+      any_session = true;
+    } else {
+      session_column.insert(session_column.end(), scenario_rows.size(), 0);
+    }
   }
   formats::PairExportOptions options;
   if (any_clock) {
@@ -45,6 +56,11 @@ void write_pairs_file(const std::string& path, formats::Format format,
   }
   if (!results.empty())
     options.cause = results.front().input.cause_ref, options.effect = results.front().input.effect_ref;
+  options.groups = groups;
+  if (any_session) {
+    options.sessions = session_column;
+    options.labels = sessions.labels;
+  }
   formats::export_pairs(path, format, rows, options);
 }
 
