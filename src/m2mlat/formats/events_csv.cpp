@@ -39,7 +39,7 @@ std::string all_field_names() {
 }
 
 // A "#" line before the header: a comment, a clock record "# clock: {...}" (added to `clocks`), or
-// the format marker "# format: m2mlat-events/1".
+// the format marker "# format: m2mlat-events/2" (or /1).
 void check_comment(std::string_view line, std::string_view name, long line_number,
                    std::vector<ClockRecord>& clocks) {
   const std::string_view body = trim(line.substr(1));
