@@ -144,7 +144,7 @@ served = [json.loads(l) for l in open(sys.argv[1])]
 exported = [j for j in map(json.loads, open(sys.argv[2])) if "clock_sample" not in j]  # events only
 sessions = json.load(open(sys.argv[3]))["sessions"]
 assert all(s["end_ns"] is not None for s in sessions[:3]), sessions  # SIGTERM closed the open session
-key = lambda e: (e["channel"], e["edge"], e["clock"], e["t_ns"] if "t_ns" in e else e["time_ns"], e["seqno"], e["line_seqno"], e["flags"])
+key = lambda e: (e["channel"], e["edge"], e["clock"], e["t_ns"] if "t_ns" in e else e["time_ns"], e["seqno"], e["line_seqno"], e.get("flag_bits", e.get("flags")))  # served: flags; exported: flag_bits
 # The export was made before the restart: it holds exactly the first run's events (sessions 1-3).
 first_run = [e for e in served if e["session"] <= 3]
 assert len(first_run) > 5 and len(first_run) == len(exported), (len(first_run), len(exported))

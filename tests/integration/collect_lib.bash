@@ -39,13 +39,14 @@ start_agent() {
 }
 
 # events_of STORE [NODE]: the store's events (node, channel, edge, clock, time, seqno, line_seqno,
-# flags), sorted, one per line.
+# flag_bits), sorted, one per line; without the scenario, session and label columns (each store
+# numbers its sessions in its own order).
 events_of() {
   local store=$1 node=${2:-}
   if [ -n "$node" ]; then
-    "$M2MLAT" export "$store" --node "$node" | grep -v '^#' | tail -n +2 | sort
+    "$M2MLAT" export "$store" --node "$node" 2> >(grep -v '^note: ' >&2) | tail -n +2 | cut -d, -f4- | sort
   else
-    "$M2MLAT" export "$store" | grep -v '^#' | tail -n +2 | sort
+    "$M2MLAT" export "$store" 2> >(grep -v '^note: ' >&2) | tail -n +2 | cut -d, -f4- | sort
   fi
 }
 

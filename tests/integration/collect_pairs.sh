@@ -29,7 +29,14 @@ else  # several stores given together are read as one campaign
 fi
 pairs=$(grep -vc '^#' campaign-pairs.csv || true)
 [ "$pairs" -gt 1 ] || fail "no pairs in the campaign store"
-cmp -s campaign-pairs.csv reference-pairs.csv || { diff campaign-pairs.csv reference-pairs.csv | head >&2; fail "the campaign's pairs differ from the agents'"; }
+# The session column is each store's own id (the campaign and the merge number sessions in their order).
+cmp -s <(cut -d, -f1,3- campaign-pairs.csv) <(cut -d, -f1,3- reference-pairs.csv) ||
+  { diff campaign-pairs.csv reference-pairs.csv | head >&2; fail "the campaign's pairs differ from the agents'"; }
+# What the agents recorded before collect began its session is in their first session, whose scenario
+# (none given) is "unnamed", never an empty name.
+$PY -c 'import sqlite3,sys
+names = {r[0] for r in sqlite3.connect(sys.argv[1]).execute("select distinct scenario from sessions")}
+sys.exit(0 if names == {"unnamed", "pairs"} else f"scenarios: {names}")' campaign.db
 "$M2MLAT" stats campaign.db --scenario pairs >campaign-stats.txt
 n=$($PY -c 'import json,sys; d=json.load(open("collect.json")); print(sum(a["events"] for a in d["agents"]))')
 [ "$n" -gt 0 ] || fail "collect stored no events"

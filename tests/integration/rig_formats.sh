@@ -23,7 +23,7 @@ import json, sys
 import numpy as np
 import pandas as pd
 rig = pd.read_csv(sys.argv[1])
-ours = pd.read_csv(sys.argv[2], comment="#")
+ours = pd.read_csv(sys.argv[2])
 assert len(ours) == len(rig), (len(ours), len(rig))
 # latency_ns is exact; the file's m2m_latency_ms is rounded to at most 6 decimals.
 diff_ns = ours["latency_ns"].to_numpy() - np.round(rig["m2m_latency_ms"].to_numpy() * 1e6).astype(np.int64)

@@ -15,10 +15,10 @@ for run in sys.argv[1:]:
     cause = pd.read_csv(f"{run}/operator.log", sep=":", header=None, names=["tag", "ns"])["ns"]
     effect = pd.read_csv(f"{run}/vehicle.log", sep=":", header=None, names=["tag", "ns"])["ns"]
     truth = pd.read_csv(f"{run}/truth.csv")
-    pairs = pd.read_csv(f"{run}/pairs.csv", comment="#")
+    pairs = pd.read_csv(f"{run}/pairs.csv")
     unmatched = pd.read_csv(f"{run}/unmatched.csv")
     true_set = {(int(cause[c]), int(effect[e])) for c, e in zip(truth.cause_index, truth.effect_index)}
-    found = list(zip(pairs.cause_time_ns, pairs.effect_time_ns, pairs["flags"]))
+    found = list(zip(pairs.cause_time_ns, pairs.effect_time_ns, pairs["flag_bits"]))
     clear = [(c, e) for c, e, f in found if not f & 1]
     wrong_clear = [p for p in clear if p not in true_set]
     correct = sum((c, e) in true_set for c, e, _ in found)

@@ -24,7 +24,7 @@ grep -q -- "--kernel-u" err.txt || fail "a bad --kernel-u is not named: $(cat er
 $PY - <<'PY'
 import json
 import pandas as pd
-pairs = pd.read_csv("pairs.csv", comment="#")
+pairs = pd.read_csv("pairs.csv")
 truth = pd.read_csv("truth/truth.csv")
 assert {"max_error_ns", "u_ns", "U95_ns"} <= set(pairs.columns), pairs.columns
 assert "est_error_ns" not in pairs.columns and "uncertainty_ns" not in pairs.columns
@@ -32,7 +32,7 @@ assert pairs["max_error_ns"].notna().all() and (pairs["u_ns"] > 0).all()
 assert ((pairs["U95_ns"] - 2 * pairs["u_ns"]).abs() <= 1).all()  # k = 2
 assert (pairs["U95_ns"] < pairs["max_error_ns"]).all()
 lines = [json.loads(l) for l in open("pairs.jsonl")]
-assert lines[0]["format"] == "m2mlat-pairs/2"
+assert lines[0]["format"] == "m2mlat-pairs/3"
 for column in ("max_error_ns", "u_ns", "U95_ns"):
     assert [l[column] for l in lines] == pairs[column].tolist(), column
 # The simulator's events are identical for the same seed: pair by measured latency.

@@ -39,7 +39,7 @@ PY
   $PY - "${name}_pairs.csv" "${name}_survivors.json" "$name" <<'PY'
 import json, sys
 import pandas as pd
-pairs = pd.read_csv(sys.argv[1], comment="#")
+pairs = pd.read_csv(sys.argv[1])
 survivors = {tuple(p) for p in json.load(open(sys.argv[2]))}
 found = set(zip(pairs.cause_time_ns, pairs.effect_time_ns))
 missing = survivors - found

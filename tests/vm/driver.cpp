@@ -363,7 +363,7 @@ struct Stored {
   std::int64_t seqno;
   std::int64_t line_seqno;
   std::size_t line;    // in the CSV, for messages
-  std::int64_t flags;  // -1 when the CSV has no flags column
+  std::int64_t flags;  // -1 when the CSV has no flag_bits (or version 1's flags) column
 };
 
 std::vector<std::string> split_csv(const std::string& line) {
@@ -410,11 +410,15 @@ std::vector<Stored> read_events(const std::string& path, const std::string& chan
       continue;
     }
     if (!channel.empty() && f.at(column["channel"]) != channel) continue;
+    // flag_bits (m2mlat-events/2) or flags (version 1), as 1 + its index; 0 = no such column.
+    const std::size_t flag_column = column.count("flag_bits") != 0 ? column["flag_bits"] + 1
+                                    : column.count("flags") != 0   ? column["flags"] + 1
+                                                                   : 0;
     events.push_back({f.at(column["edge"]) == "rising", f.at(column["clock"]),
                       parse_int(f.at(column["time_ns"]), "time_ns"),
                       parse_int(f.at(column["seqno"]), "seqno"),
                       parse_int(f.at(column["line_seqno"]), "line_seqno"), number,
-                      column.count("flags") != 0 ? parse_int(f.at(column["flags"]), "flags") : -1});
+                      flag_column != 0 ? parse_int(f.at(flag_column - 1), "flag_bits") : -1});
   }
   return events;
 }

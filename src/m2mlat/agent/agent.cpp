@@ -218,7 +218,7 @@ store::Session Agent::begin_session(const net::SessionRequest& request) {
   std::lock_guard serial(request_mutex_);
   auto next = options_.recorder.session;
   next.label = request.label;
-  next.scenario = request.scenario;
+  next.scenario = request.scenario.empty() ? store::kUnnamedScenario : request.scenario;
   const auto ticket = control_.request_begin(next);
   const auto outcome = control_.wait(ticket, options_.server.session_timeout);
   if (!outcome || !outcome->begun)

@@ -25,7 +25,7 @@ std::vector<pairing::Pair> pairs_from_rows(std::span<const formats::PairRow> row
 }
 
 void write_pairs_file(const std::string& path, formats::Format format,
-                      std::span<const ScenarioResult> results) {
+                      std::span<const ScenarioResult> results, const PairSessions& sessions) {
   // One table of rows for every scenario, reserved to its size and filled in place: a row is as large
   // as a pair, so a temporary table per scenario would hold the pairs a third time (at 10^7 pairs,
   // half a gigabyte more at the peak).
@@ -33,14 +33,27 @@ void write_pairs_file(const std::string& path, formats::Format format,
   std::size_t total = 0;
   for (const auto& r : results) total += r.match.pairs.size();
   rows.reserve(total);
+  std::vector<formats::PairGroup> groups;
+  std::vector<std::int64_t> session_column;
+  session_column.reserve(total);
   UncertaintyColumns columns;
   bool any_clock = false;
-  for (const auto& r : results) {
+  bool any_session = false;
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    const auto& r = results[k];
     for (const pairing::Pair& p : r.match.pairs)
       rows.push_back({p.cause_index, p.effect_index, p.cause_time, p.effect_time,
                       p.flags | pair_flags(r.step_mark(p))});
+    const std::size_t n = r.match.pairs.size();
+    groups.push_back({r.input.scenario, r.input.cause_ref, r.input.effect_ref, n});
     append_columns(columns, r.uncertainty, r.match.pairs.size());
     any_clock |= !r.uncertainty.empty();
+    if (k < sessions.sessions.size() && sessions.sessions[k].size() == n) {
+      session_column.insert(session_column.end(), sessions.sessions[k].begin(), sessions.sessions[k].end());
+      any_session = true;
+    } else {
+      session_column.insert(session_column.end(), n, 0);
+    }
   }
   formats::PairExportOptions options;
   if (any_clock) {
@@ -50,6 +63,11 @@ void write_pairs_file(const std::string& path, formats::Format format,
   }
   if (!results.empty())
     options.cause = results.front().input.cause_ref, options.effect = results.front().input.effect_ref;
+  options.groups = groups;
+  if (any_session) {
+    options.sessions = session_column;
+    options.labels = sessions.labels;
+  }
   formats::export_pairs(path, format, rows, options);
 }
 

@@ -11,6 +11,7 @@
 
 #include "m2mlat/analysis/clock_records.hpp"
 #include "m2mlat/analysis/pipeline.hpp"
+#include "m2mlat/analysis/pair_sessions.hpp"
 #include "m2mlat/analysis/pairs_file.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
@@ -35,6 +36,7 @@ struct ExportCommand {
   std::string node;
   std::string channel;
   std::int64_t session = 0;
+  bool with_meta = false;
   SelectionFlags selection;
   MatchFlags match;
 };
@@ -115,12 +117,8 @@ int run_export(const ExportCommand& c) {
     inputs.inputs = {c.store_path};
     inputs.scenarios = c.scenarios;
     const auto results = analysis::analyse_inputs(inputs, pipeline);
-    if (results.size() != 1)
-      throw core::Error(core::ErrorKind::usage,
-                        fmt::format("{} has {} scenarios: export the pairs of one with --scenario",
-                                    c.store_path, results.size()));
     const auto format = formats::parse_format(c.format.empty() ? "pairs-csv" : c.format);
-    analysis::write_pairs_file(c.out, format, results);
+    analysis::write_pairs_file(c.out, format, results, analysis::store_pair_sessions(c.store_path, results));
     return 0;
   }
   if (c.what == "gyro") return export_gyro(c);
@@ -131,7 +129,8 @@ int run_export(const ExportCommand& c) {
   options.read_only = true;
   auto store = store::Store::open(c.store_path, options);
   std::vector<core::Event> events;
-  std::vector<formats::ClockRecord> clocks;  // the sessions' clock samples and steps, carried along
+  std::vector<formats::EventOrigin> origins;  // one run of events per session
+  std::vector<formats::ClockRecord> clocks;   // the sessions' clock samples and steps, carried along
   for (const auto& session : store.sessions()) {
     if (!c.scenarios.empty() &&
         std::find(c.scenarios.begin(), c.scenarios.end(), session.scenario) == c.scenarios.end())
@@ -140,16 +139,25 @@ int run_export(const ExportCommand& c) {
     // Every event of the session, in time order.
     store::EventFilter filter;
     filter.session_id = session.id;
+    const std::size_t before = events.size();
     for (auto clock :
          {core::Clock::realtime, core::Clock::monotonic, core::Clock::boottime, core::Clock::simulated})
       for (auto& e : store.events_in_time(
                core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::min()),
                core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::max()), filter))
         events.push_back(std::move(e.event));
+    origins.push_back({session.scenario, session.id, session.label, events.size() - before});
     for (const auto& s : store.clock_samples(session.id)) clocks.push_back(analysis::to_clock_record(s, session.node));
   }
-  formats::export_events(c.out, formats::parse_format(c.format.empty() ? "events-csv" : c.format), events,
-                         clocks);
+  const auto format = formats::parse_format(c.format.empty() ? "events-csv" : c.format);
+  formats::EventExportOptions how{.clocks = clocks, .origins = origins, .with_meta = c.with_meta};
+  formats::export_events(c.out, format, events, how);
+  // A plain CSV has no place for the clock records: say what was left out and how to keep it.
+  if (format == formats::Format::events_csv && !c.with_meta && !clocks.empty())
+    fmt::print(stderr,
+               "note: {} clock samples of the boards are not in the CSV (a plain table); --with-meta writes "
+               "them before its header, for `m2mlat import` (or use --format events-jsonl)\n",
+               clocks.size());
   return 0;
 }
 
@@ -165,7 +173,10 @@ Runner attach_export(CLI::App& sub) {
   sub.add_option("-o,--out", c->out, "Output file ('-' = standard output)")->capture_default_str();
   sub.add_option("--format", c->format,
                  "events-csv (default), events-jsonl; pairs-csv (default), pairs-jsonl, rig-paired-csv; markers-csv");
-  sub.add_option("--scenario", c->scenarios, "Only these scenarios (repeatable)");
+  sub.add_option("--scenario", c->scenarios, "Only these scenarios (repeatable; default: all)");
+  sub.add_flag("--with-meta", c->with_meta,
+               "events-csv: the format line and the boards' clock records as '#' lines before the header "
+               "(for `m2mlat import`; pandas then needs comment='#')");
   sub.add_option("--node", c->node, "Only the events (or raw trace, or markers) of this node");
   sub.add_option("--channel", c->channel, "--what gyro: the trace's channel");
   sub.add_option("--session", c->session, "--what gyro: the trace's session id");

@@ -13,6 +13,7 @@
 #include "m2mlat/formats/format.hpp"
 #include "m2mlat/report/scenario_json.hpp"
 #include "m2mlat/report/scenario_text.hpp"
+#include "m2mlat/store/store.hpp"
 
 namespace m2mlat::cli {
 
@@ -48,8 +49,12 @@ Runner attach_pair(CLI::App& sub) {
     const auto results = analysis::analyse_inputs(inputs.pipeline_inputs(), pipeline);
     if (!c->out.empty()) {
       const auto format = formats::parse_format(c->out_format);
-      if (results.size() > 1) warn("several scenarios are written to one pairs file, one after another");
-      analysis::write_pairs_file(c->out, format, results);
+      // One store: every row also names its cause event's session and label.
+      const auto& paths = inputs.inputs;
+      const bool one_store = paths.size() == 1 && inputs.cause_file.empty() && store::is_sqlite_database(paths[0]);
+      analysis::write_pairs_file(c->out, format, results,
+                                 one_store ? analysis::store_pair_sessions(paths[0], results)
+                                           : analysis::PairSessions{});
     }
     if (!c->unmatched_out.empty()) analysis::write_unmatched_file(c->unmatched_out, results);
     if (c->json) {

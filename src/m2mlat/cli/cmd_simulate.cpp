@@ -184,10 +184,13 @@ void write_files(const sim::RigConfig& config, const std::string& dir, formats::
   } else {
     const auto run = sim::simulate(config);
     const char* ext = format == formats::Format::events_jsonl ? ".jsonl" : ".csv";
-    formats::export_events(name(config.cause_node, ext), format, run.cause_events,
-                           clock_records(run, config, core::Role::cause, config.cause_node));
-    formats::export_events(name(config.effect_node, ext), format, run.effect_events,
-                           clock_records(run, config, core::Role::effect, config.effect_node));
+    // The boards' files are inputs for `import`: they keep their clock records (with_meta).
+    const auto cause_clocks = clock_records(run, config, core::Role::cause, config.cause_node);
+    const auto effect_clocks = clock_records(run, config, core::Role::effect, config.effect_node);
+    formats::EventExportOptions cause_options{.clocks = cause_clocks, .origins = {}, .with_meta = true};
+    formats::EventExportOptions effect_options{.clocks = effect_clocks, .origins = {}, .with_meta = true};
+    formats::export_events(name(config.cause_node, ext), format, run.cause_events, cause_options);
+    formats::export_events(name(config.effect_node, ext), format, run.effect_events, effect_options);
     truth = run.pairs;
   }
   core::write_output_file(name("truth", ".csv"), [&](std::ostream& out) { write_truth(out, truth); });

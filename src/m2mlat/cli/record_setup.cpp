@@ -253,7 +253,7 @@ RecordSetup prepare_record(const RecordFlags& c) {
   options.session.node = s.node;
   options.session.role = s.role;
   options.session.label = pick("--label", c.label, file.label, "");
-  options.session.scenario = pick("--scenario", c.scenario, file.scenario, "");
+  options.session.scenario = pick("--scenario", c.scenario, file.scenario, store::kUnnamedScenario);
   for (const auto& spec : s.channels) {
     config["channels"].push_back(channel_json(spec));
     options.refractory[spec.name] = spec.refractory;

@@ -39,7 +39,7 @@ std::string all_field_names() {
 }
 
 // A "#" line before the header: a comment, a clock record "# clock: {...}" (added to `clocks`), or
-// the format marker "# format: m2mlat-events/1".
+// the format marker "# format: m2mlat-events/2" (or /1).
 void check_comment(std::string_view line, std::string_view name, long line_number,
                    std::vector<ClockRecord>& clocks) {
   const std::string_view body = trim(line.substr(1));
@@ -49,11 +49,11 @@ void check_comment(std::string_view line, std::string_view name, long line_numbe
   }
   if (!body.starts_with("format:")) return;
   const std::string_view marker = trim(body.substr(7));
-  if (marker == kEventsFormat) return;
+  if (marker == kEventsFormat || marker == kEventsFormatV1) return;
   if (marker.starts_with(kEventsFormatFamily))
     throw_line_error(name, line_number,
-                     fmt::format("format {} is not supported: this version of m2mlat reads {}",
-                                 quote_for_message(marker), kEventsFormat));
+                     fmt::format("format {} is not supported: this version of m2mlat reads {} and {}",
+                                 quote_for_message(marker), kEventsFormat, kEventsFormatV1));
   throw_line_error(
       name, line_number,
       fmt::format("format {} is not an events file (expected {})", quote_for_message(marker), kEventsFormat));
@@ -71,7 +71,7 @@ Layout read_header(const std::vector<std::string_view>& fields, std::string_view
   if (!any_known)
     throw_line_error(name, line,
                      fmt::format("missing header: the first line is {}, expected a header such as "
-                                 "'node,channel,edge,clock,time_ns,seqno,line_seqno,flags'",
+                                 "'scenario,session,label,node,channel,edge,clock,time_ns,seqno,line_seqno,flag_bits'",
                                  quote_for_message(fields.empty() ? std::string_view{} : fields[0])));
   for (std::size_t i = 0; i < fields.size(); ++i) {
     const std::string text = field_text(fields[i]);
@@ -126,6 +126,10 @@ class RowReader {
     line_ = line;
     text(fields[layout_[EventField::node]], EventField::node, last_node_, event_.node);
     text(fields[layout_[EventField::channel]], EventField::channel, last_channel_, event_.channel);
+    // Where the event was recorded: checked, not kept (the import names its own session).
+    if (const std::size_t c = layout_[EventField::session]; c != kAbsent)
+      if (const std::string_view raw = bare(fields[c]); !raw.empty())
+        require_int64(name_, line, "session", raw);
     if (const std::size_t c = layout_[EventField::edge]; c != kAbsent) {
       const std::string_view raw = bare(fields[c]);
       if (!edge_from_name(raw, event_.edge)) fail(EventField::edge, raw, "is not rising or falling");
@@ -147,7 +151,7 @@ class RowReader {
       event_.line_seqno = require_uint64(name_, line, "line_seqno", bare(fields[c]));
     if (const std::size_t c = layout_[EventField::flags]; c != kAbsent) {
       const std::string_view raw = bare(fields[c]);
-      const std::uint64_t flags = require_uint64(name_, line, "flags", raw);
+      const std::uint64_t flags = require_uint64(name_, line, name_of(EventField::flags), raw);
       if (flags > std::numeric_limits<std::uint32_t>::max())
         fail(EventField::flags, raw, "does not fit 32 bits");
       event_.flags = static_cast<std::uint32_t>(flags);
@@ -218,23 +222,27 @@ EventImport import_events_csv(std::string_view text, std::string_view name, cons
 }
 
 void write_events_csv(std::ostream& out, std::span<const core::Event> events,
-                      std::span<const ClockRecord> clocks) {
+                      const EventExportOptions& options) {
   OutputBuffer buffer(out);
-  buffer << "# format: " << kEventsFormat << '\n';
-  for (const auto& record : clocks) {
-    if (record.node.find_first_of("\r\n") != std::string::npos)
-      throw core::Error(core::ErrorKind::data, "a clock record's node holds a line break");
-    buffer << "# " << kClockCommentPrefix << ' ' << clock_record_json(record) << '\n';
-    buffer.end_record();
+  if (options.with_meta) {
+    buffer << "# format: " << kEventsFormat << '\n';
+    for (const auto& record : options.clocks) {
+      if (record.node.find_first_of("\r\n") != std::string::npos)
+        throw core::Error(core::ErrorKind::data, "a clock record's node holds a line break");
+      buffer << "# " << kClockCommentPrefix << ' ' << clock_record_json(record) << '\n';
+      buffer.end_record();
+    }
   }
   for (std::size_t i = 0; i < kExportedEventFields.size(); ++i) {
     if (i > 0) buffer << ',';
     buffer << name_of(kExportedEventFields[i]);
   }
   buffer << '\n';
+  OriginRuns origins(options.origins, events.size());
   for (std::size_t i = 0; i < events.size(); ++i) {
     const core::Event& event = events[i];
     check_exportable(event, i);
+    buffer.text().append(origins.csv_fields(i));
     append_csv_field(buffer.text(), event.node);
     buffer << ',';
     append_csv_field(buffer.text(), event.channel);

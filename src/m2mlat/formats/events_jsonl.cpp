@@ -21,7 +21,7 @@ EventImport import_events_jsonl(std::string_view text, std::string_view name, co
   while (reader.next(line)) {
     if (is_blank(line)) continue;
     const JsonLine json(line, name, reader.line_number());
-    json.expect_format(kEventsFormat, kEventsFormatFamily);
+    json.expect_format(kEventsFormat, kEventsFormatFamily, kEventsFormatV1);
     if (const auto clock = json.object().find(kClockMember); clock != json.object().end()) {
       if (json.object().size() != 2) json.fail(kClockMember, *clock, "shares its line with other members");
       if (!clock->is_object()) json.fail(kClockMember, *clock, "is not an object");
@@ -39,6 +39,14 @@ EventImport import_events_jsonl(std::string_view text, std::string_view name, co
       EventField field{};
       if (!event_field_from_name(key, field)) json.unknown_member(key);
       switch (field) {
+        // Where the event was recorded: checked, not kept (the import names its own session).
+        case EventField::scenario:
+        case EventField::label:
+          if (!value.is_null() && !value.is_string()) json.fail(key, value, "is not a string");
+          break;
+        case EventField::session:
+          if (!value.is_null()) json.int64(key, value);
+          break;
         case EventField::node: event.node = json.text(key, value); break;
         case EventField::channel: event.channel = json.text(key, value); break;
         case EventField::edge:
@@ -81,10 +89,10 @@ EventImport import_events_jsonl(std::string_view text, std::string_view name, co
 }
 
 void write_events_jsonl(std::ostream& out, std::span<const core::Event> events,
-                        std::span<const ClockRecord> clocks) {
+                        const EventExportOptions& options) {
   OutputBuffer buffer(out);
   std::string& text = buffer.text();
-  for (const auto& record : clocks) {
+  for (const auto& record : options.clocks) {
     text.append("{\"format\":");
     append_json_string(text, kEventsFormat);
     text.append(",\"").append(kClockMember).append("\":");
@@ -92,11 +100,13 @@ void write_events_jsonl(std::ostream& out, std::span<const core::Event> events,
     text.append("}\n");
     buffer.end_record();
   }
+  OriginRuns origins(options.origins, events.size());
   for (std::size_t i = 0; i < events.size(); ++i) {
     const core::Event& event = events[i];
     check_exportable(event, i);
     text.append("{\"format\":");
     append_json_string(text, kEventsFormat);
+    text.append(origins.json_members(i));
     text.append(",\"node\":");
     append_json_string(text, event.node);
     text.append(",\"channel\":");
@@ -111,7 +121,7 @@ void write_events_jsonl(std::ostream& out, std::span<const core::Event> events,
     buffer.integer(event.seqno);
     text.append(",\"line_seqno\":");
     buffer.integer(event.line_seqno);
-    text.append(",\"flags\":");
+    text.append(",\"flag_bits\":");
     buffer.integer(event.flags);
     text.append("}\n");
     buffer.end_record();

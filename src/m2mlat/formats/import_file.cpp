@@ -127,16 +127,16 @@ std::vector<TimestampSeries> read_timestamps(const std::string& path, std::optio
 }
 
 void export_events(const std::string& path, Format format, std::span<const core::Event> events,
-                   std::span<const ClockRecord> clocks) {
+                   const EventExportOptions& options) {
   if (format != Format::events_csv && format != Format::events_jsonl)
     throw core::Error(
         core::ErrorKind::usage,
         fmt::format("events cannot be exported as {} (use events-csv or events-jsonl)", to_string(format)));
   core::write_output_file(path, [&](std::ostream& out) {
     if (format == Format::events_csv)
-      write_events_csv(out, events, clocks);
+      write_events_csv(out, events, options);
     else
-      write_events_jsonl(out, events, clocks);
+      write_events_jsonl(out, events, options);
   });
 }
 

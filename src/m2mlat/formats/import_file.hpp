@@ -11,6 +11,7 @@
 
 #include "m2mlat/core/event.hpp"
 #include "m2mlat/formats/camera_latency.hpp"
+#include "m2mlat/formats/event_fields.hpp"
 #include "m2mlat/formats/format.hpp"
 #include "m2mlat/formats/full_loop_csv.hpp"
 #include "m2mlat/formats/imported.hpp"
@@ -52,9 +53,10 @@ std::vector<TimestampSeries> read_timestamps(const std::string& path, std::optio
 
 // Writes events as events_csv or events_jsonl to `path` ("-" = standard output), atomically.
 // Throws core::Error(usage) for another format.
-// `clocks`: the nodes' clock samples and steps, carried beside the events (clock_records.hpp).
+// options: the events' origins, the nodes' clock samples and steps, the CSV's meta lines
+// (event_fields.hpp).
 void export_events(const std::string& path, Format format, std::span<const core::Event> events,
-                   std::span<const ClockRecord> clocks = {});
+                   const EventExportOptions& options = {});
 // Writes pairs as pairs_csv, pairs_jsonl or rig_paired_csv (which has no names, uncertainty or
 // flags: options only feed the other two), atomically. Throws core::Error(usage) for another format.
 void export_pairs(const std::string& path, Format format, std::span<const PairRow> pairs,

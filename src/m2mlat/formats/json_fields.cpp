@@ -53,12 +53,12 @@ JsonLine::JsonLine(std::string_view line, std::string_view file, long line_numbe
   if (!json_.is_object()) throw_line_error(file_, line_, "not a JSON object (one object per line)");
 }
 
-void JsonLine::expect_format(std::string_view format, std::string_view family) const {
+void JsonLine::expect_format(std::string_view format, std::string_view family, std::string_view older) const {
   const auto found = json_.find("format");
   if (found == json_.end()) missing("format");
   if (!found->is_string()) fail("format", *found, "is not a string");
   const auto& marker = found->get_ref<const std::string&>();
-  if (marker == format) return;
+  if (marker == format || (!older.empty() && marker == older)) return;
   if (std::string_view(marker).starts_with(family))
     fail("format", *found, fmt::format("is not supported: this version of m2mlat reads {}", format));
   fail("format", *found, fmt::format("is not {}", format));

@@ -21,7 +21,8 @@ class JsonLine {
 
   // Requires the member "format" to be `format`; a marker of the same family with another version
   // is "not supported", anything else "not a ... record".
-  void expect_format(std::string_view format, std::string_view family) const;
+  // `older`, if not empty: an earlier version of the format that is still read.
+  void expect_format(std::string_view format, std::string_view family, std::string_view older = {}) const;
 
   // The member as a non-empty string, an int64 or a uint64 (JSON integers only), or an error.
   std::string text(std::string_view key, const nlohmann::json& value) const;

@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <string>
+#include <vector>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/formats/event_fields.hpp"
@@ -23,119 +25,182 @@ std::array<OptionalColumn, 3> optional_columns(const PairExportOptions& options)
   return {{{"max_error_ns", options.max_error_ns}, {"u_ns", options.u_ns}, {"U95_ns", options.U95_ns}}};
 }
 
-void check_options(std::span<const PairRow> pairs, const PairExportOptions& options) {
+// The groups to write: the caller's, or one group of every pair from the options' three names.
+std::vector<PairGroup> groups_of(std::span<const PairRow> pairs, const PairExportOptions& options) {
+  if (!options.groups.empty()) return {options.groups.begin(), options.groups.end()};
+  return {PairGroup{options.scenario, options.cause, options.effect, pairs.size()}};
+}
+
+void check_options(std::span<const PairRow> pairs, const PairExportOptions& options,
+                   std::span<const PairGroup> groups) {
   auto check_size = [&](std::size_t size, std::string_view what) {
     if (size != 0 && size != pairs.size())
       throw core::Error(core::ErrorKind::internal,
                         fmt::format("pair export: {} {} for {} pairs", size, what, pairs.size()));
   };
   for (const auto& column : optional_columns(options)) check_size(column.values.size(), column.name);
-  // The names must read back: the same rule as for events.
-  core::Event probe;
-  probe.node = options.cause.node;
-  probe.channel = options.cause.channel;
-  check_exportable(probe, 0);
-  probe.node = options.effect.node;
-  probe.channel = options.effect.channel;
-  check_exportable(probe, 0);
+  check_size(options.sessions.size(), "sessions");
+  std::size_t total = 0;
+  for (const PairGroup& group : groups) {
+    total += group.count;
+    // The names must read back: the same rule as for events.
+    core::Event probe;
+    probe.node = group.cause.node;
+    probe.channel = group.cause.channel;
+    check_exportable(probe, 0);
+    probe.node = group.effect.node;
+    probe.channel = group.effect.channel;
+    check_exportable(probe, 0);
+    if (group.scenario.find_first_of("\r\n") != std::string::npos)
+      throw core::Error(core::ErrorKind::data, "a scenario name holds a line break");
+  }
+  if (total != pairs.size())
+    throw core::Error(core::ErrorKind::internal,
+                      fmt::format("pair export: the groups count {} pairs, not {}", total, pairs.size()));
+  for (const auto& [id, label] : options.labels)
+    if (label.find_first_of("\r\n") != std::string::npos)
+      throw core::Error(core::ErrorKind::data, fmt::format("session {}: its label holds a line break", id));
+}
+
+// The session id and label of pair i ("" for unknown).
+struct PairSession {
+  std::int64_t id = 0;
+  const std::string* label = nullptr;
+};
+PairSession session_of(const PairExportOptions& options, std::size_t i) {
+  if (options.sessions.empty() || options.sessions[i] == 0) return {};
+  const auto found = options.labels.find(options.sessions[i]);
+  return {options.sessions[i], found == options.labels.end() ? nullptr : &found->second};
 }
 
 }  // namespace
 
 void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options) {
-  check_options(pairs, options);
+  const auto groups = groups_of(pairs, options);
+  check_options(pairs, options, groups);
   const auto columns = optional_columns(options);
   const bool with_flags = options.flags;
   OutputBuffer buffer(out);
   std::string& text = buffer.text();
-  buffer << "# format: " << kPairsFormat << '\n';
-  buffer
-      << "cause_node,cause_channel,effect_node,effect_channel,clock,cause_time_ns,effect_time_ns,latency_ns,"
-         "latency_ms";
+  buffer << "scenario,session,label,cause_node,cause_channel,effect_node,effect_channel,clock,cause_time_ns,"
+            "effect_time_ns,latency_ns,latency_ms";
   for (const auto& column : columns)
     if (!column.values.empty()) buffer << ',' << column.name;
-  if (with_flags) buffer << ",flags";
+  if (with_flags) buffer << ",flag_bits";
   buffer << '\n';
-  // The four names are the same on every row: quote them once.
-  std::string names;
-  append_csv_field(names, options.cause.node);
-  names.push_back(',');
-  append_csv_field(names, options.cause.channel);
-  names.push_back(',');
-  append_csv_field(names, options.effect.node);
-  names.push_back(',');
-  append_csv_field(names, options.effect.channel);
-  names.push_back(',');
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
-    const PairRow& pair = pairs[i];
-    const core::Duration latency = pair.latency();
-    text.append(names);
-    buffer << core::to_string(pair.cause_time.clock()) << ',';
-    buffer.integer(pair.cause_time.ns()) << ',';
-    buffer.integer(pair.effect_time.ns()) << ',';
-    buffer.integer(latency.count()) << ',';
-    buffer << core::format_ms(latency);
-    for (const auto& column : columns) {
-      if (column.values.empty()) continue;
-      buffer << ',';
-      if (column.values[i]) buffer.integer(*column.values[i]);
+  std::size_t i = 0;
+  for (const PairGroup& group : groups) {
+    // The scenario and the four names are the same on every row of the group: quote them once.
+    std::string scenario;
+    append_csv_field(scenario, group.scenario);
+    scenario.push_back(',');
+    std::string names;
+    append_csv_field(names, group.cause.node);
+    names.push_back(',');
+    append_csv_field(names, group.cause.channel);
+    names.push_back(',');
+    append_csv_field(names, group.effect.node);
+    names.push_back(',');
+    append_csv_field(names, group.effect.channel);
+    names.push_back(',');
+    for (const std::size_t end = i + group.count; i < end; ++i) {
+      const PairRow& pair = pairs[i];
+      const core::Duration latency = pair.latency();
+      text.append(scenario);
+      if (const PairSession session = session_of(options, i); session.id != 0) {
+        buffer.integer(session.id) << ',';
+        if (session.label) append_csv_field(text, *session.label);
+        text.push_back(',');
+      } else {
+        text.append(",,");
+      }
+      text.append(names);
+      buffer << core::to_string(pair.cause_time.clock()) << ',';
+      buffer.integer(pair.cause_time.ns()) << ',';
+      buffer.integer(pair.effect_time.ns()) << ',';
+      buffer.integer(latency.count()) << ',';
+      buffer << core::format_ms(latency);
+      for (const auto& column : columns) {
+        if (column.values.empty()) continue;
+        buffer << ',';
+        if (column.values[i]) buffer.integer(*column.values[i]);
+      }
+      if (with_flags) {
+        buffer << ',';
+        buffer.integer(pair.flags);
+      }
+      buffer << '\n';
+      buffer.end_record();
     }
-    if (with_flags) {
-      buffer << ',';
-      buffer.integer(pair.flags);
-    }
-    buffer << '\n';
-    buffer.end_record();
   }
   buffer.flush();
 }
 
 void write_pairs_jsonl(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options) {
-  check_options(pairs, options);
+  const auto groups = groups_of(pairs, options);
+  check_options(pairs, options, groups);
   const auto columns = optional_columns(options);
   OutputBuffer buffer(out);
   std::string& text = buffer.text();
-  std::string names;  // the same on every line
-  names.append("{\"format\":");
-  append_json_string(names, kPairsFormat);
-  names.append(",\"cause_node\":");
-  append_json_string(names, options.cause.node);
-  names.append(",\"cause_channel\":");
-  append_json_string(names, options.cause.channel);
-  names.append(",\"effect_node\":");
-  append_json_string(names, options.effect.node);
-  names.append(",\"effect_channel\":");
-  append_json_string(names, options.effect.channel);
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
-    const PairRow& pair = pairs[i];
-    const core::Duration latency = pair.latency();
-    text.append(names);
-    text.append(",\"clock\":\"");
-    text.append(core::to_string(pair.cause_time.clock()));
-    text.append("\",\"cause_time_ns\":");
-    buffer.integer(pair.cause_time.ns());
-    text.append(",\"effect_time_ns\":");
-    buffer.integer(pair.effect_time.ns());
-    text.append(",\"latency_ns\":");
-    buffer.integer(latency.count());
-    text.append(",\"latency_ms\":");
-    text.append(core::format_ms(latency));
-    for (const auto& column : columns) {
-      if (column.values.empty()) continue;
-      text.append(",\"");
-      text.append(column.name);
-      text.append("\":");
-      if (column.values[i])
-        buffer.integer(*column.values[i]);
-      else
-        text.append("null");
+  std::size_t i = 0;
+  for (const PairGroup& group : groups) {
+    std::string scenario;  // the same on every line of the group
+    scenario.append("{\"format\":");
+    append_json_string(scenario, kPairsFormat);
+    scenario.append(",\"scenario\":");
+    append_json_string(scenario, group.scenario);
+    std::string names;
+    names.append(",\"cause_node\":");
+    append_json_string(names, group.cause.node);
+    names.append(",\"cause_channel\":");
+    append_json_string(names, group.cause.channel);
+    names.append(",\"effect_node\":");
+    append_json_string(names, group.effect.node);
+    names.append(",\"effect_channel\":");
+    append_json_string(names, group.effect.channel);
+    for (const std::size_t end = i + group.count; i < end; ++i) {
+      const PairRow& pair = pairs[i];
+      const core::Duration latency = pair.latency();
+      text.append(scenario);
+      if (const PairSession session = session_of(options, i); session.id != 0) {
+        text.append(",\"session\":");
+        buffer.integer(session.id);
+        text.append(",\"label\":");
+        if (session.label)
+          append_json_string(text, *session.label);
+        else
+          text.append("null");
+      } else {
+        text.append(",\"session\":null,\"label\":null");
+      }
+      text.append(names);
+      text.append(",\"clock\":\"");
+      text.append(core::to_string(pair.cause_time.clock()));
+      text.append("\",\"cause_time_ns\":");
+      buffer.integer(pair.cause_time.ns());
+      text.append(",\"effect_time_ns\":");
+      buffer.integer(pair.effect_time.ns());
+      text.append(",\"latency_ns\":");
+      buffer.integer(latency.count());
+      text.append(",\"latency_ms\":");
+      text.append(core::format_ms(latency));
+      for (const auto& column : columns) {
+        if (column.values.empty()) continue;
+        text.append(",\"");
+        text.append(column.name);
+        text.append("\":");
+        if (column.values[i])
+          buffer.integer(*column.values[i]);
+        else
+          text.append("null");
+      }
+      if (options.flags) {
+        text.append(",\"flag_bits\":");
+        buffer.integer(pair.flags);
+      }
+      text.append("}\n");
+      buffer.end_record();
     }
-    if (options.flags) {
-      text.append(",\"flags\":");
-      buffer.integer(pair.flags);
-    }
-    text.append("}\n");
-    buffer.end_record();
   }
   buffer.flush();
 }

@@ -53,6 +53,11 @@ struct Session {
 // glass-to-glass uncertainty uses it for every write of the session (analysis/store_chains.hpp).
 inline constexpr const char* kConfigLedBound = "led_bound_ns";
 
+// The scenario of a session begun without one (`record`, `agent` and the API's POST /v1/sessions with
+// no scenario: e.g. the agent's first session, recording before `collect --start-session` names one).
+// An empty name would make a scenario that no --scenario can choose and no table can show.
+inline constexpr const char* kUnnamedScenario = "unnamed";
+
 // An event as stored: its store-wide sequence number (increasing, never reused) and its session.
 // event.node is the session's node.
 struct StoredEvent {

@@ -28,10 +28,12 @@ std::vector<ClockRecord> records() {
 TEST(ClockRecords, RoundTripThroughBothEventsFormats) {
   for (const auto format : {Format::events_csv, Format::events_jsonl}) {
     std::ostringstream out;
+    const auto clocks = records();
+    const EventExportOptions options{.clocks = clocks, .origins = {}, .with_meta = true};
     if (format == Format::events_csv)
-      write_events_csv(out, kEvents, records());
+      write_events_csv(out, kEvents, options);
     else
-      write_events_jsonl(out, kEvents, records());
+      write_events_jsonl(out, kEvents, options);
     const auto file = import_text(out.str(), "x", std::nullopt, {});  // detected, not told
     EXPECT_EQ(file.format, format);
     const auto& imported = std::get<EventImport>(file.content);
@@ -41,10 +43,24 @@ TEST(ClockRecords, RoundTripThroughBothEventsFormats) {
   }
 }
 
+// Without with_meta a CSV is a plain table: header first, no clock records (JSON Lines keeps them).
+TEST(ClockRecords, PlainCsvLeavesThemOut) {
+  std::ostringstream csv;
+  const auto clocks = records();
+  write_events_csv(csv, kEvents, EventExportOptions{.clocks = clocks, .origins = {}, .with_meta = false});
+  EXPECT_TRUE(csv.str().starts_with("scenario,session,label,node,")) << csv.str();
+  EXPECT_EQ(csv.str().find('#'), std::string::npos) << csv.str();
+  const auto file = import_text(csv.str(), "x", std::nullopt, {});
+  EXPECT_EQ(std::get<EventImport>(file.content).events, kEvents);
+  EXPECT_TRUE(std::get<EventImport>(file.content).clock_records.empty());
+}
+
 TEST(ClockRecords, ReadersThatSkipThemStillWork) {
   std::ostringstream csv, jsonl;
-  write_events_csv(csv, kEvents, records());
-  write_events_jsonl(jsonl, kEvents, records());
+  const auto clocks = records();
+  const EventExportOptions options{.clocks = clocks, .origins = {}, .with_meta = true};
+  write_events_csv(csv, kEvents, options);
+  write_events_jsonl(jsonl, kEvents, options);
   // A CSV reader that skips '#' lines sees the header and the events only.
   std::istringstream lines(csv.str());
   std::string line;

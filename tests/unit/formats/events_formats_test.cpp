@@ -70,9 +70,9 @@ TEST(EventsCsv, ExactRoundTrip) {
   std::ostringstream out;
   write_events_csv(out, events);
   EXPECT_TRUE(out.str().starts_with(
-      "# format: m2mlat-events/1\nnode,channel,edge,clock,time_ns,seqno,line_seqno,flags\n"
-      "operator,wheel,falling,realtime,1762872545550296135,1,1,0\n"
-      "operator,wheel,falling,realtime,1762872545550296136,2,2,0\n"));
+      "scenario,session,label,node,channel,edge,clock,time_ns,seqno,line_seqno,flag_bits\n"
+      ",,,operator,wheel,falling,realtime,1762872545550296135,1,1,0\n"
+      ",,,operator,wheel,falling,realtime,1762872545550296136,2,2,0\n"));
   const EventImport back = import_events_csv(out.str(), "round.csv", ImportOptions{});
   EXPECT_EQ(back.events, events);
   EXPECT_EQ(back.events[1].time - back.events[0].time, core::Duration{1});
@@ -80,6 +80,35 @@ TEST(EventsCsv, ExactRoundTrip) {
   std::ostringstream again;
   write_events_csv(again, back.events);
   EXPECT_EQ(again.str(), out.str());
+}
+
+// Version 1 files (the "# format:" line first, "flags") read as before; a version 2 file gives the
+// same events whatever its scenario, session and label say (the import names its own session).
+TEST(EventsCsv, ReadsVersionOneAndOrigins) {
+  const auto v1 = import_events_csv(
+      "# format: m2mlat-events/1\nnode,channel,edge,clock,time_ns,seqno,line_seqno,flags\n"
+      "a,w,falling,realtime,5,1,1,4\n",
+      "v1.csv", ImportOptions{});
+  const auto v2 = import_events_csv(
+      "scenario,session,label,node,channel,edge,clock,time_ns,seqno,line_seqno,flag_bits\n"
+      "\"urban, 30\",7,run-1,a,w,falling,realtime,5,1,1,4\n",
+      "v2.csv", ImportOptions{});
+  ASSERT_EQ(v1.events.size(), 1u);
+  EXPECT_EQ(v1.events, v2.events);
+  EXPECT_EQ(v1.events[0].flags, 4u);
+}
+
+// Each run of events names its session; a name with a comma is quoted.
+TEST(EventsCsv, OriginsOnEveryRow) {
+  const std::vector<core::Event> events = tricky_events();
+  const std::vector<EventOrigin> origins{{"urban, 30", 3, "run-1", 1}, {"rural", 4, "", events.size() - 1}};
+  std::ostringstream out;
+  write_events_csv(out, events, EventExportOptions{.clocks = {}, .origins = origins, .with_meta = false});
+  EXPECT_NE(out.str().find("\n\"urban, 30\",3,run-1,operator,"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find("\nrural,4,,operator,"), std::string::npos) << out.str();
+  const std::vector<EventOrigin> short_by_one{{"rural", 4, "", events.size() - 1}};
+  EXPECT_THROW(write_events_csv(out, events, EventExportOptions{.clocks = {}, .origins = short_by_one}),
+               core::Error);
 }
 
 TEST(EventsCsv, EmptyExportReadsBackEmpty) {
@@ -100,7 +129,7 @@ TEST(EventsCsv, MalformedInput) {
   expect_data_error([&] { import(header + "a,b,falling,realtime,5,-1,0,0\n"); },
                     {"ev.csv:2: field seqno: '-1' is not a non-negative integer"});
   expect_data_error([&] { import(header + "a,b,falling,realtime,5,0,0,4294967296\n"); },
-                    {"ev.csv:2: field flags", "32 bits"});
+                    {"ev.csv:2: field flag_bits", "32 bits"});
   expect_data_error([&] { import(header + ",b,falling,realtime,5,0,0,0\n"); },
                     {"ev.csv:2: field node: '' is empty"});
   expect_data_error([&] { import(header + "a,b,falling,realtime,5,0,0\n"); },
@@ -111,12 +140,14 @@ TEST(EventsCsv, MalformedInput) {
                     {"ev.csv:3: the header appears again (were two files joined?)"});
   expect_data_error([&] { import(header + good + "# format: m2mlat-events/1\n" + header + good); },
                     {"ev.csv:3: a '#' line after the header"});
-  expect_data_error([&] { import("# format: m2mlat-events/2\n" + header); },
-                    {"ev.csv:1: format 'm2mlat-events/2' is not supported"});
+  expect_data_error([&] { import("# format: m2mlat-events/3\n" + header); },
+                    {"ev.csv:1: format 'm2mlat-events/3' is not supported"});
+  expect_data_error([&] { import("scenario,session,label,node,channel,time_ns\ns,x,l,a,b,5\n"); },
+                    {"ev.csv:2: field session: 'x' is not an integer"});
   expect_data_error([&] { import("node,channel,time_ns,time_ns\n"); },
                     {"ev.csv:1: header column 'time_ns' appears twice (columns 3 and 4)"});
   expect_data_error([&] { import("node,channel,time_ns,colour\n"); },
-                    {"ev.csv:1: header column 4 'colour' is not a field of m2mlat-events/1"});
+                    {"ev.csv:1: header column 4 'colour' is not a field of m2mlat-events/2"});
   expect_data_error([&] { import("node,channel,edge\n"); }, {"ev.csv:1: the header needs a time column"});
   expect_data_error([&] { import("node,channel,time_ns,time_s\n"); }, {"ev.csv:1: the header has both"});
   expect_data_error([&] { import("time_ns\n5\n"); },
@@ -158,8 +189,9 @@ TEST(EventsJsonl, ExactRoundTrip) {
   std::ostringstream out;
   write_events_jsonl(out, events);
   EXPECT_TRUE(out.str().starts_with(
-      "{\"format\":\"m2mlat-events/1\",\"node\":\"operator\",\"channel\":\"wheel\",\"edge\":\"falling\","
-      "\"clock\":\"realtime\",\"time_ns\":1762872545550296135,\"seqno\":1,\"line_seqno\":1,\"flags\":0}\n"));
+      "{\"format\":\"m2mlat-events/2\",\"scenario\":null,\"session\":null,\"label\":null,\"node\":\"operator\","
+      "\"channel\":\"wheel\",\"edge\":\"falling\",\"clock\":\"realtime\",\"time_ns\":1762872545550296135,"
+      "\"seqno\":1,\"line_seqno\":1,\"flag_bits\":0}\n"));
   const EventImport back = import_events_jsonl(out.str(), "round.jsonl", ImportOptions{});
   EXPECT_EQ(back.events, events);
   EXPECT_EQ(back.events[1].time - back.events[0].time, core::Duration{1});
@@ -223,11 +255,10 @@ TEST(PairsExport, CsvAndJsonlWithOptionalColumns) {
   write_pairs_csv(plain, pairs, plain_options);
   EXPECT_EQ(
       plain.str(),
-      "# format: m2mlat-pairs/2\n"
-      "cause_node,cause_channel,effect_node,effect_channel,clock,cause_time_ns,effect_time_ns,latency_ns,"
-      "latency_ms\n"
-      "operator,wheel,vehicle,wheel,realtime,1762872545550296135,1762872546417585462,867289327,867.289327\n"
-      "operator,wheel,vehicle,wheel,realtime,1762872549652099111,1762872549652099110,-1,-0.000001\n");
+      "scenario,session,label,cause_node,cause_channel,effect_node,effect_channel,clock,cause_time_ns,"
+      "effect_time_ns,latency_ns,latency_ms\n"
+      ",,,operator,wheel,vehicle,wheel,realtime,1762872545550296135,1762872546417585462,867289327,867.289327\n"
+      ",,,operator,wheel,vehicle,wheel,realtime,1762872549652099111,1762872549652099110,-1,-0.000001\n");
 
   const std::vector<std::optional<std::int64_t>> bound{250'000, std::nullopt}, u{40'000, std::nullopt},
       expanded{80'000, std::nullopt};
@@ -238,7 +269,7 @@ TEST(PairsExport, CsvAndJsonlWithOptionalColumns) {
   options.U95_ns = expanded;
   std::ostringstream full;
   write_pairs_csv(full, pairs, options);
-  EXPECT_NE(full.str().find("latency_ms,max_error_ns,u_ns,U95_ns,flags\n"), std::string::npos);
+  EXPECT_NE(full.str().find("latency_ms,max_error_ns,u_ns,U95_ns,flag_bits\n"), std::string::npos);
   EXPECT_NE(
       full.str().find("remote,\"pedal, left\",vehicle,wheel,realtime,1762872545550296135,1762872546417585462,"
                       "867289327,867.289327,250000,40000,80000,0\n"),
@@ -249,7 +280,7 @@ TEST(PairsExport, CsvAndJsonlWithOptionalColumns) {
   bound_only.max_error_ns = bound;
   std::ostringstream partial;
   write_pairs_csv(partial, pairs, bound_only);
-  EXPECT_NE(partial.str().find("latency_ms,max_error_ns,flags\n"), std::string::npos);
+  EXPECT_NE(partial.str().find("latency_ms,max_error_ns,flag_bits\n"), std::string::npos);
 
   std::ostringstream jsonl;
   write_pairs_jsonl(jsonl, pairs, options);
@@ -258,18 +289,33 @@ TEST(PairsExport, CsvAndJsonlWithOptionalColumns) {
   std::vector<nlohmann::json> objects;
   while (std::getline(lines, line)) objects.push_back(nlohmann::json::parse(line));
   ASSERT_EQ(objects.size(), 2u);
-  EXPECT_EQ(objects[0]["format"], "m2mlat-pairs/2");
+  EXPECT_EQ(objects[0]["format"], "m2mlat-pairs/3");
   EXPECT_EQ(objects[0]["cause_channel"], "pedal, left");
   EXPECT_EQ(objects[0]["cause_time_ns"].get<std::int64_t>(), 1'762'872'545'550'296'135);
   EXPECT_EQ(objects[0]["latency_ns"].get<std::int64_t>(), 867'289'327);
   EXPECT_EQ(objects[0]["max_error_ns"].get<std::int64_t>(), 250'000);
   EXPECT_EQ(objects[0]["u_ns"].get<std::int64_t>(), 40'000);
   EXPECT_EQ(objects[0]["U95_ns"].get<std::int64_t>(), 80'000);
-  EXPECT_EQ(objects[0]["flags"].get<std::uint32_t>(), 0u);
+  EXPECT_EQ(objects[0]["flag_bits"].get<std::uint32_t>(), 0u);
   EXPECT_TRUE(objects[1]["max_error_ns"].is_null());
   EXPECT_TRUE(objects[1]["u_ns"].is_null());
-  EXPECT_EQ(objects[1]["flags"].get<std::uint32_t>(), 1u);
+  EXPECT_EQ(objects[1]["flag_bits"].get<std::uint32_t>(), 1u);
   EXPECT_NE(jsonl.str().find("\"latency_ms\":867.289327,"), std::string::npos);  // exact decimal text
+
+  // Two scenarios, each with its own boards, and the sessions' labels.
+  const std::vector<PairGroup> groups{{"a", {"op", "w"}, {"veh", "w"}, 1}, {"b", {"st", "w"}, {"car", "w"}, 1}};
+  const std::vector<std::int64_t> sessions{2, 0};
+  PairExportOptions grouped;
+  grouped.groups = groups;
+  grouped.sessions = sessions;
+  grouped.labels = {{2, "run 2"}};
+  std::ostringstream two;
+  write_pairs_csv(two, pairs, grouped);
+  EXPECT_NE(two.str().find("\na,2,run 2,op,w,veh,w,realtime,"), std::string::npos) << two.str();
+  EXPECT_NE(two.str().find("\nb,,,st,w,car,w,realtime,"), std::string::npos) << two.str();
+  const std::vector<PairGroup> too_few{{"a", {"op", "w"}, {"veh", "w"}, 1}};
+  grouped.groups = too_few;
+  EXPECT_THROW(write_pairs_csv(two, pairs, grouped), core::Error);
 
   const std::vector<std::optional<std::int64_t>> too_short{1};
   options.u_ns = too_short;

@@ -520,10 +520,11 @@ t_g2g_onset() {
   info "G2G: $pairs pairs, median $(sed -n 's/^ *"median_ms": *\([0-9.]*\),*$/\1/p' onset-stats.json | head -n1) ms"
   [ "$pairs" = $n ] || { info "expected $n pairs"; rc=1; }
   "$M2MLAT" export onset.db -o onset.csv 2>/dev/null || rc=1
-  [ "$(grep -c '^guest,wheel,falling,' onset.csv)" = $n ] || { info "the onset edges are not all stored"; rc=1; }
+  [ "$(grep -c ',guest,wheel,falling,' onset.csv)" = $n ] || { info "the onset edges are not all stored"; rc=1; }
   # The LED's lag behind its trigger (the kernel's stamp of the onset edge -> the LED event): positive,
   # the i-th flash after the i-th onset.
-  awk -F, '$2 == "wheel" && $3 == "falling" { w[nw++] = $5 } $2 == "led" && $3 == "rising" { l[nl++] = $5 }
+  # (m2mlat-events/2: scenario, session, label, node, channel, edge, clock, time_ns, ...)
+  awk -F, '$5 == "wheel" && $6 == "falling" { w[nw++] = $8 } $5 == "led" && $6 == "rising" { l[nl++] = $8 }
     END { if (nw != nl || nw == 0) exit 1
           for (i = 0; i < nw; i++) { d = (l[i] - w[i]) / 1000; if (d <= 0) exit 1; s += d; if (d > m) m = d }
           printf "LED lag behind its trigger edge: mean %d us, max %d us\n", s / nw, m }' onset.csv >onset.lag ||
