@@ -74,8 +74,8 @@ cmp agent-markers.csv campaign-markers.csv || { diff agent-markers.csv campaign-
 "$PY" - <<'PY'
 import csv
 lines = open("campaign-markers.csv").read().splitlines()
-assert lines[0] == "# format: m2mlat-markers/1", lines[0]
-rows = list(csv.DictReader(lines[1:]))
+assert lines[0].startswith("node,name,clock,time_ns,"), lines[0]  # the header first
+rows = list(csv.DictReader(lines))
 windows = {k: (int(b), int(a)) for k, b, a in (l.split() for l in open("windows.txt"))}
 assert [r["key"] for r in rows] == sorted(windows), rows
 for r in rows:

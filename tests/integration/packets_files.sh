@@ -23,8 +23,7 @@ pcap("receiver.pcap", 101, [(T0 + 10_000_000 + 20_000_007, udp_ip(cmds[1])), (T0
 pcap("wifi.pcap", 105, [(T0, b"\0" * 40)])
 PYEOF
 "$M2MLAT" packets sender.pcap --peer receiver.pcap --key json:seq --sender-ms stamp --csv -o oneway.csv
-expected='# format: m2mlat-oneway/1
-key,sent_ns,received_ns,one_way_ns,one_way_ms,sender_ns,sender_to_sent_ns,sender_to_received_ns,sent_origin,received_origin
+expected='key,sent_ns,received_ns,one_way_ns,one_way_ms,sender_ns,sender_to_sent_ns,sender_to_received_ns,sent_origin,received_origin
 0,1764000000000250000,1764000000020123456,19873456,19.873456,1764000000000000000,250000,20123456,sender.pcap#1 udp 10.0.0.1:40000>10.0.0.2:7001,receiver.pcap#2 udp 10.0.0.1:40000>10.0.0.2:7001
 1,1764000000010250000,1764000000030000007,19750007,19.750007,1764000000010000000,250000,20000007,sender.pcap#2 udp 10.0.0.1:40000>10.0.0.2:7001,receiver.pcap#1 udp 10.0.0.1:40000>10.0.0.2:7001'
 [ "$(cat oneway.csv)" = "$expected" ] || fail "one-way CSV: $(cat oneway.csv)"

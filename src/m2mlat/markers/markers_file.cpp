@@ -22,8 +22,9 @@ nlohmann::json number_or_null(double value) { return std::isnan(value) ? nlohman
 }  // namespace
 
 std::string markers_csv(std::span<const Marker> markers) {
-  std::string out = fmt::format("# format: {}\n", kMarkersFormat);
-  out += "node,name,clock,time_ns,source,key,sender_ns,sender_to_capture_ns,origin\n";
+  // The header first, no comment line: pandas, R and DuckDB read it as it is (docs/formats.md); the
+  // header is the format's identity.
+  std::string out = "node,name,clock,time_ns,source,key,sender_ns,sender_to_capture_ns,origin\n";
   for (const auto& m : markers) {
     formats::append_csv_field(out, m.node);
     out += ',';
@@ -70,8 +71,7 @@ nlohmann::json markers_json(std::span<const Marker> markers, const CaptureCounts
 }
 
 std::string one_way_csv(const OneWayMatch& match) {
-  std::string out = fmt::format("# format: {}\n", kOneWayFormat);
-  out += "key,sent_ns,received_ns,one_way_ns,one_way_ms,sender_ns,sender_to_sent_ns,sender_to_received_ns,"
+  std::string out = "key,sent_ns,received_ns,one_way_ns,one_way_ms,sender_ns,sender_to_sent_ns,sender_to_received_ns,"
          "sent_origin,received_origin\n";
   for (const auto& c : match.commands) {
     formats::append_csv_field(out, c.key);

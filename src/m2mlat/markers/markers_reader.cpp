@@ -28,7 +28,7 @@ std::vector<Marker> parse_markers_csv(std::string_view text, std::string_view na
   std::string_view line;
   std::vector<std::string_view> fields;
   std::vector<Marker> out;
-  bool format_seen = false, header_seen = false;
+  bool header_seen = false;
   while (reader.next(line)) {
     const long n = reader.line_number();
     const auto content = formats::trim(line);
@@ -39,14 +39,11 @@ std::vector<Marker> parse_markers_csv(std::string_view text, std::string_view na
         if (f != kMarkersFormat)
           formats::throw_line_error(name, n, fmt::format("format {}, expected {}", formats::quote_for_message(f),
                                                          kMarkersFormat));
-        format_seen = true;
       }
       continue;
     }
     if (!header_seen) {
-      if (!format_seen)
-        formats::throw_line_error(name, n, fmt::format("not an {} file: its first line is '# format: {}'",
-                                                       kMarkersFormat, kMarkersFormat));
+      // The header identifies the file; older files have a "# format:" line before it (checked above).
       if (content != kMarkersHeader)
         formats::throw_line_error(name, n, fmt::format("header {}, expected {}", formats::quote_for_message(content),
                                                        kMarkersHeader));

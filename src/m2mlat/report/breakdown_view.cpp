@@ -81,8 +81,8 @@ nlohmann::json breakdown_json(const analysis::Breakdown& b) {
 }
 
 std::string breakdown_csv(const BreakdownResults& scenarios) {
-  std::string out = fmt::format("# format: {}\n", kBreakdownFormat);
-  out += "scenario,pair,cause_id,cause_ns,effect_ns,m2m_ns,status,gap_stage,detail,stage,stage_ns\n";
+  // The header first, no comment line (as every CSV m2mlat writes for other tools: docs/formats.md).
+  std::string out = "scenario,pair,cause_id,cause_ns,effect_ns,m2m_ns,status,gap_stage,detail,stage,stage_ns\n";
   for (const auto* r : scenarios) {
     const auto& b = *r->breakdown;
     for (const auto& e : b.events) {
