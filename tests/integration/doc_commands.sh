@@ -35,7 +35,7 @@ BOARD = [
      "reads the boards' stores"),
     (r"^m2mlat budget --synctest sync\.json", 66, "reads a synchronisation test's result"),
     (r"^m2mlat packets operator\.pcap\b", 66, "reads the boards' packet captures"),
-    (r"^m2mlat bag station\.mcap\b", 66, "reads a ROS 2 bag the stack recorded"),
+    (r"^m2mlat bag (station|vehicle)\.mcap\b", 66, "reads a ROS 2 bag the stack recorded"),
     (r"^m2mlat schedtest --core 2\b", 2, "this machine has no CPU 2"),
     (r"^m2mlat report Static_Wifi\.csv Static_5G\.csv", 66, "the reference study's own paired CSVs"),
 ]
@@ -46,6 +46,9 @@ SKIP = [
     (r"^m2mlat schedtest\b", lambda: os.cpu_count() >= 3, "a 60 s cyclictest run"),
     (r"^m2mlat agent --source sim\b", ALWAYS, "a server that runs until stopped (agent_api.sh runs it)"),
     (r"^curl ", ALWAYS, "asks a running agent (agent_api.sh makes these requests)"),
+    (r"^m2mlat collect --agent http://127\.0\.0\.1:8470 --store campaign\.db --duration 2s|"
+     r"^python3 -c .*http://127\.0\.0\.1:8470/v1/status", ALWAYS,
+     "asks or pulls the simulated agent the block starts (markers_agent.sh does the same)"),
     (r"^openssl ", ALWAYS, "makes the TLS example's secret; no m2mlat in it"),
     (r"postgresql://|^PGHOST=|--url-file", ALWAYS,
      "needs the lab's PostgreSQL server (archive_roundtrip.sh runs push, list, stats, report on its own)"),

@@ -93,9 +93,9 @@ for r in rows:
           f'source {r["source"]}, sender to arrival {r["sender_to_capture_ns"] or "-"} ns')
 PY
 
-# The stored markers reach the stage breakdown of the campaign's pairs with no --markers file: every
-# pair in the statistics is counted, complete or not (the shell's marks fall between some causes and
-# their effects).
+# The stored markers reach the stage breakdown with no --markers file (without markers --stages is a
+# usage error); every pair in the statistics is counted, complete or not. (The paced agents give few
+# pairs in these two seconds, often none: docs/breakdown.md's tests check the stages themselves.)
 printf 'to_operator_cmd = first operator:operator_cmd after cause\nrest = effect\n' >stages.txt
 "$M2MLAT" stats campaign.db --stages stages.txt --json >breakdown.json || fail "stats --stages on the campaign failed"
 "$PY" - <<'PY'
@@ -104,7 +104,7 @@ scenarios = json.load(open("breakdown.json"))["scenarios"]
 assert scenarios, "no scenario"
 for s in scenarios:
     b = s["breakdown"]
-    assert b["events"] > 0 and b["complete"] + b["incomplete"] == b["events"], b
+    assert b["complete"] + b["incomplete"] == b["events"], b
     assert [x["name"] for x in b["stages"]] == ["to_operator_cmd", "rest"], b
     print(f'breakdown from the stored markers: {b["events"]} events, {b["complete"]} complete')
 PY
