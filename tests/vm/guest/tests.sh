@@ -457,7 +457,8 @@ t_g2g() {
     "ioctl_max_us=$(ns_to_us "$(json_field g2g-led.json ioctl_max_ns)")"
   [ "$(json_field g2g-led.json switches)" = $((2 * n)) ] || { show g2g-led.json; show g2g-led.err; rc=1; }
   [ "$(cat "$SIM/sim_gpio3/value")" = 0 ] || { info "led left the line high"; rc=1; }
-  [ "$(grep -c '^guest,led,' g2g-led.csv)" = $((2 * n)) ] || { info "the events file has not every switch"; rc=1; }
+  # m2mlat-events/2: scenario, session and label come first, then node and channel.
+  [ "$(grep -c ',guest,led,' g2g-led.csv)" = $((2 * n)) ] || { info "the events file has not every switch"; rc=1; }
   "$M2MLAT" stats g2g.db --cause guest/led --effect guest/photo --edge rising --json >g2g-stats.json \
     2>g2g-stats.err || { info "stats failed"; show g2g-stats.err; return 1; }
   pairs=$(sed -n 's/^ *"n": *\([0-9]*\),*$/\1/p' g2g-stats.json | head -n1)
@@ -580,7 +581,9 @@ t_gyro_led() {
 # guest's stalls under TCG).
   awk -v bound="$GYRO_LED_BOUND_US" -v n="$GYRO_LED_N" '
     FILENAME == "gl.motion" { b[$1] = $2; a[$1] = $3; next }
-    FILENAME == "gl-led.csv" { if ($2 == "led" && $3 == "rising") l[nl++] = $5; next }
+    FILENAME == "gl-led.csv" && /^#/ { next }
+    FILENAME == "gl-led.csv" && !lh { lh = 1; for (i = 1; i <= NF; i++) lc[$i] = i; next }
+    FILENAME == "gl-led.csv" { if ($lc["channel"] == "led" && $lc["edge"] == "rising") l[nl++] = $lc["time_ns"]; next }
     /^[0-9]/ { split($0, f, ","); if (f[3] != 0 && prev == 0) t[nt++] = f[1] " " f[2]; prev = f[3] }
     END {
       if (nl != n || nt != n) { printf "%d LED switch-ons, %d onsets in the trace, expected %d\n", nl, nt, n; exit 1 }
