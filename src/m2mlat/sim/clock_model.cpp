@@ -142,13 +142,21 @@ void ClockPair::discipline(Node& node, double reference_error_ns) {
   node.measured_ns = measured;
   node.dispersion_var += kDispersionAverage * (measured * measured - node.dispersion_var);
   const auto interval = static_cast<double>(sync_.poll_interval.count());
-  node.correction += sync_.frequency_gain * measured / interval;
   // The daemon's corrections (frequency and offset together) are limited to max_slew_ppm, as
   // chrony's maxslewrate limits them: a large measured offset is then slewed away over several polls.
-  // min/max of doubles are exact, so the clamp keeps the run bit-identical on every platform.
+  // While the limit holds the rate back the frequency correction stays as it was (a daemon knows the
+  // offset left is its own slew's doing, not a frequency error): integrating it would wind the
+  // correction up by frequency_gain x offset every poll of a long slew, and the clock would overshoot
+  // by far more than the offset. min/max of doubles are exact: the run stays bit-identical everywhere.
   const double limit = sync_.max_slew_ppm * 1e-6;
-  const double slew = std::clamp(-node.correction - sync_.loop_gain * measured / interval, -limit, limit);
-  node.rate = node.oscillator + slew;
+  const double correction = node.correction + sync_.frequency_gain * measured / interval;
+  const double wanted = -correction - sync_.loop_gain * measured / interval;
+  if (wanted >= -limit && wanted <= limit) {
+    node.correction = correction;
+    node.rate = node.oscillator + wanted;
+  } else {
+    node.rate = node.oscillator + std::clamp(-node.correction - sync_.loop_gain * measured / interval, -limit, limit);
+  }
 }
 
 void ClockPair::step() {
