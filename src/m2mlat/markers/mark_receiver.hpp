@@ -2,7 +2,9 @@
 // each on arrival. The stamp is the kernel's receive time (SO_TIMESTAMPNS, CLOCK_REALTIME: taken
 // when the datagram reached the socket, before any wake-up of this program), or, where the kernel
 // gives none, clock_gettime(CLOCK_REALTIME) right after the read; the marker's source says which
-// (StampSource::kernel / receiver).
+// (StampSource::kernel / receiver). The kernel switches receive stamping on through deferred work when
+// the socket asks for it, so a datagram in the first moments after the port opens may carry the
+// time it was read instead; the agent opens the port at start, long before the first real marker.
 #pragma once
 
 #include <cstdint>
