@@ -11,12 +11,39 @@ source "$HERE/collect_lib.bash"
 start_agent vehicle effect 5 vehicle.db 127.0.0.1:0 --gyro sim --gyro-period 1ms --commit-interval 50ms
 URL="http://127.0.0.1:$AGENT_PORT"
 
+# wait_samples SESSION N: waits until the agent has committed N raw samples of SESSION. The sessions'
+# sample counts are checked below (more than 800 each); a fixed sleep gave them on a quiet machine
+# only (a loaded one reads the chip less often, or the agent starts late), so the test waits for
+# the samples themselves; 60 s is a safety net.
+wait_samples() {
+  "$PY" - "$1" "$2" <<'PY' || fail "session $1: fewer than $2 samples committed after 60 s"
+import sqlite3, sys, time
+session, want = int(sys.argv[1]), int(sys.argv[2])
+deadline = time.monotonic() + 60
+while time.monotonic() < deadline:
+    try:
+        con = sqlite3.connect("file:vehicle.db?mode=ro", uri=True, timeout=5)
+        try:
+            have = con.execute("SELECT coalesce(sum(count), 0) FROM rate_blocks WHERE session_id = ?",
+                               (session,)).fetchone()[0]
+        finally:
+            con.close()
+        if have >= want:
+            sys.exit(0)
+    except sqlite3.OperationalError:  # not created yet
+        pass
+    time.sleep(0.05)
+sys.exit(1)
+PY
+}
+
 start_collect() {
   "$M2MLAT" collect --agent "$URL" --store campaign.db --quiet >>collect.out 2>>collect.err &
   COLLECT_PID=$!
 }
 start_collect
 sleep 1.5
+wait_samples 1 1000
 # A second session, begun through the API while the sampler runs: the boundary falls mid-stream.
 "$PY" - "$URL" <<'PY'
 import json, sys, urllib.request
@@ -31,6 +58,7 @@ start_collect
 sleep 1
 kill -TERM "$COLLECT_PID"; wait "$COLLECT_PID" || fail "collect did not end cleanly on SIGTERM"
 COLLECT_PID=
+wait_samples 2 1000
 "$M2MLAT" collect --agent "$URL" --store campaign.db --stop-session --duration 1s --quiet >final.out 2>final.err ||
   { cat final.err >&2; fail "the final collect failed"; }
 

@@ -109,13 +109,19 @@ PIDS+=($AGENT)
 for _ in $(seq 100); do grep -q '^listening ' agent.out && break; sleep 0.1; done
 URL="http://$(sed -n 's/^listening //p' agent.out)"
 [ "$URL" != "http://" ] || { cat agent.err >&2; fail "the agent did not start"; }
-sleep 1.5
 $PY - "$URL" <<'PY' || { cat agent.err >&2; fail "the agent's clock samples"; }
-import json, sys, urllib.request
+import json, sys, time, urllib.request
 url = sys.argv[1]
-rows = [json.loads(l) for l in urllib.request.urlopen(url + "/v1/clock-samples?after=0").read().decode().splitlines()]
-chrony = [r for r in rows if r["source"] == "chrony"]
-kernel = [r for r in rows if r["source"] == "adjtimex"]
+# Three of each: 1 s at the intervals above, but a loaded machine runs chronyc and commits later,
+# so wait for them (a fixed 1.5 s was not always enough); 30 s is a safety net.
+deadline = time.monotonic() + 30
+while True:
+    rows = [json.loads(l) for l in urllib.request.urlopen(url + "/v1/clock-samples?after=0").read().decode().splitlines()]
+    chrony = [r for r in rows if r["source"] == "chrony"]
+    kernel = [r for r in rows if r["source"] == "adjtimex"]
+    if (len(chrony) >= 3 and len(kernel) >= 3) or time.monotonic() > deadline:
+        break
+    time.sleep(0.1)
 assert len(chrony) >= 3 and len(kernel) >= 3, rows
 for r in chrony:
     assert r["synchronised"] and r["detail"]["stratum"] == 2 and r["detail"]["ref_name"] == "127.0.0.1", r

@@ -81,8 +81,13 @@ def trickle():
 t0 = time.monotonic()
 threading.Thread(target=trickle, daemon=True).start()
 worst = answered_within(30, 1.0)
+# None closed before its deadline (5 s after its first byte, sent at t0 or just after): checked at
+# t0 + 3 s, or at once if the answers took longer (a loaded machine), while still before t0 + 4.5 s.
 time.sleep(max(0, t0 + 3.0 - time.monotonic()))
-assert not any(closed(s, 0.01) for s in slow), "a slow connection closed before its deadline"
+if time.monotonic() < t0 + 4.5:
+    assert not any(closed(s, 0.01) for s in slow), "a slow connection closed before its deadline"
+else:
+    print("slow: the 30 answers took %.1f s: too late to check that none closed early" % (time.monotonic() - t0))
 time.sleep(max(0, t0 + 5.0 - time.monotonic()))
 open_ = [s for s in slow if not closed(s, max(0.05, t0 + 6.5 - time.monotonic()))]
 stop.set()
@@ -92,9 +97,12 @@ print("slow: 30 answers, slowest %.3f s; 100 slow connections closed at the dead
 # 500 idle connections to each, then valid requests.
 for port in (agent, dash):
     idle = [socket.create_connection(("127.0.0.1", port)) for _ in range(500)]
-    time.sleep(0.2)
+    # Once the server has taken all 500 (max_connections 256), the 244 oldest are closed to make
+    # room: wait for that (the kernel completes the connections before the server accepts them; a
+    # loaded machine accepts 500 slowly), so that the answers below are timed, not the backlog.
+    assert closed(idle[0], 10.0), "the oldest idle connection was not closed to make room"
+    assert closed(idle[500 - 256 - 1], 10.0), "the server did not take the 500 idle connections"
     worst = answered_within(20, 1.0)
-    assert closed(idle[0], 1.0), "the oldest idle connection was not closed to make room"
     print("idle: port %d, 20 answers after 500 idle connections, slowest %.3f s" % (port, worst))
     for s in idle:
         s.close()

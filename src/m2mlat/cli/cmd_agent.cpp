@@ -16,10 +16,10 @@
 #include "m2mlat/agent/agent.hpp"
 #include "m2mlat/capture/stop_signal.hpp"
 #include "m2mlat/cli/command.hpp"
+#include "m2mlat/cli/host_port.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/cli/record_setup.hpp"
 #include "m2mlat/core/error.hpp"
-#include "m2mlat/core/number.hpp"
 #include "m2mlat/core/output_file.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/net/auth.hpp"
@@ -38,27 +38,6 @@ struct AgentCommand {
   std::string mark_port_file;
 };
 
-// "HOST:PORT" or "[V6]:PORT" -> host, port.
-std::pair<std::string, int> split_listen(const std::string& text) {
-  const auto colon = text.rfind(':');
-  const auto bad = [&] {
-    return core::Error(core::ErrorKind::usage,
-                       fmt::format("--listen '{}': use HOST:PORT, e.g. 127.0.0.1:8470 or [::1]:0", text));
-  };
-  if (colon == std::string::npos || colon == 0) throw bad();
-  auto host = text.substr(0, colon);
-  if (host.front() == '[') {
-    if (host.back() != ']' || host.size() < 3) throw bad();
-    host = host.substr(1, host.size() - 2);
-  } else if (host.find(':') != std::string::npos) {
-    throw bad();  // an IPv6 address needs brackets
-  }
-  const auto port_text = text.substr(colon + 1);
-  std::uint16_t port = 0;  // digits only, at most 5 of them
-  if (port_text.size() > 5 || !core::parse_integer(port_text, port)) throw bad();
-  return {host, port};
-}
-
 int run_agent(AgentCommand& c) {
   auto& flags = c.record;
   flags.sim_paced = true;  // an agent is live: the simulated rig runs in real time
@@ -72,7 +51,7 @@ int run_agent(AgentCommand& c) {
   options.store_path = flags.store_path;
   options.store_options = setup.store_options;
   options.recorder = setup.options;
-  const auto [host, port] = split_listen(c.listen);
+  const auto [host, port] = split_host_port("--listen", c.listen, "127.0.0.1:8470 or [::1]:0", true);
   options.server.host = host;
   options.server.port = port;
   options.server.token = net::load_token(c.token_file.empty() ? std::nullopt : std::optional(c.token_file));

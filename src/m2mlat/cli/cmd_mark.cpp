@@ -12,11 +12,12 @@
 #include <cerrno>
 #include <cstring>
 #include <memory>
+#include <string>
 
 #include "m2mlat/cli/command.hpp"
+#include "m2mlat/cli/host_port.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/fd.hpp"
-#include "m2mlat/core/number.hpp"
 #include "m2mlat/markers/mark_datagram.hpp"
 
 namespace m2mlat::cli {
@@ -30,38 +31,17 @@ struct MarkCommand {
   std::string to = "127.0.0.1:8471";
 };
 
-// "HOST:PORT" or "[V6]:PORT" -> host, port text (the host may be a name).
-std::pair<std::string, std::string> split_to(const std::string& text) {
-  const auto colon = text.rfind(':');
-  const auto bad = [&] {
-    return core::Error(core::ErrorKind::usage,
-                       fmt::format("--to '{}': use HOST:PORT, e.g. 127.0.0.1:8471 or [::1]:8471", text));
-  };
-  if (colon == std::string::npos || colon == 0) throw bad();
-  auto host = text.substr(0, colon);
-  if (host.front() == '[') {
-    if (host.back() != ']' || host.size() < 3) throw bad();
-    host = host.substr(1, host.size() - 2);
-  } else if (host.find(':') != std::string::npos) {
-    throw bad();
-  }
-  const auto port = text.substr(colon + 1);
-  std::uint16_t value = 0;
-  if (port.size() > 5 || !core::parse_integer(port, value) || value == 0) throw bad();
-  return {host, port};
-}
-
 int run_mark(const MarkCommand& c) {
   markers::MarkDatagram mark;
   mark.name = c.name;
   mark.key = c.key;
   format_mark(mark);  // a bad name or key is a usage error before anything is sent
-  const auto [host, port] = split_to(c.to);
+  const auto [host, port] = split_host_port("--to", c.to, "127.0.0.1:8471 or [::1]:8471", false);
   addrinfo hints{};
   hints.ai_family = AF_UNSPEC;
   hints.ai_socktype = SOCK_DGRAM;
   addrinfo* found = nullptr;
-  if (const int rc = ::getaddrinfo(host.c_str(), port.c_str(), &hints, &found); rc != 0 || found == nullptr)
+  if (const int rc = ::getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &found); rc != 0 || found == nullptr)
     throw core::Error(core::ErrorKind::usage, fmt::format("--to '{}': {}", c.to, ::gai_strerror(rc)));
   std::unique_ptr<addrinfo, decltype(&::freeaddrinfo)> owned(found, &::freeaddrinfo);
   core::Fd fd(::socket(found->ai_family, SOCK_DGRAM | SOCK_CLOEXEC, 0));

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <string_view>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,19 @@ std::vector<PairGroup> groups_of(std::span<const PairRow> pairs, const PairExpor
   return {PairGroup{options.scenario, options.cause, options.effect, pairs.size()}};
 }
 
+// A group's four names with their columns, in file order: the same on every row of the group, so
+// each writer formats them once per group.
+struct NameField {
+  std::string_view column;
+  const std::string* value;
+};
+std::array<NameField, 4> name_fields(const PairGroup& group) {
+  return {{{"cause_node", &group.cause.node},
+           {"cause_channel", &group.cause.channel},
+           {"effect_node", &group.effect.node},
+           {"effect_channel", &group.effect.channel}}};
+}
+
 void check_options(std::span<const PairRow> pairs, const PairExportOptions& options,
                    std::span<const PairGroup> groups) {
   auto check_size = [&](std::size_t size, std::string_view what) {
@@ -44,13 +58,12 @@ void check_options(std::span<const PairRow> pairs, const PairExportOptions& opti
   for (const PairGroup& group : groups) {
     total += group.count;
     // The names must read back: the same rule as for events.
-    core::Event probe;
-    probe.node = group.cause.node;
-    probe.channel = group.cause.channel;
-    check_exportable(probe, 0);
-    probe.node = group.effect.node;
-    probe.channel = group.effect.channel;
-    check_exportable(probe, 0);
+    for (const core::ChannelRef* where : {&group.cause, &group.effect}) {
+      core::Event probe;
+      probe.node = where->node;
+      probe.channel = where->channel;
+      check_exportable(probe, 0);
+    }
     if (group.scenario.find_first_of("\r\n") != std::string::npos)
       throw core::Error(core::ErrorKind::data, "a scenario name holds a line break");
   }
@@ -95,14 +108,10 @@ void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const Pa
     append_csv_field(scenario, group.scenario);
     scenario.push_back(',');
     std::string names;
-    append_csv_field(names, group.cause.node);
-    names.push_back(',');
-    append_csv_field(names, group.cause.channel);
-    names.push_back(',');
-    append_csv_field(names, group.effect.node);
-    names.push_back(',');
-    append_csv_field(names, group.effect.channel);
-    names.push_back(',');
+    for (const NameField& field : name_fields(group)) {
+      append_csv_field(names, *field.value);
+      names.push_back(',');
+    }
     for (const std::size_t end = i + group.count; i < end; ++i) {
       const PairRow& pair = pairs[i];
       const core::Duration latency = pair.latency();
@@ -150,14 +159,12 @@ void write_pairs_jsonl(std::ostream& out, std::span<const PairRow> pairs, const 
     scenario.append(",\"scenario\":");
     append_json_string(scenario, group.scenario);
     std::string names;
-    names.append(",\"cause_node\":");
-    append_json_string(names, group.cause.node);
-    names.append(",\"cause_channel\":");
-    append_json_string(names, group.cause.channel);
-    names.append(",\"effect_node\":");
-    append_json_string(names, group.effect.node);
-    names.append(",\"effect_channel\":");
-    append_json_string(names, group.effect.channel);
+    for (const NameField& field : name_fields(group)) {
+      names.append(",\"");
+      names.append(field.column);
+      names.append("\":");
+      append_json_string(names, *field.value);
+    }
     for (const std::size_t end = i + group.count; i < end; ++i) {
       const PairRow& pair = pairs[i];
       const core::Duration latency = pair.latency();

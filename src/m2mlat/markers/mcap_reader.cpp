@@ -172,6 +172,39 @@ std::string mcap_decompress(std::string_view compression, const std::uint8_t* da
                                 core::printable(compression)));
 }
 
+// A record's head: its opcode and the length of its content, which follows the 9 bytes of head.
+struct McapRecordHead {
+  std::uint8_t op = 0;
+  std::size_t length = 0;
+};
+
+// The head of the record at byte `at` of `size` bytes (the file's, or a chunk's records when
+// `in_chunk`), checked to lie inside them with its content; `where` names the record in the errors.
+McapRecordHead mcap_record_head(const std::uint8_t* data, std::size_t size, std::size_t at, const std::string& where,
+                                bool in_chunk) {
+  if (size - at < 9) {
+    if (in_chunk)
+      throw core::Error(core::ErrorKind::data, fmt::format("{}: a record's opcode and length cut short: damaged", where));
+    throw core::Error(core::ErrorKind::data,
+                      fmt::format("{}: truncated: the file ends {} (no Footer record): a recording that was cut short",
+                                  where, at == size ? "there" : "inside a record's opcode and length"));
+  }
+  const std::uint8_t op = data[at];
+  std::uint64_t length = 0;  // little-endian
+  for (int i = 8; i >= 1; --i) length = (length << 8) | data[at + static_cast<std::size_t>(i)];
+  if (length > size - at - 9) {
+    if (in_chunk)
+      throw core::Error(core::ErrorKind::data,
+                        fmt::format("{}: record (opcode {:#04x}) of {} bytes runs past the chunk's end: damaged", where,
+                                    op, length));
+    throw core::Error(core::ErrorKind::data,
+                      fmt::format("{}: truncated: record (opcode {:#04x}) of {} bytes runs past the end of the file "
+                                  "({} bytes)",
+                                  where, op, length, size));
+  }
+  return {op, static_cast<std::size_t>(length)};
+}
+
 class McapParse {
  public:
   McapParse(const std::string& path, const McapOnMessage& on_message) : path_(path), on_message_(on_message) {}
@@ -183,21 +216,9 @@ class McapParse {
     std::size_t at = kMcapMagic.size();
     bool data_end = false;
     for (;;) {
-      if (size - at < 9)
-        throw core::Error(core::ErrorKind::data,
-                          fmt::format("{}: offset {}: truncated: the file ends {} (no Footer record): a "
-                                      "recording that was cut short",
-                                      path_, at, at == size ? "there" : "inside a record's opcode and length"));
-      const std::uint8_t op = data[at];
-      std::uint64_t length = 0;
-      for (int i = 8; i >= 1; --i) length = (length << 8) | data[at + static_cast<std::size_t>(i)];
+      const std::string where = fmt::format("{}: offset {}", path_, at);
+      const auto [op, n] = mcap_record_head(data, size, at, where, false);
       const std::size_t content = at + 9;
-      if (length > size - content)
-        throw core::Error(core::ErrorKind::data,
-                          fmt::format("{}: offset {}: truncated: record (opcode {:#04x}) of {} bytes runs past the "
-                                      "end of the file ({} bytes)",
-                                      path_, at, op, length, size));
-      const auto n = static_cast<std::size_t>(length);
       if (op == kOpFooter) {
         const std::size_t end = content + n;
         if (size - end != kMcapMagic.size() || std::memcmp(data + end, kMcapMagic.data(), kMcapMagic.size()) != 0)
@@ -209,7 +230,7 @@ class McapParse {
       }
       if (op == kOpDataEnd) data_end = true;
       // After Data End comes the summary section: it repeats schemas and channels; skipped.
-      if (!data_end) record(op, data + content, n, fmt::format("{}: offset {}", path_, at), at, nullptr);
+      if (!data_end) record(op, data + content, n, where, at, nullptr);
       at = content + n;
     }
   }
@@ -281,18 +302,9 @@ class McapParse {
         std::size_t at = 0;
         while (at < plain.size()) {
           const std::string inner = fmt::format("{}: chunk at offset {}, byte {}", path_, offset, at);
-          if (plain.size() - at < 9)
-            throw core::Error(core::ErrorKind::data, fmt::format("{}: a record's opcode and length cut short: damaged",
-                                                                 inner));
-          const std::uint8_t inner_op = bytes[at];
-          std::uint64_t length = 0;
-          for (int i = 8; i >= 1; --i) length = (length << 8) | bytes[at + static_cast<std::size_t>(i)];
-          if (length > plain.size() - at - 9)
-            throw core::Error(core::ErrorKind::data,
-                              fmt::format("{}: record (opcode {:#04x}) of {} bytes runs past the chunk's end: damaged",
-                                          inner, inner_op, length));
-          record(inner_op, bytes + at + 9, static_cast<std::size_t>(length), inner, at, &offset);
-          at += 9 + static_cast<std::size_t>(length);
+          const auto [inner_op, length] = mcap_record_head(bytes, plain.size(), at, inner, true);
+          record(inner_op, bytes + at + 9, length, inner, at, &offset);
+          at += 9 + length;
         }
         break;
       }

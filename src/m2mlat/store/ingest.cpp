@@ -10,7 +10,9 @@
 
 #include <map>
 #include <string>
+#include <string_view>
 #include <utility>
+#include <vector>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/version.hpp"
@@ -40,6 +42,23 @@ bool take(const std::string& path, std::string_view what, std::size_t index, std
                                                   what, index, id, last));
   last = id;
   return true;
+}
+
+// Stores the batch's rows of one kind that carry an origin `id` and a session id (clock samples,
+// losses, rate blocks, markers): those beyond the cursor, in order, each with the origin's session id
+// replaced by the local one that `local_id(origin session id, what, index)` gives.
+template <class Stored, class Row, class LocalId>
+void ingest_rows(const std::string& path, std::string_view what, const std::vector<Stored>& items,
+                 Row Stored::*row_of, std::int64_t cursor, std::int64_t& last, sqlite::Statement& insert,
+                 void (*bind)(sqlite::Statement&, const Row&), const LocalId& local_id) {
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (!take(path, what, i, items[i].id, cursor, last)) continue;
+    Row row = items[i].*row_of;
+    row.session_id = local_id(row.session_id, what, i);
+    bind(insert, row);
+    insert.step();
+    insert.reset();
+  }
 }
 
 }  // namespace
@@ -164,43 +183,17 @@ IngestCursor Store::ingest(const IngestBatch& batch) {
     s.insert_event.step();
     s.insert_event.reset();
   }
-  for (std::size_t i = 0; i < batch.clock_samples.size(); ++i) {
-    const StoredClockSample& item = batch.clock_samples[i];
-    if (!take(path(), "clock sample", i, item.id, before.clock_samples, after.clock_samples)) continue;
-    ClockSample sample = item.sample;
-    sample.session_id = local_session(sample.session_id, "clock sample", i).id;
-    rows::bind_clock_sample(s.insert_clock_sample, sample);
-    s.insert_clock_sample.step();
-    s.insert_clock_sample.reset();
-  }
-  for (std::size_t i = 0; i < batch.losses.size(); ++i) {
-    const StoredLoss& item = batch.losses[i];
-    if (!take(path(), "loss", i, item.id, before.losses, after.losses)) continue;
-    Loss loss = item.loss;
-    loss.session_id = local_session(loss.session_id, "loss", i).id;
-    rows::bind_loss(s.insert_loss, loss);
-    s.insert_loss.step();
-    s.insert_loss.reset();
-  }
-
-  for (std::size_t i = 0; i < batch.rate_blocks.size(); ++i) {
-    const StoredRateBlock& item = batch.rate_blocks[i];
-    if (!take(path(), "rate block", i, item.id, before.rate_blocks, after.rate_blocks)) continue;
-    RateBlock block = item.block;
-    block.session_id = local_session(block.session_id, "rate block", i).id;
-    rows::bind_rate_block(s.insert_rate_block, block);
-    s.insert_rate_block.step();
-    s.insert_rate_block.reset();
-  }
-  for (std::size_t i = 0; i < batch.markers.size(); ++i) {
-    const StoredMarker& item = batch.markers[i];
-    if (!take(path(), "marker", i, item.id, before.markers, after.markers)) continue;
-    MarkerRecord marker = item.marker;
-    marker.session_id = local_session(marker.session_id, "marker", i).id;
-    rows::bind_marker(s.insert_marker, marker);
-    s.insert_marker.step();
-    s.insert_marker.reset();
-  }
+  const auto local_id = [&](std::int64_t origin_id, std::string_view what, std::size_t index) {
+    return local_session(origin_id, what, index).id;
+  };
+  ingest_rows(path(), "clock sample", batch.clock_samples, &StoredClockSample::sample, before.clock_samples,
+              after.clock_samples, s.insert_clock_sample, rows::bind_clock_sample, local_id);
+  ingest_rows(path(), "loss", batch.losses, &StoredLoss::loss, before.losses, after.losses, s.insert_loss,
+              rows::bind_loss, local_id);
+  ingest_rows(path(), "rate block", batch.rate_blocks, &StoredRateBlock::block, before.rate_blocks,
+              after.rate_blocks, s.insert_rate_block, rows::bind_rate_block, local_id);
+  ingest_rows(path(), "marker", batch.markers, &StoredMarker::marker, before.markers, after.markers,
+              s.insert_marker, rows::bind_marker, local_id);
 
   sqlite::Statement cursor(s.db,
                            "UPDATE origins SET event_seq = ?2, clock_sample_id = ?3, loss_id = ?4, "

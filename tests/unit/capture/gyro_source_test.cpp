@@ -110,7 +110,12 @@ TEST(GyroSource, StopEndsAnOpenEndedRun) {
   Mpu6050 chip(twin);
   GyroSource source(chip, {.period = std::chrono::milliseconds(1)});
   source.start();
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  // Until the first read is in (a fixed sleep is not enough on a loaded machine, where the thread may
+  // not have run yet); 10 s is only a safety net.
+  const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (source.summary().reads == 0 && std::chrono::steady_clock::now() < limit)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_GE(source.summary().reads, 1u);
   EXPECT_TRUE(source.running());
   source.stop();
   source.join();

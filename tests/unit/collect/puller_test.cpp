@@ -42,7 +42,9 @@ PullerOptions options_for(const AgentTwin& twin, const std::string& campaign) {
   o.url = twin.url();
   o.store_path = campaign;
   o.client.connect_timeout = std::chrono::milliseconds(300);
-  o.client.read_timeout = std::chrono::milliseconds(3000);
+  // A safety net only (the frozen-agent test sets its own): a page of 10,000 events from the twin took
+  // more than 3 s under the sanitizers on a loaded machine, and the catch-up failed on it.
+  o.client.read_timeout = std::chrono::seconds(30);
   o.backoff_min = std::chrono::milliseconds(20);
   o.backoff_max = std::chrono::milliseconds(200);
   o.side_interval = std::chrono::milliseconds(100);
@@ -308,7 +310,7 @@ TEST(Coordinator, PullsTwoAgentsStartsAndStopsTheirSessions) {
   CoordinatorOptions o;
   o.agents = {op.url(), veh.url() + "/"};
   o.store_path = dir.file("campaign.db");
-  o.client.read_timeout = std::chrono::milliseconds(3000);
+  o.client.read_timeout = std::chrono::seconds(30);  // a safety net, as in options_for
   o.start_session = NewSession{"run-1", "bench"};
   o.stop_session = true;
   Errors errors;

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <map>
@@ -203,7 +204,13 @@ TEST(AgentClient, StreamsCommittedEventsInOrderUntilAHandlerStops) {
   Sessions sessions(client);
   std::vector<store::StoredEvent> got;
   int chunks = 0;
+  // The new events come after the stream's first chunk: started at once, a writer could append all
+  // of them before a late stream (a loaded machine) began, and they would come in one chunk.
+  std::atomic<bool> first_chunk{false};
   std::thread writer([&] {
+    const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(10);  // a safety net
+    while (!first_chunk && std::chrono::steady_clock::now() < limit)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
     for (int i = 0; i < 5; ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
       twin.append(3);
@@ -217,6 +224,7 @@ TEST(AgentClient, StreamsCommittedEventsInOrderUntilAHandlerStops) {
       },
       [&] {
         ++chunks;
+        first_chunk = true;
         return got.size() < 6 + 15;
       });
   writer.join();
