@@ -217,8 +217,6 @@
         y2: barTop + barHeight + 2 }));
       svg.appendChild(el('text', { class: 'tick axis-label', x: w - frame.right, y: h - 4, 'text-anchor': 'end' },
         `time from the cause (ms; mean M2M ${fmtMs(total)})`));
-      svg.appendChild(el('text', { class: 'tick axis-label', x: frame.left - 6, y: barTop + barHeight / 2 + 4,
-        'text-anchor': 'end' }, s.scenario || ''));
     }
     const body = $('stages').tBodies[0];
     while (body.firstChild) body.removeChild(body.firstChild);
