@@ -177,6 +177,71 @@
       (loop.warnings.length ? ' \u00b7 ' + loop.warnings.join('; ') : ''));
   }
 
+  // ---- the stage breakdown (collect --stages): one stacked bar of the stages' means, the table ------
+  // Six colours, used in turn (stage-0 .. stage-5 in dashboard.css).
+  const stageClass = (k) => 'stage-' + (k % 6);
+  function drawBreakdown(s) {
+    const b = s.breakdown;
+    $('breakdown').hidden = !b;
+    if (!b) return;
+    setText('breakdown-scenario', s.scenario || '-');
+    setText('breakdown-counts', `(${b.complete} complete / ${b.incomplete} incomplete of ${b.events} events)`);
+    const svg = $('breakdown-bar');
+    const [w, h] = [640, 96];
+    const barTop = 14, barHeight = 34;
+    clear(svg);
+    const total = b.m2m_mean_ms;
+    if (b.complete === 0 || total === null || !(total > 0)) {
+      empty(svg, w, h, 'no complete chain yet');
+    } else {
+      const xs = (ms) => frame.left + (ms / total) * (w - frame.left - frame.right);
+      let at = 0;
+      b.stages.forEach((st, k) => {
+        const mean = Math.max(st.mean_ms || 0, 0);
+        const x0 = xs(at), x1 = xs(at + mean);
+        const rect = el('rect', { class: 'segment ' + stageClass(k), x: x0, y: barTop, width: Math.max(x1 - x0, 0),
+          height: barHeight, 'data-stage': st.name });
+        rect.appendChild(el('title', {}, `${st.name}: mean ${fmtMs(st.mean_ms, 3)}, median ${fmtMs(st.median_ms, 3)}`));
+        svg.appendChild(rect);
+        // The stage's name inside its segment when it fits (about 6.5 px a character at 11 px).
+        const label = `${st.name} ${fmtMs(st.mean_ms)}`;
+        if (x1 - x0 > label.length * 6.5 + 6)
+          svg.appendChild(el('text', { class: 'stage-label', x: (x0 + x1) / 2, y: barTop + barHeight / 2 + 4,
+            'text-anchor': 'middle' }, label));
+        at += mean;
+      });
+      const xt = ticks(0, total, 5).filter((t) => t <= total);
+      for (const t of xt)
+        svg.appendChild(el('text', { class: 'tick', x: xs(t), y: barTop + barHeight + 16, 'text-anchor': 'middle' }, String(t)));
+      svg.appendChild(el('line', { class: 'axis', x1: frame.left, x2: w - frame.right, y1: barTop + barHeight + 2,
+        y2: barTop + barHeight + 2 }));
+      svg.appendChild(el('text', { class: 'tick axis-label', x: w - frame.right, y: h - 4, 'text-anchor': 'end' },
+        `time from the cause (ms; mean M2M ${fmtMs(total)})`));
+    }
+    const body = $('stages').tBodies[0];
+    while (body.firstChild) body.removeChild(body.firstChild);
+    b.stages.forEach((st, k) => {
+      const tr = document.createElement('tr');
+      const name = document.createElement('td');
+      const swatch = document.createElement('span');
+      swatch.className = 'swatch ' + stageClass(k);
+      name.append(swatch, st.name);
+      tr.appendChild(name);
+      const cells = [[st.ends_at, ''], [fmtMs(st.median_ms, 3), 'num'], [fmtMs(st.iqr_ms, 3), 'num'],
+        [fmtMs(st.mean_ms, 3), 'num'], [st.share === null ? '-' : (st.share * 100).toFixed(1) + ' %', 'num']];
+      for (const [text, cls] of cells) {
+        const td = document.createElement('td');
+        if (cls) td.className = cls;
+        td.textContent = text;
+        tr.appendChild(td);
+      }
+      body.appendChild(tr);
+    });
+    const gaps = b.incomplete_by_reason.map((g) => `${g.count} ${g.reason} at ${g.stage}`);
+    setText('breakdown-incomplete', 'incomplete chains: ' + (gaps.length ? gaps.join(', ') : 'none') +
+      ` · M2M median ${fmtMs(b.m2m_median_ms, 3)} over the complete events`);
+  }
+
   // ---- boards down: the red banner at the top and the badge -------------------------------------
   // A board stale or unreachable is named at the top at once (the table below says more); the badge
   // then turns red too, whatever the state of the page's own link to the coordinator.
@@ -218,6 +283,7 @@
     setText('unmatched', `${s.cause_unmatched} / ${s.effect_unmatched}`);
     setText('bounces', `${s.bounces} bounces; edges ${s.cause_events} / ${s.effect_events}`);
     drawLoop(s);
+    drawBreakdown(s);
     drawStrip(snap);
     drawHistogram(snap);
     drawNodes(snap);

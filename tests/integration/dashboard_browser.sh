@@ -18,9 +18,10 @@ fi
 
 recorders=()
 watcher=""
+sender=""
 cleanup() {
-  for pid in "${recorders[@]}" $watcher; do kill "$pid" 2>/dev/null || true; done
-  for pid in "${recorders[@]}" $watcher; do wait "$pid" 2>/dev/null || true; done
+  for pid in "${recorders[@]}" $watcher $sender; do kill "$pid" 2>/dev/null || true; done
+  for pid in "${recorders[@]}" $watcher $sender; do wait "$pid" 2>/dev/null || true; done
   rm -rf "$WORK"
 }
 # dashboard_url LOG: waits for the "dashboard URL" line a live view prints on stderr.
@@ -108,36 +109,75 @@ assert last[1] == "%.1f" % lat["median_ms"] and last[2] == "%.1f" % lat["iqr_ms"
 print("final block = m2mlat stats: %s samples, median %s ms" % (last[0], last[1]))
 PY
 
-# The real coordinator with two simulated agents (the live view wired into `m2mlat collect`).
+# The real coordinator with two simulated agents (the live view wired into `m2mlat collect`), with
+# the live stage breakdown (`--stages`): the agents take software markers on --mark-port, a stack's
+# marks are sent to both (mark_sender.py), and the simulated rig starts now, so the marks' arrival
+# stamps and the simulated edges share one time line.
+START=$(date +%s)
 for side in "operator cause" "vehicle effect"; do
   read -r node role <<< "$side"
   "$M2MLAT" agent --source sim --seed 5 --role "$role" --node "$node" --store "agent-$node.db" \
-    --scenario agents --listen 127.0.0.1:0 > "agent-$node.log" 2>&1 &
+    --scenario agents --listen 127.0.0.1:0 --sim-set "start=$START" --mark-port 0 > "agent-$node.log" 2>&1 &
   recorders+=($!)
 done
 ports=()
+marks=()
 for node in operator vehicle; do
   for _ in $(seq 100); do
     port=$(sed -n 's/^listening 127\.0\.0\.1:\([0-9]*\)$/\1/p' "agent-$node.log")
-    [ -n "$port" ] && break
+    mark=$(grep -oE 'marks 127\.0\.0\.1:[0-9]+' "agent-$node.log" | sed 's/.*://' || true)
+    [ -n "$port" ] && [ -n "$mark" ] && break
     sleep 0.1
   done
-  [ -n "$port" ] || { cat "agent-$node.log" >&2; fail "agent $node did not start"; }
+  [ -n "$port" ] && [ -n "$mark" ] || { cat "agent-$node.log" >&2; fail "agent $node did not start"; }
   ports+=("$port")
+  marks+=("$mark")
 done
+"$PY" "$HERE/mark_sender.py" "${marks[0]}" "${marks[1]}" 60 > sender.out &
+sender=$!
+printf '%s\n' 'to_command = first operator:cmd after cause' 'to_apply = same key vehicle:apply' \
+  'actuator = effect' > stages.txt
 "$M2MLAT" collect --agent "http://127.0.0.1:${ports[0]}" --agent "http://127.0.0.1:${ports[1]}" \
-  --store campaign.db --dashboard 127.0.0.1:0 --duration 90s > collect.txt 2> collect.err &
+  --store campaign.db --dashboard 127.0.0.1:0 --stages stages.txt --duration 90s > collect.txt 2> collect.err &
 watcher=$!
 url=$(dashboard_url collect.err)
+# The breakdown panel: shown, its counts, each stage's segment and the labels inside (their boxes),
+# the table's rows; nothing of it may stick out of its figure or overlap another label.
 read_agents='[document.getElementById("samples").textContent, document.querySelector("#nodes tbody").innerText,
-  document.getElementById("agents").hidden, document.documentElement.scrollWidth - document.documentElement.clientWidth]'
+  document.getElementById("agents").hidden, document.documentElement.scrollWidth - document.documentElement.clientWidth,
+  document.getElementById("breakdown").hidden, document.getElementById("breakdown-counts").textContent,
+  [...document.querySelectorAll("#breakdown-bar rect.segment")].map((r) => [r.dataset.stage, r.getBoundingClientRect().left, r.getBoundingClientRect().right]),
+  [...document.querySelectorAll("#breakdown-bar text")].map((t) => { const b = t.getBoundingClientRect(); return [t.textContent, b.left, b.right, b.top, b.bottom]; }),
+  [...document.querySelectorAll("#stages tbody tr")].map((r) => r.innerText),
+  (() => { const f = document.querySelector("#breakdown figure").getBoundingClientRect(); return [f.left, f.right]; })()]'
 "$PY" "$HERE/cdp_page.py" "$CHROMIUM" "$url" "$WORK/profile2" "4=$read_agents" "8=$read_agents" \
   "0=@$ARTIFACTS/dashboard.png" > collect.json || fail "chromium could not load $url"
 $PY - collect.json <<'PY'
 import json, re, sys
 page = json.load(open(sys.argv[1]))
 assert not page["errors"], "console errors: %s" % page["errors"]
-(n1, rows1, hidden1, over1), (n2, rows2, hidden2, over2), shot = page["values"]
+(n1, rows1, hidden1, over1, *_), (n2, rows2, hidden2, over2, bd_hidden, counts, segments, texts, stage_rows, fig), shot = page["values"]
+# The live breakdown's panel.
+assert not bd_hidden, "the breakdown panel is hidden"
+m = re.fullmatch(r"\((\d+) complete / (\d+) incomplete of (\d+) events\)", counts)
+assert m and int(m[1]) + int(m[2]) == int(m[3]) and int(m[1]) >= 1, counts
+assert [s[0] for s in segments] == ["to_command", "to_apply", "actuator"], segments
+for a, b in zip(segments, segments[1:]):
+    assert abs(a[2] - b[1]) < 0.5, ("segments not stacked end to end", a, b)
+assert fig[0] <= segments[0][1] and segments[-1][2] <= fig[1], ("the bar leaves its figure", segments, fig)
+for name, left, right, top, bottom in texts:
+    assert fig[0] <= left and right <= fig[1], ("a label leaves the figure", name, left, right, fig)
+    if name.startswith(tuple(s[0] + " " for s in segments)):  # a stage's label: inside its segment
+        seg = next(s for s in segments if name.startswith(s[0] + " "))
+        assert seg[1] <= left and right <= seg[2], ("a label sticks out of its segment", name, seg)
+boxes = [t for t in texts if t[0]]
+for i, a in enumerate(boxes):
+    for b in boxes[i + 1:]:
+        overlap = min(a[2], b[2]) - max(a[1], b[1]) > 0.5 and min(a[4], b[4]) - max(a[3], b[3]) > 0.5
+        assert not overlap, ("labels overlap", a, b)
+assert [r.split("\t")[0].strip() for r in stage_rows] == ["to_command", "to_apply", "actuator"], stage_rows
+assert all(re.search(r"\d+\.\d{3} ms", r) for r in stage_rows), stage_rows
+print("breakdown panel: %s, %d segments, %d labels" % (counts, len(segments), len(texts)))
 assert over2 <= 0, "the page is %s px wider than the window (it scrolls sideways)" % over2
 assert shot > 10000, "no screenshot: %s bytes" % shot
 assert not hidden2, "the agents' table is hidden"

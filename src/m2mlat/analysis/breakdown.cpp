@@ -144,16 +144,25 @@ EventStages event_stages(const pairing::Pair& pair, const StageRule& rule, const
 
 Breakdown break_down(std::span<const pairing::Pair> pairs, std::span<const std::size_t> positions,
                      std::span<const std::int64_t> cause_ids, const StageRule& rule, const MarkerIndex& index) {
+  std::vector<EventStages> events;
+  events.reserve(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    auto e = event_stages(pairs[i], rule, index);
+    e.pair = positions[i];
+    e.cause_id = cause_ids[i];
+    events.push_back(std::move(e));
+  }
+  return summarize_stages(std::move(events), rule);
+}
+
+Breakdown summarize_stages(std::vector<EventStages> events, const StageRule& rule) {
   Breakdown b;
   const std::size_t n_stages = rule.stages.size();
   std::vector<std::vector<std::int64_t>> columns(n_stages);
   std::vector<std::int64_t> m2m;
   std::vector<std::size_t> gap_counts(n_stages * 4, 0);
-  b.events.reserve(pairs.size());
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
-    auto e = event_stages(pairs[i], rule, index);
-    e.pair = positions[i];
-    e.cause_id = cause_ids[i];
+  b.events.reserve(events.size());
+  for (auto& e : events) {
     if (e.complete()) {
       ++b.complete;
       for (std::size_t k = 0; k < n_stages; ++k) columns[k].push_back(e.stage_ns[k]);

@@ -102,5 +102,8 @@ EventStages event_stages(const pairing::Pair& pair, const StageRule& rule, const
 // `positions[i]` in the scenario's match): every event, the per-stage statistics over the complete ones.
 Breakdown break_down(std::span<const pairing::Pair> pairs, std::span<const std::size_t> positions,
                      std::span<const std::int64_t> cause_ids, const StageRule& rule, const MarkerIndex& index);
+// The statistics of events already joined (event_stages, with their pair and cause_id set), kept in
+// the order given: what break_down does after the joins, and the live view over joins it keeps.
+Breakdown summarize_stages(std::vector<EventStages> events, const StageRule& rule);
 
 }  // namespace m2mlat::analysis

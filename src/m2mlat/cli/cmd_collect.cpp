@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstring>
 #include <memory>
+#include <utility>
 
 #include "m2mlat/capture/stop_signal.hpp"
 #include "m2mlat/cli/command.hpp"
@@ -108,6 +109,9 @@ int run_collect(const CollectCommand& c) {
   // Signals are blocked before any thread starts, so that every thread inherits the mask and
   // SIGINT/SIGTERM reach only the descriptor below.
   capture::StopSignal stop;
+  // The live views' flags are read (a stage rule parsed) before anything is created or begun: a bad
+  // one is a usage error that leaves no store and no session behind.
+  auto live_options = c.live.options(c.store_path, options.client.token, !c.json);
   collect::Coordinator coordinator(options, on_error);
 
   if (c.once) {
@@ -123,7 +127,7 @@ int run_collect(const CollectCommand& c) {
 
   // ---- The live views: live pairing of the campaign store, the terminal block (not with --json,
   // whose stdout is the summary) and the dashboard, fed with the agents' health every --refresh.
-  collect::LiveView view(c.live.options(c.store_path, options.client.token, !c.json));
+  collect::LiveView view(std::move(live_options));
   if (const auto url = view.dashboard_url(); !url.empty()) {
     fmt::print(stderr, "dashboard {}\n", url);
     std::fflush(stderr);

@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include "m2mlat/analysis/stage_rule.hpp"
 #include "m2mlat/cli/duration_flag.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/net/auth.hpp"
@@ -22,6 +23,13 @@ void LiveFlags::add_to(CLI::App& sub, bool with_token_file) {
   group
       ->add_option("--loop-window", loop_window,
                    "Full loop: chain the gyroscope traces' last window on each refresh (cost bounded by it)")
+      ->capture_default_str();
+  group->add_option("--stages", stages_file,
+                    "Stage rule (as `stats --stages`): show each scenario's live breakdown over the markers "
+                    "collected so far (docs/breakdown.md)");
+  group
+      ->add_option("--stages-window", stages_window,
+                   "Join a pair to late markers again while the newest data is less than this past its effect")
       ->capture_default_str();
   selection.add_to(sub);
   match.add_to(sub);
@@ -51,6 +59,12 @@ collect::LiveViewOptions LiveFlags::options(const std::string& store_path, const
   o.pairing.loop_window = duration_flag("--loop-window", loop_window);
   if (o.pairing.loop_window.count() <= 0 || o.pairing.default_led_bound.count() < 0)
     throw core::Error(core::ErrorKind::usage, "--loop-window must be positive, --led-bound not negative");
+  if (!stages_file.empty()) {
+    o.pairing.stages = analysis::read_stage_rule(stages_file);  // a bad rule: usage error, nothing started
+    o.pairing.stages_window = duration_flag("--stages-window", stages_window);
+    if (o.pairing.stages_window.count() <= 0)
+      throw core::Error(core::ErrorKind::usage, "--stages-window must be positive");
+  }
   if (!dashboard.empty()) {
     collect::DashboardOptions d;
     collect::parse_listen_address(dashboard, d);

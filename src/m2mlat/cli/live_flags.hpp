@@ -20,6 +20,8 @@ struct LiveFlags {
   MatchFlags match;
   ChainFlags chains;                 // a scenario with gyroscope traces: the full loop's chains
   std::string loop_window = "1min";  // ... over the traces' last window
+  std::string stages_file;           // the stage rule of the live breakdown (docs/breakdown.md); empty: none
+  std::string stages_window = "30s";  // a pair's join redone while it is this recent
   // `with_token_file`: false where the subcommand already has --token-file (collect: the agents' and
   // the dashboard's token are then the same).
   void add_to(CLI::App& sub, bool with_token_file = true);

@@ -15,6 +15,7 @@
 #include "m2mlat/net/event_stream.hpp"
 #include "m2mlat/net/query.hpp"
 #include "m2mlat/net/wire.hpp"
+#include "m2mlat/report/breakdown_view.hpp"
 
 namespace m2mlat::collect {
 
@@ -73,7 +74,9 @@ nlohmann::json summary_json(const LiveSummary& s) {
           {"max_ns", st.max ? nlohmann::json(st.max->ns) : nlohmann::json(nullptr)},
           {"store_last_seq", s.store_last_seq},
           {"update_cost_ns", s.update_cost_ns},
-          {"pairings", s.pairings}};
+          {"pairings", s.pairings},
+          // The fields of `stats --json`'s breakdown member (report/breakdown_view.hpp).
+          {"breakdown", s.breakdown ? report::breakdown_json(*s.breakdown) : nlohmann::json(nullptr)}};
 }
 
 nlohmann::json node_json(const NodeHealth& n) {

@@ -10,9 +10,12 @@
 #include <limits>
 
 #include "m2mlat/analysis/pipeline.hpp"
+#include "m2mlat/analysis/scenario_breakdown.hpp"
 #include "m2mlat/analysis/scenario_result.hpp"
 #include "m2mlat/analysis/store_chains.hpp"
+#include "m2mlat/collect/live_breakdown.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/markers/stored_markers.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::collect {
@@ -84,11 +87,16 @@ LivePairing::LivePairing(std::string store_path, LiveOptions options)
   // The bootstrap resamples thousands of times: far too slow to repeat every update.
   options_.summary.bootstrap.reset();
   summary_.message = "no store yet";
+  if (options_.stages) breakdown_ = std::make_unique<LiveBreakdown>(*options_.stages, options_.stages_window);
 }
 
 LivePairing::~LivePairing() = default;
 
-const LiveSummary& LivePairing::update() {
+const LiveSummary& LivePairing::update() { return update(false); }
+
+const LiveSummary& LivePairing::finish() { return update(true); }
+
+const LiveSummary& LivePairing::update(bool final) {
   try {
     if (!opened_) {
       if (!std::filesystem::exists(store_path_)) {
@@ -106,7 +114,10 @@ const LiveSummary& LivePairing::update() {
     if (options_.chains)
       for (const auto& c : opened_->store.rate_channels()) rate_samples += c.samples;
     const std::tuple now{last_seq, sessions, rate_samples};
-    if (seen_ && *seen_ == now) return summary_;
+    // Markers come without events (a late pull of the operator's): they alone warrant a new join.
+    const bool new_markers = breakdown_ && !final && breakdown_->pull(opened_->store) > 0;
+    final_ = final;
+    if (seen_ && *seen_ == now && !new_markers && !(final && breakdown_)) return summary_;
     seen_ = now;
     repair();
   } catch (const core::Error& e) {
@@ -185,6 +196,18 @@ void LivePairing::repair() {
     s.last =
         LiveSample{pairs.back().cause_time.ns(), pairs.back().latency().count(), pairs.back().ambiguous()};
   s.histogram = histogram(r.latencies_ns(), options_.max_histogram_bins);
+  if (breakdown_) {
+    if (final_) {
+      // Every marker of the store, as `stats --stages` reads them (all scenarios).
+      const auto all = markers::store_markers(store);
+      analysis::attach_breakdown(r, breakdown_->rule(), analysis::MarkerIndex(all));
+    } else {
+      breakdown_->update(r);
+    }
+    r.breakdown->events.clear();
+    r.breakdown->events.shrink_to_fit();
+    s.breakdown = std::move(r.breakdown);
+  }
   s.update_cost_ns =
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - started)
           .count();

@@ -22,8 +22,10 @@
 #include <utility>
 #include <vector>
 
+#include "m2mlat/analysis/breakdown.hpp"
 #include "m2mlat/analysis/chains.hpp"
 #include "m2mlat/analysis/selection.hpp"
+#include "m2mlat/analysis/stage_rule.hpp"
 #include "m2mlat/pairing/matcher.hpp"
 #include "m2mlat/stats/summary.hpp"
 
@@ -46,6 +48,12 @@ struct LiveOptions {
   std::string led_channel = "led", photo_channel = "photo";
   core::Duration default_led_bound{100'000};  // an LED write's half-width where its session has none, ns
   core::Duration loop_window{60'000'000'000};
+  // With a stage rule (`collect --stages FILE`): each pair joined to the markers collected so far
+  // (live_breakdown.hpp); a pair's join is redone while the newest data is less than
+  // `stages_window` past its effect: longer than the pullers' lag between boards (a poll, a
+  // reconnection: seconds), short enough that an update redoes only the last seconds' pairs.
+  std::optional<analysis::StageRule> stages;
+  core::Duration stages_window{30'000'000'000};
 };
 
 // One quantity of the full loop over the window: count, median, P95 and the newest chain's value.
@@ -105,6 +113,9 @@ struct LiveSummary {
   std::vector<LiveSample> recent;       // the newest pairs, oldest first, at most recent_samples
   std::vector<HistogramBin> histogram;  // of the statistics' latencies, contiguous bins
   std::optional<LiveLoop> loop;         // set for a scenario with gyroscope traces (then no pairs)
+  // With a stage rule: the breakdown of the pairs in the statistics (its per-event rows left out:
+  // the summary is copied at every refresh; complete + incomplete counts them).
+  std::optional<analysis::Breakdown> breakdown;
   std::int64_t store_last_seq = 0;      // the store's last seq when this was computed
   std::int64_t update_cost_ns = 0;      // wall time of the last re-pairing, ns (0 if none ran)
   std::uint64_t pairings = 0;           // re-pairings run so far
@@ -124,17 +135,23 @@ class LivePairing {
   // Re-pairs if the store changed since the last call (new events or sessions), else returns the
   // previous result. Never throws for store or data problems: they become state waiting or error.
   const LiveSummary& update();
+  // The last update: re-pairs, and joins the breakdown with every marker of the store as
+  // `stats --stages` does (no frozen joins), so the final figures are the offline ones.
+  const LiveSummary& finish();
   const LiveSummary& current() const { return summary_; }
   const LiveOptions& options() const { return options_; }
 
  private:
   struct Opened;
+  const LiveSummary& update(bool final);
   void repair();
   void chain(LiveSummary& s);
   std::string store_path_;
   LiveOptions options_;
   std::unique_ptr<Opened> opened_;
   LiveSummary summary_;
+  std::unique_ptr<class LiveBreakdown> breakdown_;  // with options_.stages
+  bool final_ = false;
   // Last seq, session count and raw rate samples (all channels) when last paired.
   std::optional<std::tuple<std::int64_t, std::size_t, std::int64_t>> seen_;
 };

@@ -82,7 +82,7 @@ void LiveView::refresh(std::vector<NodeHealth> nodes, std::int64_t now_ns) {
 LiveSummary LiveView::finish(std::vector<NodeHealth> nodes, std::int64_t now_ns) {
   stop_worker();
   // The worker has ended: this thread may use the pairing (and its store) now.
-  auto final_summary = pairing_->update();
+  auto final_summary = pairing_->finish();
   {
     std::lock_guard lock(mutex_);
     summary_ = final_summary;

@@ -57,6 +57,15 @@ std::vector<std::string> render_block(const LiveSummary& s, const std::vector<No
                     "effect; {} bounces)",
                     st.n, s.last ? ns_as_ms(s.last->latency_ns, 1) : "-", ms(st.median_ms), ms(st.iqr_ms),
                     s.pairs, s.ambiguous, s.cause_unmatched, s.effect_unmatched, s.bounces));
+    if (s.breakdown) {
+      // The live stage breakdown (--stages): each stage's median and share of the M2M.
+      const auto& b = *s.breakdown;
+      std::string row = fmt::format("breakdown {} complete / {} incomplete:", b.complete, b.incomplete);
+      for (const auto& stage : b.stages)
+        row += fmt::format("  {} {}{}", stage.name, ms(stage.median_ns / 1e6),
+                           std::isnan(stage.share) ? "" : fmt::format(" ({:.1f} %)", stage.share * 100));
+      lines.push_back(std::move(row));
+    }
   } else {
     lines.push_back(
         fmt::format("{}{}: {}", to_string(s.state), s.scenario.empty() ? "" : " " + s.scenario, s.message));

@@ -71,7 +71,7 @@ nlohmann::json breakdown_json(const analysis::Breakdown& b) {
   auto gaps = nlohmann::json::array();
   for (const auto& g : b.gaps)
     gaps.push_back({{"stage", g.stage}, {"reason", analysis::to_string(g.gap)}, {"count", g.count}});
-  return {{"events", b.events.size()},
+  return {{"events", b.complete + b.incomplete},  // = events.size(); the live view keeps no rows
           {"complete", b.complete},
           {"incomplete", b.incomplete},
           {"m2m_median_ms", bd_number(bd_ms(b.m2m_median_ns))},

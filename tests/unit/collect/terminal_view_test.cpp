@@ -2,6 +2,8 @@
 #include "m2mlat/collect/terminal_view.hpp"
 
 #include <gtest/gtest.h>
+
+#include <tuple>
 #include <stdio.h>
 
 #include <algorithm>
@@ -94,6 +96,27 @@ TEST(TerminalView, BlockShowsTheNumbersAndEveryNode) {
   EXPECT_EQ(lines[4].rfind("http://10.0.0.2:8470 ", 0), 0u) << lines[4];
   for (const char* part : {" effect ", " unreachable ", "never", "connection refused"})
     EXPECT_NE(lines[4].find(part), std::string::npos) << part << " in " << lines[4];
+}
+
+TEST(TerminalView, BreakdownLineWithAStageRule) {
+  auto s = summary_with_samples();
+  analysis::Breakdown b;
+  b.complete = 9;
+  b.incomplete = 2;
+  for (const auto& [name, median_ns, share] :
+       {std::tuple{"to_command", 5'180'000.0, 0.0046}, std::tuple{"actuator", 1'131'000'000.0, 0.9954}}) {
+    analysis::StageStats stage;
+    stage.name = name;
+    stage.median_ns = median_ns;
+    stage.share = share;
+    b.stages.push_back(stage);
+  }
+  s.breakdown = b;
+  const auto lines = collect::render_block(s, {}, kViewNow);
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(lines[2], "breakdown 9 complete / 2 incomplete:  to_command 5.2 ms (0.5 %)  actuator 1131.0 ms (99.5 %)");
+  // Without a rule, no such line.
+  EXPECT_EQ(collect::render_block(summary_with_samples(), {}, kViewNow).size(), 2u);
 }
 
 TEST(TerminalView, WaitingBlockSaysWhy) {
