@@ -100,10 +100,10 @@ build-clang: deps
 	cmake --build $(BUILD_CLANG)
 
 # The first run: only the m2mlat executable (no tests, no benchmarks, no debug info, -O2, a unity
-# build), then the simulated campaign, checked against its truth, and its HTML report in demo-report/.
-# Measured 2026-11-25 on the 2-core machine: 2.5 min for the build and the demo with the packages in
-# place (4.5 min of CPU: the build uses both cores); from a minimal Debian 12 root the packages add
-# 1.7 min (docs/testing.md).
+# build with the precompiled header of M2MLAT_PCH), then the simulated campaign, checked against its
+# truth, and its HTML report in demo-report/. Measured 2026-11-26 from a minimal Debian 12 root on the
+# 2-core machine (docs/testing.md): the packages 40-80 s, the build 5 min of CPU (about 2.5 min on
+# both cores of an idle machine), the demo seconds: about 3.5 min in all (4 min before).
 demo: deps-demo
 	$(call step,build $(BUILD): m2mlat only)
 	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O2 -DNDEBUG" \
