@@ -19,9 +19,13 @@ space := $(empty) $(empty)
 # next build of this machine's own must put it back (a check for "libpq-dev" alone would find the
 # arm64 one installed).
 HOST_ARCH := $(shell dpkg --print-architecture 2>/dev/null || echo amd64)
-BUILD_PACKAGES := build-essential cmake ninja-build pkg-config \
+# `make demo` installs DEMO_PACKAGES without their recommends: g++ rather than build-essential (whose
+# dpkg-dev, and the perl modules that come with it, the build does not use) and Boost's headers
+# rather than libboost-math-dev (the compiled TR1 functions of Boost.Math are never linked).
+DEMO_PACKAGES := g++ cmake ninja-build pkg-config \
   libsqlite3-dev libcpp-httplib-dev libpcap-dev libpq-dev:$(HOST_ARCH) libcli11-dev nlohmann-json3-dev libfmt-dev \
-  libtomlplusplus-dev libboost-math-dev libzstd-dev liblz4-dev
+  libtomlplusplus-dev libboost-dev libzstd-dev liblz4-dev
+BUILD_PACKAGES := build-essential $(DEMO_PACKAGES) libboost-math-dev
 PACKAGES := $(BUILD_PACKAGES) clang-14 sqlite3 libgtest-dev libgmock-dev libbenchmark-dev \
   python3 python3-numpy python3-pandas python3-scipy chromium chrony rt-tests linuxptp libclang-rt-14-dev \
   postgresql
@@ -35,7 +39,7 @@ NOREC_PACKAGES := r-base-core
 # judges with python3 (standard library), and finds free ports with ss (iproute2).
 VM_PACKAGES := qemu-system-x86 busybox-static cpio xz-utils kmod binutils chrony python3 iproute2
 
-.PHONY: all deps deps-build deps-vm build build-clang demo check check-vm fuzz test bench clean
+.PHONY: all deps deps-build deps-demo deps-vm build build-clang demo check check-vm fuzz test bench clean
 .PHONY: deps-arm64 deps-package cross-arm64 check-arm64 package check-package
 
 all: build
@@ -60,6 +64,14 @@ deps:
 deps-build:
 	$(call install_missing,$(BUILD_PACKAGES))
 
+# dpkg syncs every file it unpacks to disk; for the demo's packages (Boost's headers alone are 15,000
+# files) that is half of the install's time (79 s instead of 156 s, docs/testing.md). Unsynced, a crash
+# in the middle of the install can leave a file empty, which `apt-get install --reinstall` repairs.
+# DEMO_APT_OPTIONS= keeps dpkg's syncs.
+DEMO_APT_OPTIONS ?= -o Dpkg::Options::=--force-unsafe-io
+deps-demo:
+	$(call install_missing,$(DEMO_PACKAGES),--no-install-recommends $(DEMO_APT_OPTIONS))
+
 deps-vm: deps
 	$(call install_missing,$(VM_PACKAGES))
 
@@ -71,7 +83,7 @@ deps-vm: deps
 build: deps
 	$(call step,build $(BUILD))
 	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DM2MLAT_TESTS=ON -DM2MLAT_BENCH=ON \
-	  -DCMAKE_UNITY_BUILD=OFF $(CMAKE_FLAGS)
+	  -DCMAKE_UNITY_BUILD=OFF -DM2MLAT_PCH=OFF $(CMAKE_FLAGS)
 	cmake --build $(BUILD)
 
 # The Clang and arm64 trees are unity builds (eight source files of a target compiled as one: each
@@ -92,14 +104,14 @@ build-clang: deps
 	cmake --build $(BUILD_CLANG)
 
 # The first run: only the m2mlat executable (no tests, no benchmarks, no debug info, -O2, a unity
-# build), then the simulated campaign, checked against its truth, and its HTML report in demo-report/.
-# Measured 2026-11-25 on the 2-core machine: 2.5 min for the build and the demo with the packages in
-# place (4.5 min of CPU: the build uses both cores); from a minimal Debian 12 root the packages add
-# 1.7 min (docs/testing.md).
-demo: deps-build
+# build with the precompiled header of M2MLAT_PCH), then the simulated campaign, checked against its
+# truth, and its HTML report in demo-report/. Measured 2026-11-26 from a minimal Debian 12 root on the
+# 2-core machine (docs/testing.md): the packages 40-80 s, the build 5 min of CPU (about 2.5 min on
+# both cores of an idle machine), the demo seconds: about 3.5 min in all (4 min before).
+demo: deps-demo
 	$(call step,build $(BUILD): m2mlat only)
 	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O2 -DNDEBUG" \
-	  -DM2MLAT_TESTS=OFF -DM2MLAT_BENCH=OFF $(UNITY)
+	  -DM2MLAT_TESTS=OFF -DM2MLAT_BENCH=OFF -DM2MLAT_PCH=ON $(UNITY)
 	cmake --build $(BUILD) --target m2mlat_exe
 	$(call step,demo)
 	./$(BUILD)/m2mlat demo --report demo-report
