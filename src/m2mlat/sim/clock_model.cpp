@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>  // sqrt (correctly rounded) and llround (exact)
 #include <utility>
@@ -91,6 +92,9 @@ void validate(const SyncConfig& sync, std::string_view field) {
   if (!(sync.loop_gain > 0 && sync.loop_gain <= 1)) fail(key("loop_gain"), "must be in (0, 1]");
   if (!(sync.frequency_gain >= 0 && sync.frequency_gain <= 0.25))
     fail(key("frequency_gain"), "must be in [0, 0.25]");
+  // Below 1 ppm the loop cannot follow a typical oscillator; chrony's own default is 83333 ppm.
+  if (!(sync.max_slew_ppm >= 1 && sync.max_slew_ppm <= 100000))
+    fail(key("max_slew_ppm"), "must be in [1, 100000]");
 }
 
 ClockPair::ClockPair(const ClockConfig& cause, const ClockConfig& effect, const SyncConfig& sync,
@@ -138,8 +142,21 @@ void ClockPair::discipline(Node& node, double reference_error_ns) {
   node.measured_ns = measured;
   node.dispersion_var += kDispersionAverage * (measured * measured - node.dispersion_var);
   const auto interval = static_cast<double>(sync_.poll_interval.count());
-  node.correction += sync_.frequency_gain * measured / interval;
-  node.rate = node.oscillator - node.correction - sync_.loop_gain * measured / interval;
+  // The daemon's corrections (frequency and offset together) are limited to max_slew_ppm, as
+  // chrony's maxslewrate limits them: a large measured offset is then slewed away over several polls.
+  // While the limit holds the rate back the frequency correction stays as it was (a daemon knows the
+  // offset left is its own slew's doing, not a frequency error): integrating it would wind the
+  // correction up by frequency_gain x offset every poll of a long slew, and the clock would overshoot
+  // by far more than the offset. min/max of doubles are exact: the run stays bit-identical everywhere.
+  const double limit = sync_.max_slew_ppm * 1e-6;
+  const double correction = node.correction + sync_.frequency_gain * measured / interval;
+  const double wanted = -correction - sync_.loop_gain * measured / interval;
+  if (wanted >= -limit && wanted <= limit) {
+    node.correction = correction;
+    node.rate = node.oscillator + wanted;
+  } else {
+    node.rate = node.oscillator + std::clamp(-node.correction - sync_.loop_gain * measured / interval, -limit, limit);
+  }
 }
 
 void ClockPair::step() {

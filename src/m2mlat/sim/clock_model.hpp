@@ -64,6 +64,10 @@ struct SyncConfig {
   SyncLink peer;      // the vehicle board to the operator board (co_referenced)
   double loop_gain = 0.3;        // fraction of a measured offset slewed away in the next interval
   double frequency_gain = 0.02;  // fraction of a measured offset added to the frequency correction
+  // The fastest the daemon adjusts the clock's rate (its frequency and offset corrections together),
+  // ppm: chrony's `maxslewrate`, which m2mlat's chrony.conf sets to 500 so that the kernel log's own
+  // stamps tell a step from a slew (analysis/kernel_log_steps.hpp).
+  double max_slew_ppm = 500;
 
   friend bool operator==(const SyncConfig&, const SyncConfig&) = default;
 };

@@ -24,6 +24,9 @@ void common_tail(std::string& out, const ChronyConfigOptions& o) {
       "\n# Step the clock (instead of slewing for hours) only while starting: later steps would\n"
       "# land inside a measurement. m2mlat records every step it sees as a clock sample.\n"
       "makestep {}\n"
+      "# Slew at most 500 ppm (chrony's default is 83333): a kernel log's own printk stamps then\n"
+      "# tell a step of the clock from its slewing, and m2mlat corrects the steps it finds there.\n"
+      "maxslewrate 500\n"
       "# Keep the RTC close, so the next boot starts near the right time.\n"
       "rtcsync\n"
       "driftfile {}\n",

@@ -21,6 +21,7 @@ TEST(ChronyConfig, CoReferencedReference) {
   EXPECT_TRUE(has_line(c, "allow 10.0.0.0/24")) << c;
   EXPECT_TRUE(has_line(c, "makestep 0.1 3")) << c;
   EXPECT_TRUE(has_line(c, "rtcsync")) << c;
+  EXPECT_TRUE(has_line(c, "maxslewrate 500")) << c;
   EXPECT_EQ(c.find("server "), std::string::npos);
 }
 
