@@ -127,6 +127,8 @@ class ClockPair {
     double correction = 0;      // the daemon's frequency correction (dimensionless)
     double measured_ns = 0;     // last measured offset
     double dispersion_var = 0;  // running mean of measured_ns^2 (the daemon's jitter estimate)
+    double error_var = 0;       // running mean of the clock error's variance its corrections imply, ns^2
+    double applied_var = 0;     // running mean of the squared offset correction a poll, ns^2
     std::int64_t step_true_ns = 0;  // true time of the configured step (config.step != 0)
     bool stepped = false;           // the step is in error_ns already
     Node(const ClockConfig& c, std::uint64_t seed, std::uint64_t stream) : config(c), rng(seed, stream) {}
@@ -140,6 +142,7 @@ class ClockPair {
   Node cause_, effect_;
   std::int64_t grid_ns_;  // true time of the last grid point
   double wander_scale_;   // sqrt(poll interval in s) * 1e-6: turns ppm/sqrt(s) into a per-step change
+  double loop_factor_;    // var(clock error) / var(offset correction) of the unlimited loop
 };
 
 }  // namespace m2mlat::sim
