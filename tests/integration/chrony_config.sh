@@ -31,7 +31,8 @@ grep -q '^refclock PPS /dev/pps0 lock NMEA refid PPS prefer$' gnss_shm.parsed &&
   grep -q '^refclock SHM 0 refid NMEA' gnss_shm.parsed || fail "gnss: $(cat gnss_shm.parsed)"
 grep -q '^refclock SOCK /run/chrony.ttyAMA0.sock' gnss_sock.parsed || fail "gnss sock: $(cat gnss_sock.parsed)"
 for f in *.parsed; do
-  grep -q '^makestep ' "$f" && grep -q '^rtcsync$' "$f" || fail "$f has no makestep/rtcsync"
+  grep -q '^makestep ' "$f" && grep -q '^rtcsync$' "$f" && grep -q '^maxslewrate 500$' "$f" ||
+    fail "$f has no makestep/rtcsync/maxslewrate 500"
 done
 
 # Missing or bad options are usage errors (exit 2) and write nothing.

@@ -40,6 +40,9 @@ struct LossCount {
 struct BoardRecord {
   std::map<std::string, std::vector<store::ClockSample>> samples;  // by node, in session (file) order
   std::vector<LossCount> losses;                                   // by node, then kind
+  // By node: what its kernel log's stamps showed of a clock slewing faster than the steps' bound
+  // (kernel_log_steps.hpp): places, and the size below which a step may hide there, ns.
+  std::map<std::string, std::pair<std::size_t, std::int64_t>> fast_slewing;
   std::span<const store::ClockSample> of(const std::string& node) const;  // empty if none
 };
 // The clock samples and losses of the scenario's sessions on its cause and effect nodes (one pass

@@ -1,6 +1,8 @@
 // Clock steps from a kernel log's realtime and printk stamps (rules in kernel_log_steps.hpp).
 #include "m2mlat/analysis/kernel_log_steps.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -9,7 +11,7 @@ namespace m2mlat::analysis {
 
 namespace {
 
-std::int64_t median_of(std::vector<std::int64_t> v) {
+std::int64_t log_median(std::vector<std::int64_t> v) {
   const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
   std::nth_element(v.begin(), mid, v.end());
   if (v.size() % 2 == 1) return *mid;
@@ -17,18 +19,74 @@ std::int64_t median_of(std::vector<std::int64_t> v) {
   return low + (*mid - low) / 2;
 }
 
-std::int64_t slew(double ppm, std::int64_t span_ns) {
+std::int64_t log_slew(double ppm, std::int64_t span_ns) {
   return static_cast<std::int64_t>(std::ceil(ppm * 1e-6 * static_cast<double>(std::llabs(span_ns))));
+}
+
+// The slewing among `steps` (rules in kernel_log_steps.hpp); step_mono: each step's last line's
+// monotonic stamp, ns.
+void drop_fast_slewing(KernelLogClock& out, std::span<const std::int64_t> step_mono,
+                       const KernelLogStepOptions& options) {
+  auto& steps = out.steps;
+  std::vector<bool> slewing(steps.size(), false);
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    const std::int64_t first = *steps[k].size_ns;
+    std::int64_t sum = first;
+    for (std::size_t j = k + 1; j < steps.size() && step_mono[j] >= step_mono[k] &&
+                                step_mono[j] - step_mono[k] <= options.undone_within_ns;
+         ++j) {
+      sum += *steps[j].size_ns;
+      if ((*steps[j].size_ns > 0) != (first > 0) && 2 * std::llabs(sum) <= std::llabs(first)) {
+        for (std::size_t m = k; m <= j; ++m) slewing[m] = true;
+        break;
+      }
+    }
+  }
+  std::size_t places = 0;
+  std::int64_t largest = 0;
+  for (std::size_t k = 0; k < steps.size(); ++k)
+    if (slewing[k]) {
+      ++places;
+      largest = std::max<std::int64_t>(largest, std::llabs(*steps[k].size_ns));
+    }
+  if (places < std::max<std::size_t>(options.fast_places_min, 2)) return;
+  // The bound does not hold: only steps that stand out of the slewing remain.
+  const std::int64_t hidden = 2 * largest;
+  std::vector<store::ClockStep> kept;
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    if (!slewing[k] && std::llabs(*steps[k].size_ns) > hidden)
+      kept.push_back(steps[k]);
+    else if (!slewing[k])
+      ++places;
+  }
+  steps = std::move(kept);
+  out.fast_slew_places = places;
+  out.hidden_below_ns = hidden;
 }
 
 }  // namespace
 
+std::string fast_slewing_note(std::size_t places, std::int64_t hidden_below_ns, double slew_ppm) {
+  return fmt::format(
+      "the kernel log's realtime clock slews faster than {:g} ppm at {} places: steps cannot be told from "
+      "slewing (none corrected up to {:.1f} ms; the pairs keep their stamps); chrony's maxslewrate {:g} "
+      "makes them visible",
+      slew_ppm, places, static_cast<double>(hidden_below_ns) / 1e6, slew_ppm);
+}
+
 std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> realtime_ns,
                                                std::span<const std::int64_t> log_time_us,
                                                const KernelLogStepOptions& options) {
-  std::vector<store::ClockStep> steps;
+  return kernel_log_clock(realtime_ns, log_time_us, options).steps;
+}
+
+KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::span<const std::int64_t> log_time_us,
+                                const KernelLogStepOptions& options) {
+  KernelLogClock out;
+  auto& steps = out.steps;
+  std::vector<std::int64_t> step_mono;  // per step: its last jump's line's monotonic stamp, ns
   const std::size_t n = std::min(realtime_ns.size(), log_time_us.size());
-  if (n < 2) return steps;
+  if (n < 2) return out;
   // Computed per line, not stored: a log of 10^7 lines costs no further columns.
   const auto mono = [&](std::size_t i) { return log_time_us[i] * 1000; };
   const auto d_at = [&](std::size_t i) { return realtime_ns[i] - mono(i); };
@@ -41,21 +99,21 @@ std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> rea
       jumps.push_back(std::llabs(d_at(i) - d_at(i - 1)));
       lines.push_back(i);
     }
-  if (jumps.empty()) return steps;
+  if (jumps.empty()) return out;
   std::int64_t jitter = 0;
   {
     auto copy = jumps;
-    jitter = median_of(std::move(copy));
+    jitter = log_median(std::move(copy));
   }
   // Stamps that do not follow the realtime ones (written by a script, lines of another clock) are no
   // clock to compare with: a typical jump beyond the smallest step, or jumps beyond what slewing
   // allows at more than one line pair in 4, and nothing is said.
-  if (jitter > options.threshold_ns) return steps;
+  if (jitter > options.threshold_ns) return out;
   const std::int64_t threshold = std::max(options.threshold_ns, 8 * jitter);
   std::size_t beyond = 0;
   for (std::size_t k = 0; k < jumps.size(); ++k)
-    if (jumps[k] > threshold + slew(options.slew_ppm, mono(lines[k]) - mono(lines[k] - 1))) ++beyond;
-  if (beyond * 4 > jumps.size() && beyond > 2) return steps;
+    if (jumps[k] > threshold + log_slew(options.slew_ppm, mono(lines[k]) - mono(lines[k] - 1))) ++beyond;
+  if (beyond * 4 > jumps.size() && beyond > 2) return out;
   const std::size_t w = std::max<std::size_t>(options.window, 1);
 
   std::size_t segment = 0;  // first line of the current run of increasing monotonic stamps
@@ -72,7 +130,7 @@ std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> rea
       open.active = false;
       continue;
     }
-    const std::int64_t allowance = threshold + slew(options.slew_ppm, mono(i) - mono(i - 1));
+    const std::int64_t allowance = threshold + log_slew(options.slew_ppm, mono(i) - mono(i - 1));
     if (std::llabs(d_at(i) - d_at(i - 1)) <= allowance) continue;
     // The windows: up to w lines each side, within this segment and not across the last step.
     const std::size_t lo = std::max({segment, last_step, i >= w ? i - w : std::size_t{0}});
@@ -81,9 +139,9 @@ std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> rea
     std::vector<std::int64_t> before, after;
     for (std::size_t k = lo; k < i; ++k) before.push_back(d_at(k));
     for (std::size_t k = i; k < hi; ++k) after.push_back(d_at(k));
-    const std::int64_t size = median_of(after) - median_of(before);
+    const std::int64_t size = log_median(after) - log_median(before);
     const std::int64_t span = mono(hi - 1) - mono(lo);
-    if (std::llabs(size) <= threshold + slew(options.slew_ppm, span)) continue;  // one late printk
+    if (std::llabs(size) <= threshold + log_slew(options.slew_ppm, span)) continue;  // one late printk
     const auto [bmin, bmax] = std::minmax_element(before.begin(), before.end());
     const auto [amin, amax] = std::minmax_element(after.begin(), after.end());
     // A jump within `window` lines of the last step, the same way, continues it: a clock slewed
@@ -93,14 +151,15 @@ std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> rea
     // them in the overlap correct_side flags.
     if (open.active && i - open.line <= w && (size > 0) == (open.size > 0)) {
       auto& merged = steps.back();
-      const std::int64_t total = median_of(after) - open.before_median;
+      const std::int64_t total = log_median(after) - open.before_median;
       const std::int64_t total_span = mono(hi - 1) - open.lo_mono;
       merged.size_ns = total;
       merged.at_ns = realtime_ns[i] + total;
-      merged.size_max_ns = open.before_range + (*amax - *amin) + slew(options.slew_ppm, total_span);
+      merged.size_max_ns = open.before_range + (*amax - *amin) + log_slew(options.slew_ppm, total_span);
       // Its size is then known only to the slewing's extent: as uniform within that bound.
       merged.size_est_ns = std::max(merged.size_est_ns,
                                     static_cast<std::int64_t>(std::ceil(static_cast<double>(merged.size_max_ns) / std::sqrt(3.0))));
+      step_mono.back() = mono(i);
       open.line = i;
       open.size = total;
       last_step = i;
@@ -110,14 +169,16 @@ std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> rea
     step.at_ns = realtime_ns[i];
     step.earliest_ns = realtime_ns[i];  // the lines' order places it: between line i-1 and line i
     step.size_ns = size;
-    step.size_max_ns = (*bmax - *bmin) + (*amax - *amin) + slew(options.slew_ppm, span);
+    step.size_max_ns = (*bmax - *bmin) + (*amax - *amin) + log_slew(options.slew_ppm, span);
     step.size_est_ns = (3 * jitter + 1) / 2;
     step.origin = "kernel_log";
     steps.push_back(step);
-    open = Open{true, i, size, median_of(before), *bmax - *bmin, mono(lo)};
+    step_mono.push_back(mono(i));
+    open = Open{true, i, size, log_median(before), *bmax - *bmin, mono(lo)};
     last_step = i;
   }
-  return steps;
+  drop_fast_slewing(out, step_mono, options);
+  return out;
 }
 
 }  // namespace m2mlat::analysis

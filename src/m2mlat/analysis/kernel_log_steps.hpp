@@ -20,11 +20,21 @@
 // see clock_steps.hpp), its standard uncertainty its bound / sqrt(3).
 // Stamps that are no clock beside the realtime ones (J above the threshold, or jumps beyond what
 // slewing allows at more than one line pair in 4: a script's "[ 1.000000]" counter) give no steps.
+// A clock that breaks the slewing bound is no clock to find steps of its size with either: a daemon
+// that slews faster than slew_ppm (chrony's default maxslewrate is 83333 ppm) moves d by ms and back
+// within seconds. A "step" that the next ones undo within `undone_within_ns` (their running sum back
+// to at most half of it, the last of them the other way) is such slewing; when the log shows
+// `fast_places_min` of them, the clock breaks the bound: none of them is a step, and of the others
+// only those larger than twice the largest slewing excursion are (a genuine step stands out of the
+// slewing; smaller ones cannot be told from it and are counted as slewing places too). The pairs keep
+// their stamps uncorrected and unflagged (no step of unknown size: that would drop every later pair);
+// the caller reports the places and the size below which a step may hide.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "m2mlat/store/clock_step.hpp"
@@ -35,10 +45,25 @@ struct KernelLogStepOptions {
   std::int64_t threshold_ns = 1'000'000;  // the smallest step reported, ns
   double slew_ppm = 500;                  // the fastest slewing that is no step, ppm
   std::size_t window = 4;                 // lines on each side that confirm a step and measure it
+  std::int64_t undone_within_ns = 60'000'000'000;  // a "step" undone within this is slewing, ns (monotonic)
+  std::size_t fast_places_min = 4;                 // slewing "steps" that show the bound broken
+};
+
+// What a kernel log's stamps say about its realtime clock.
+struct KernelLogClock {
+  std::vector<store::ClockStep> steps;
+  std::size_t fast_slew_places = 0;  // places d moved faster than slew_ppm: not steps (0: bound held)
+  std::int64_t hidden_below_ns = 0;  // steps up to this size cannot be told from that slewing, ns
 };
 
 // realtime_ns and log_time_us: one entry per line, in file order (same length). Lines whose
 // monotonic stamp goes back (a reboot, two logs joined) start afresh: no step is seen across them.
+KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::span<const std::int64_t> log_time_us,
+                                const KernelLogStepOptions& options = {});
+// The note stats, report and import give for a clock that broke the bound: "the kernel log's realtime
+// clock slews faster than 500 ppm at K places: ...".
+std::string fast_slewing_note(std::size_t places, std::int64_t hidden_below_ns, double slew_ppm = 500);
+// kernel_log_clock's steps alone.
 std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> realtime_ns,
                                                std::span<const std::int64_t> log_time_us,
                                                const KernelLogStepOptions& options = {});

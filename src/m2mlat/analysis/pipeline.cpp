@@ -9,6 +9,8 @@
 #include <functional>
 #include <future>
 #include <set>
+#include <tuple>
+#include <utility>
 
 #include "m2mlat/analysis/board_record.hpp"
 #include "m2mlat/analysis/clock_records.hpp"
@@ -36,14 +38,18 @@ void add_file_clock(BoardRecord& record, const formats::ImportedFile& file, cons
     realtime.push_back(k.time_ns);
     monotonic.push_back(*k.log_time_us);
   }
-  for (const auto& step : kernel_log_steps(realtime, monotonic))
-    record.samples[node].push_back(store::step_clock_sample(step));
+  const auto clock = kernel_log_clock(realtime, monotonic);
+  for (const auto& step : clock.steps) record.samples[node].push_back(store::step_clock_sample(step));
+  if (clock.fast_slew_places != 0) record.fast_slewing[node] = {clock.fast_slew_places, clock.hidden_below_ns};
 }
 
 // Pairs and summarises `input` after its boards' clock steps (clock_steps.hpp), then attaches what
 // `record` holds (clock series, losses, per-sample uncertainty) when it holds anything.
 ScenarioResult analyse_with_record(ScenarioInput input, const BoardRecord& record, const PipelineOptions& options) {
   auto steps = correct_scenario(input, record.of(input.cause_ref.node), record.of(input.effect_ref.node));
+  for (auto [side, node] : {std::pair{&steps.cause, &input.cause_ref.node}, std::pair{&steps.effect, &input.effect_ref.node}})
+    if (const auto it = record.fast_slewing.find(*node); it != record.fast_slewing.end())
+      std::tie(side->fast_slew_places, side->hidden_below_ns) = it->second;
   auto result = analyse(std::move(input), std::move(steps), options.match, options.summary, options.include_ambiguous);
   if (!record.samples.empty() || !record.losses.empty())
     attach_board_record(result, record, options.uncertainty, options.summary);
@@ -97,6 +103,7 @@ ScenarioResult as_given(std::string scenario, const formats::PairedImport& paire
 struct LeanSide {
   SideInput side;
   std::vector<store::ClockSample> steps;  // the kernel log's clock steps (kernel_log_steps.hpp)
+  std::pair<std::size_t, std::int64_t> fast_slewing{0, 0};  // KernelLogClock's places, hidden_below_ns
 };
 std::optional<LeanSide> lean_side(const std::string& path, std::optional<formats::Format> format,
                                   const std::string& node, const std::optional<core::ChannelRef>& want) {
@@ -109,8 +116,9 @@ std::optional<LeanSide> lean_side(const std::string& path, std::optional<formats
   auto& only = series.front();
   const bool numeric = !only.label.empty() && only.label.find_first_not_of("0123456789") == std::string::npos;
   LeanSide lean;
-  for (const auto& step : kernel_log_steps(only.ns, only.log_time_us))
-    lean.steps.push_back(store::step_clock_sample(step));
+  const auto clock = kernel_log_clock(only.ns, only.log_time_us);
+  for (const auto& step : clock.steps) lean.steps.push_back(store::step_clock_sample(step));
+  lean.fast_slewing = {clock.fast_slew_places, clock.hidden_below_ns};
   lean.side = SideInput{{node, numeric ? "gpio" + only.label : only.label}, std::move(only.ns)};
   if (want && (want->node != lean.side.ref.node ||
                (!want->channel.empty() && want->channel != lean.side.ref.channel)))
@@ -176,6 +184,8 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
       record.samples[names.cause] = std::move(cause->steps);
       record.samples[names.effect] = std::move(effect->steps);
       if (record.samples[names.cause].empty() && record.samples[names.effect].empty()) record.samples.clear();
+      for (const auto& [node, lean] : {std::pair{&names.cause, &*cause}, std::pair{&names.effect, &*effect}})
+        if (lean->fast_slewing.first != 0) record.fast_slewing[*node] = lean->fast_slewing;
       results.push_back(analyse_with_record(
           from_timestamps(scenario, std::move(cause->side), std::move(effect->side)), record, options));
     } else {

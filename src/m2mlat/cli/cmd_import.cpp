@@ -98,8 +98,10 @@ PendingSession gyro_session(const ImportCommand& c, const std::string& path) {
 }
 
 // The clock samples a file carries, by node: an events file's clock records, a kernel log's steps
-// (kernel_log_steps.hpp, on the node of its events).
-std::map<std::string, std::vector<store::ClockSample>> clock_of(const formats::EventImport& file) {
+// (kernel_log_steps.hpp, on the node of its events; a clock slewing faster than the steps' bound is
+// said on stderr, not stored).
+std::map<std::string, std::vector<store::ClockSample>> clock_of(const formats::EventImport& file,
+                                                                const std::string& path) {
   std::map<std::string, std::vector<store::ClockSample>> out;
   for (const auto& r : file.clock_records) out[r.node].push_back(analysis::to_clock_sample(r));
   if (file.kernel_records.empty() || file.events.empty()) return out;
@@ -109,8 +111,10 @@ std::map<std::string, std::vector<store::ClockSample>> clock_of(const formats::E
     realtime.push_back(k.time_ns);
     monotonic.push_back(*k.log_time_us);
   }
-  for (const auto& step : analysis::kernel_log_steps(realtime, monotonic))
-    out[file.events.front().node].push_back(store::step_clock_sample(step));
+  const auto clock = analysis::kernel_log_clock(realtime, monotonic);
+  for (const auto& step : clock.steps) out[file.events.front().node].push_back(store::step_clock_sample(step));
+  if (clock.fast_slew_places != 0)
+    warn(fmt::format("{}: {}", path, analysis::fast_slewing_note(clock.fast_slew_places, clock.hidden_below_ns)));
   return out;
 }
 
@@ -205,7 +209,7 @@ int run_import(const ImportCommand& c) {
     auto file = formats::import_file(path, format, options);
     nlohmann::json entry{{"file", path}, {"format", formats::to_string(file.format)}};
     const auto* imported = std::get_if<formats::EventImport>(&file.content);
-    const auto clock = imported ? clock_of(*imported) : std::map<std::string, std::vector<store::ClockSample>>{};
+    const auto clock = imported ? clock_of(*imported, path) : std::map<std::string, std::vector<store::ClockSample>>{};
     std::vector<core::Event> events;
     if (auto* e = std::get_if<formats::EventImport>(&file.content)) {
       entry["records"] = e->records;

@@ -512,17 +512,21 @@ std::string distribution_sections(const Report& report) {
                   lrows, "losses");
   // Clock steps (docs/sync.md): only where a board's clock stepped.
   std::vector<std::vector<std::string>> srows;
-  for (const auto& s : report.scenarios)
-    if (s.result.steps.steps() != 0)
+  std::vector<std::string> slew_notes;
+  for (const auto& s : report.scenarios) {
+    for (const auto& note : fast_slewing_notes(s.result)) slew_notes.push_back(s.result.input.scenario + ": " + note);
+    if (s.result.steps.steps() != 0 || s.result.steps.fast_slew_places() != 0)
       srows.push_back({s.result.input.scenario, std::to_string(s.result.steps.cause.steps),
                        std::to_string(s.result.steps.effect.steps),
                        std::to_string(s.result.pairs_marked(analysis::StepMark::corrected)),
                        std::to_string(s.result.pairs_marked(analysis::StepMark::unknown))});
+  }
   if (!srows.empty()) {
     h += "<h2>Clock steps</h2>\n";
     h += html_table({"scenario", "cause steps", "effect steps", "pairs corrected by the step's known size",
                      "pairs after a step of unknown size (left out)"},
                     srows, "clock-steps");
+    for (const auto& note : slew_notes) h += "<p class=\"note-text\">" + xml_escape(note) + "</p>\n";
   }
   return h;
 }

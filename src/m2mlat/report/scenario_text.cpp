@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include "m2mlat/analysis/kernel_log_steps.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/report/table.hpp"
@@ -94,19 +95,30 @@ std::string uncertainty_table(std::span<const analysis::ScenarioResult> results)
          table.render();
 }
 
+std::vector<std::string> fast_slewing_notes(const analysis::ScenarioResult& r) {
+  std::vector<std::string> out;
+  for (const auto& [side, ref] : {std::pair{&r.steps.cause, &r.input.cause_ref}, std::pair{&r.steps.effect, &r.input.effect_ref}})
+    if (side->fast_slew_places != 0)
+      out.push_back(fmt::format("{}: {}", core::printable(ref->node),
+                                analysis::fast_slewing_note(side->fast_slew_places, side->hidden_below_ns)));
+  return out;
+}
+
 std::string clock_step_table(std::span<const analysis::ScenarioResult> results) {
   Table table({"scenario", "cause steps", "effect steps", "pairs corrected", "after step (left out)"});
   bool any = false;
+  std::string notes;
   for (const auto& r : results) {
-    if (r.steps.steps() == 0) continue;
+    if (r.steps.steps() == 0 && r.steps.fast_slew_places() == 0) continue;
     any = true;
     table.add_row({r.input.scenario, std::to_string(r.steps.cause.steps), std::to_string(r.steps.effect.steps),
                    std::to_string(r.pairs_marked(analysis::StepMark::corrected)),
                    std::to_string(r.pairs_marked(analysis::StepMark::unknown))});
+    for (const auto& side : fast_slewing_notes(r)) notes += fmt::format("note: {}: {}\n", r.input.scenario, side);
   }
   if (!any) return {};
   return "clock steps (later events brought back by a step's known size; of unknown size: flagged, left out)\n" +
-         table.render();
+         table.render() + notes;
 }
 
 std::string scenario_detail(const analysis::ScenarioResult& r) {

@@ -21,8 +21,12 @@ std::string pairing_table(std::span<const analysis::ScenarioResult> results);
 // The per-sample uncertainty of the scenarios whose boards had clock samples (median and P95 of
 // u and U95, median/P95/worst max_err, shares flagged); empty text when none had.
 std::string uncertainty_table(std::span<const analysis::ScenarioResult> results);
+// Per board whose kernel log showed its clock slewing faster than the steps' bound: "<node>: the
+// kernel log's realtime clock slews faster than 500 ppm at K places: ..." (kernel_log_steps.hpp).
+std::vector<std::string> fast_slewing_notes(const analysis::ScenarioResult& r);
 // The boards' clock steps and what they did to the pairs (corrected by a known size, or flagged and
-// left out of the statistics), one row per scenario with steps; empty text when none had any.
+// left out of the statistics), one row per scenario with steps or fast slewing, the latter's notes
+// below; empty text when none had any.
 std::string clock_step_table(std::span<const analysis::ScenarioResult> results);
 
 }  // namespace m2mlat::report

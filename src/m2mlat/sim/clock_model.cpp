@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>  // sqrt (correctly rounded) and llround (exact)
 #include <utility>
@@ -31,6 +32,7 @@ constexpr std::uint64_t kEffectClockStream = 0x636c6f636b2d6566;  // "clock-ef"
 constexpr double kPrecisionNs = 1000;        // clock reading precision assumed by the bound, ns
 constexpr double kMaxSkewRate = 15e-6;       // chrony's assumed worst frequency error between polls
 constexpr double kDispersionAverage = 0.05;  // weight of a new measurement in the jitter estimate
+constexpr double kLoopAverage = 0.02;        // weight of a new correction in the loop's error estimate
 
 [[noreturn]] void fail(std::string_view field, std::string_view what) {
   throw core::Error(core::ErrorKind::usage, fmt::format("simulator setting '{}': {}", field, what));
@@ -91,7 +93,33 @@ void validate(const SyncConfig& sync, std::string_view field) {
   if (!(sync.loop_gain > 0 && sync.loop_gain <= 1)) fail(key("loop_gain"), "must be in (0, 1]");
   if (!(sync.frequency_gain >= 0 && sync.frequency_gain <= 0.25))
     fail(key("frequency_gain"), "must be in [0, 0.25]");
+  // Below 1 ppm the loop cannot follow a typical oscillator; chrony's own default is 83333 ppm.
+  if (!(sync.max_slew_ppm >= 1 && sync.max_slew_ppm <= 100000))
+    fail(key("max_slew_ppm"), "must be in [1, 100000]");
 }
+
+namespace {
+
+// var(e) / var(a) of the daemon's loop in its steady state, unlimited: a = g m is the offset it
+// slews away a poll, m = e + w the measured offset (w white: noise and outliers), and the frequency
+// correction takes f m a poll, so with x the frequency error x poll interval
+//   e' = (1 - f - g) e + x - (f + g) w,   x' = x - f e - f w.
+// The stationary covariance P = A P A^T + B B^T (var(w) = 1), found by iterating; var(a) = g^2
+// (var(e) + 1). With f = 0 it is 1 / (2 g); g 0.3, f 0.02 give 2.03. Plain double arithmetic in a
+// fixed order: bit-identical on every platform.
+double loop_variance_factor(double g, double f) {
+  double pee = 0, pex = 0, pxx = 0;
+  const double a11 = 1 - f - g, a21 = -f, b1 = -(f + g), b2 = -f;
+  for (int i = 0; i < 4000; ++i) {
+    const double ee = a11 * a11 * pee + 2 * a11 * pex + pxx + b1 * b1;
+    const double ex = a11 * a21 * pee + (a11 + a21) * pex + pxx + b1 * b2;
+    const double xx = a21 * a21 * pee + 2 * a21 * pex + pxx + b2 * b2;
+    pee = ee, pex = ex, pxx = xx;
+  }
+  return pee / (g * g * (pee + 1));
+}
+
+}  // namespace
 
 ClockPair::ClockPair(const ClockConfig& cause, const ClockConfig& effect, const SyncConfig& sync,
                      std::int64_t start_ns, std::uint64_t seed)
@@ -99,7 +127,8 @@ ClockPair::ClockPair(const ClockConfig& cause, const ClockConfig& effect, const 
       cause_(cause, seed, kCauseClockStream),
       effect_(effect, seed, kEffectClockStream),
       grid_ns_(start_ns),
-      wander_scale_(std::sqrt(static_cast<double>(sync.poll_interval.count()) * 1e-9) * 1e-6) {
+      wander_scale_(std::sqrt(static_cast<double>(sync.poll_interval.count()) * 1e-9) * 1e-6),
+      loop_factor_(loop_variance_factor(sync.loop_gain, sync.frequency_gain)) {
   for (Node* node : {&cause_, &effect_}) node->step_true_ns = start_ns + node->config.step_at.count();
   if (sync_.mode == SyncMode::perfect) return;
   if (sync_.mode != SyncMode::free) {
@@ -117,6 +146,11 @@ ClockPair::ClockPair(const ClockConfig& cause, const ClockConfig& effect, const 
       node->correction = node->oscillator;
       const auto noise = static_cast<double>(node->link.noise.count());
       node->dispersion_var = noise * noise;
+      // var(a) = g^2 (var(e) + var(w)) and var(e) = loop_factor_ var(a): the loop's steady state
+      // for the noise alone (outliers enter as they come).
+      const double g2 = sync_.loop_gain * sync_.loop_gain;
+      node->applied_var = g2 * noise * noise / (1 - g2 * loop_factor_);
+      node->error_var = loop_factor_ * node->applied_var;
       node->error_ns = static_cast<double>(node->config.sync_bias.count());
     }
   }
@@ -138,8 +172,36 @@ void ClockPair::discipline(Node& node, double reference_error_ns) {
   node.measured_ns = measured;
   node.dispersion_var += kDispersionAverage * (measured * measured - node.dispersion_var);
   const auto interval = static_cast<double>(sync_.poll_interval.count());
-  node.correction += sync_.frequency_gain * measured / interval;
-  node.rate = node.oscillator - node.correction - sync_.loop_gain * measured / interval;
+  // The daemon's corrections (frequency and offset together) are limited to max_slew_ppm, as
+  // chrony's maxslewrate limits them: a large measured offset is then slewed away over several polls.
+  // While the limit holds the rate back the frequency correction stays as it was (a daemon knows the
+  // offset left is its own slew's doing, not a frequency error): integrating it would wind the
+  // correction up by frequency_gain x offset every poll of a long slew, and the clock would overshoot
+  // by far more than the offset. min/max of doubles are exact: the run stays bit-identical everywhere.
+  const double limit = sync_.max_slew_ppm * 1e-6;
+  const double correction = node.correction + sync_.frequency_gain * measured / interval;
+  const double wanted = -correction - sync_.loop_gain * measured / interval;
+  // The daemon's estimate of its clock error's variance (state_of): from the offset a it slews
+  // away in this interval beyond its frequency correction, ns. Unlimited, the loop turns var(a)
+  // into loop_factor_ x var(a) on the clock. Held back by the limit, a is what the clock moved (an
+  // outlier moves it by at most max_slew_ppm x the interval, not g x its full size) and the
+  // frequency correction is left alone. The clock then returns as a proportional loop's does: off
+  // by a, (1 - g) a, (1 - g)^2 a, ..., a^2 / (g (2 - g)) in squares over the polls, of which the
+  // returning polls' own corrections (g (1 - g)^n a, counted as ordinary ones) give a^2 / (2 (2 - g))
+  // without a frequency term; a^2 / (2 g) is the rest (exact for f = 0, within 4 % for f = 0.02).
+  double applied = sync_.loop_gain * measured;
+  double error_var = loop_factor_ * applied * applied;
+  if (wanted >= -limit && wanted <= limit) {
+    node.correction = correction;
+    node.rate = node.oscillator + wanted;
+  } else {
+    const double rate = std::clamp(-node.correction - sync_.loop_gain * measured / interval, -limit, limit);
+    node.rate = node.oscillator + rate;
+    applied = -(rate + node.correction) * interval;
+    error_var = applied * applied / (2 * sync_.loop_gain);
+  }
+  node.applied_var += kLoopAverage * (applied * applied - node.applied_var);
+  node.error_var += kLoopAverage * (error_var - node.error_var);
 }
 
 void ClockPair::step() {
@@ -180,11 +242,12 @@ ClockState ClockPair::state_of(const Node& node, std::int64_t true_ns) const {
   double total = bound(node);
   if (&node == &effect_ && sync_.mode == SyncMode::co_referenced) total += bound(cause_);
   state.error_bound = core::Duration{std::llround(total)};
-  const double gain = sync_.loop_gain;
+  // The standard uncertainty the loop leaves on the clock, from the corrections it made (discipline).
   const double rms = std::sqrt(node.dispersion_var);
   state.rms_offset = core::Duration{std::llround(rms)};
-  state.error_estimate = core::Duration{std::llround(rms * std::sqrt(gain / (2 - gain)))};
-  state.skew_ppm = gain * rms / static_cast<double>(sync_.poll_interval.count()) * 1e6;
+  state.error_estimate = core::Duration{std::llround(std::sqrt(node.error_var))};
+  // How fast it moves the clock (ppm): the RMS of its offset corrections per poll interval.
+  state.skew_ppm = std::sqrt(node.applied_var) / static_cast<double>(sync_.poll_interval.count()) * 1e6;
   return state;
 }
 

@@ -64,6 +64,10 @@ struct SyncConfig {
   SyncLink peer;      // the vehicle board to the operator board (co_referenced)
   double loop_gain = 0.3;        // fraction of a measured offset slewed away in the next interval
   double frequency_gain = 0.02;  // fraction of a measured offset added to the frequency correction
+  // The fastest the daemon adjusts the clock's rate (its frequency and offset corrections together),
+  // ppm: chrony's `maxslewrate`, which m2mlat's chrony.conf sets to 500 so that the kernel log's own
+  // stamps tell a step from a slew (analysis/kernel_log_steps.hpp).
+  double max_slew_ppm = 500;
 
   friend bool operator==(const SyncConfig&, const SyncConfig&) = default;
 };
@@ -123,6 +127,8 @@ class ClockPair {
     double correction = 0;      // the daemon's frequency correction (dimensionless)
     double measured_ns = 0;     // last measured offset
     double dispersion_var = 0;  // running mean of measured_ns^2 (the daemon's jitter estimate)
+    double error_var = 0;       // running mean of the clock error's variance its corrections imply, ns^2
+    double applied_var = 0;     // running mean of the squared offset correction a poll, ns^2
     std::int64_t step_true_ns = 0;  // true time of the configured step (config.step != 0)
     bool stepped = false;           // the step is in error_ns already
     Node(const ClockConfig& c, std::uint64_t seed, std::uint64_t stream) : config(c), rng(seed, stream) {}
@@ -136,6 +142,7 @@ class ClockPair {
   Node cause_, effect_;
   std::int64_t grid_ns_;  // true time of the last grid point
   double wander_scale_;   // sqrt(poll interval in s) * 1e-6: turns ppm/sqrt(s) into a per-step change
+  double loop_factor_;    // var(clock error) / var(offset correction) of the unlimited loop
 };
 
 }  // namespace m2mlat::sim

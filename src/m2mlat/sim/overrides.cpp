@@ -216,6 +216,8 @@ class Table {
                M2MLAT_FIELD(sync.loop_gain));
     add_double("sync.frequency_gain", "fraction of a measured offset added to the frequency correction",
                M2MLAT_FIELD(sync.frequency_gain));
+    add_double("sync.max_slew_ppm", "the fastest the daemon adjusts the clock's rate, ppm (chrony's maxslewrate)",
+               M2MLAT_FIELD(sync.max_slew_ppm));
   }
 
   const std::vector<Field>& fields() const { return fields_; }

@@ -21,9 +21,15 @@ void common_tail(std::string& out, const ChronyConfigOptions& o) {
   check_word("makestep", o.makestep.substr(0, o.makestep.find(' ')));
   if (o.makestep.find_first_of("\r\n#") != std::string::npos) usage("makestep must be one line");
   out += fmt::format(
-      "\n# Step the clock (instead of slewing for hours) only while starting: later steps would\n"
-      "# land inside a measurement. m2mlat records every step it sees as a clock sample.\n"
+      "\n# Step the clock only while starting (the default: when off by more than 5 ms in the first 3\n"
+      "# updates): a board boots from its RTC or the last shutdown's time, seconds to hours off, and\n"
+      "# slewed at 500 ppm (below) 5 ms take 10 s, 50 ms 100 s; a residual under the threshold is\n"
+      "# slewed away in seconds. A later step would land inside a measurement; m2mlat records every\n"
+      "# step it sees as a clock sample and corrects or flags the pairs around it.\n"
       "makestep {}\n"
+      "# Slew at most 500 ppm (chrony's default is 83333): a kernel log's own printk stamps then\n"
+      "# tell a step of the clock from its slewing, and m2mlat corrects the steps it finds there.\n"
+      "maxslewrate 500\n"
       "# Keep the RTC close, so the next boot starts near the right time.\n"
       "rtcsync\n"
       "driftfile {}\n",

@@ -34,7 +34,9 @@ struct ChronyConfigOptions {
   std::vector<std::string> servers;  // autonomous: servers ...
   std::vector<std::string> pools;    // ... and pools (default: 2.debian.pool.ntp.org)
   int minpoll = 2, maxpoll = 2;      // co-referenced peer: log2 of the polling interval, s
-  std::string makestep = "0.1 3";    // step when off by more than 0.1 s, in the first 3 updates only
+  // Step when off by more than 5 ms, in the first 3 clock updates only (docs/sync.md: a start offset
+  // is stepped, not slewed for minutes at maxslewrate 500; a later step would land in a measurement).
+  std::string makestep = "0.005 3";
   std::string pps_device = "/dev/pps0";
   std::string nmea = "shm";  // gnss-pps: "shm" (gpsd SHM 0) or a gpsd socket path
   std::string hwtimestamp;   // an interface for NIC hardware timestamping ("*" = all)

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstdlib>
+#include <string>
 #include <vector>
 
 namespace m2mlat::analysis::kernel_log_steps_test {
@@ -85,6 +87,47 @@ TEST(KernelLogSteps, NothingIsSeenAcrossAReboot) {
   log.realtime_ns.insert(log.realtime_ns.end(), second.realtime_ns.begin(), second.realtime_ns.end());
   log.log_time_us.insert(log.log_time_us.end(), second.log_time_us.begin(), second.log_time_us.end());
   EXPECT_TRUE(kernel_log_steps(log.realtime_ns, log.log_time_us).empty());
+}
+
+// A daemon that slews far faster than 500 ppm (chrony without maxslewrate): d moves 8 ms ahead and
+// back 6.5 s later at four places, then 9 ms ahead 45 s after the last move back (which that move
+// then undoes by the rule: the running sum from it comes back to 1 ms, within half of it) (with
+// lines 1.3 s apart a smaller move is within the windows' 500 ppm allowance: no step either way).
+Log fast_slewing_log(std::int64_t step_ns, int step_line) {
+  auto log = make_log(200, step_ns, step_line);
+  const auto shift = [&](int from, std::int64_t by) {
+    for (std::size_t i = static_cast<std::size_t>(from); i < log.realtime_ns.size(); ++i) log.realtime_ns[i] += by;
+  };
+  for (int at : {20, 60, 100, 140}) {
+    shift(at, 8 * kMs);
+    shift(at + 5, -8 * kMs);
+  }
+  shift(180, 9 * kMs);
+  return log;
+}
+
+TEST(KernelLogSteps, AClockSlewingFasterThanTheBoundGivesNoSteps) {
+  const auto log = fast_slewing_log(0, 0);
+  const auto clock = kernel_log_clock(log.realtime_ns, log.log_time_us);
+  EXPECT_TRUE(clock.steps.empty());
+  EXPECT_EQ(clock.fast_slew_places, 9u);
+  // Twice the largest excursion (9 ms, measured by the windows' medians to within 0.5 ms).
+  EXPECT_NEAR(static_cast<double>(clock.hidden_below_ns), 18.0 * kMs, 1.0 * kMs);
+  EXPECT_NE(fast_slewing_note(clock.fast_slew_places, clock.hidden_below_ns).find("at 9 places"), std::string::npos);
+}
+
+TEST(KernelLogSteps, AGenuineStepStandsOutOfFastSlewing) {
+  const auto log = fast_slewing_log(40 * kMs, 120);
+  const auto clock = kernel_log_clock(log.realtime_ns, log.log_time_us);
+  ASSERT_EQ(clock.steps.size(), 1u);
+  EXPECT_EQ(clock.steps[0].at_ns, log.realtime_ns[120]);
+  ASSERT_TRUE(clock.steps[0].size_ns);
+  EXPECT_LT(std::llabs(*clock.steps[0].size_ns - 40 * kMs), 200'000);
+  EXPECT_EQ(clock.fast_slew_places, 9u);
+  // With the bound held, the same log's slewing would be nine steps: the rule is what drops them.
+  KernelLogStepOptions trusting;
+  trusting.fast_places_min = 1000;
+  EXPECT_EQ(kernel_log_steps(log.realtime_ns, log.log_time_us, trusting).size(), 10u);
 }
 
 }  // namespace m2mlat::analysis::kernel_log_steps_test

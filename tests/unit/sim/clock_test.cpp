@@ -28,9 +28,11 @@ std::vector<double> disagreement_ms(const Simulation& run) {
   return out;
 }
 
-Simulation run_sync(std::string_view preset_name, std::string_view sync, std::int64_t manoeuvres = 2000) {
+Simulation run_sync(std::string_view preset_name, std::string_view sync, std::int64_t manoeuvres = 2000,
+                    double max_slew_ppm = 500) {
   RigConfig config = preset(preset_name);
   config.sync = sync_profile(sync);
+  config.sync.max_slew_ppm = max_slew_ppm;
   config.manoeuvres = manoeuvres;
   config.clock_sample_interval = 1s;
   return simulate(config);
@@ -54,7 +56,11 @@ TEST(Clocks, CoReferencedAgreeMoreTightlyThanAutonomous) {
   EXPECT_NEAR(mean(au), -0.24, 0.1);
   EXPECT_LT(test::iqr(co), 0.5);
   EXPECT_LT(test::iqr(au), 0.8);
-  EXPECT_GT(test::quantile(co, 1.0), 2.0);  // the spikes
+  // The spikes: a delayed sync packet pulls the vehicle's clock ahead. The study's rig (chrony's
+  // default maxslewrate, 83333 ppm) saw them reach 4.4 ms; slewed at most 500 ppm (m2mlat's chrony.conf
+  // and the simulator's default) the clock moves 0.5 ms a poll and the next poll pulls it back.
+  EXPECT_LT(test::quantile(co, 1.0), 2.0);
+  EXPECT_GT(test::quantile(disagreement_ms(run_sync("dynamic_co_referenced", "co_referenced", 2000, 83333)), 1.0), 2.0);
   EXPECT_LT(std::abs(test::quantile(au, 0.0)), 3.0);
 }
 

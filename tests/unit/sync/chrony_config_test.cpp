@@ -19,8 +19,9 @@ TEST(ChronyConfig, CoReferencedReference) {
   const auto c = chrony_config(o);
   EXPECT_TRUE(has_line(c, "local stratum 1")) << c;
   EXPECT_TRUE(has_line(c, "allow 10.0.0.0/24")) << c;
-  EXPECT_TRUE(has_line(c, "makestep 0.1 3")) << c;
+  EXPECT_TRUE(has_line(c, "makestep 0.005 3")) << c;
   EXPECT_TRUE(has_line(c, "rtcsync")) << c;
+  EXPECT_TRUE(has_line(c, "maxslewrate 500")) << c;
   EXPECT_EQ(c.find("server "), std::string::npos);
 }
 

@@ -29,8 +29,9 @@ chrony_start() {
   # The configurations `m2mlat setup chrony` writes for the two co-referenced roles, so that this test
   # also shows them synchronising two kernels. Operator: local stratum 5 (as a reference without an
   # upstream server). Vehicle: minpoll/maxpoll -2, a request every 0.25 s (the reference rig polls
-  # every 4 s; the test has seconds, not minutes, to converge); makestep 0.1 -1: the guest boots with
-  # the host's RTC, up to a second off the operator's clock, and is stepped at once. Both keep
+  # every 4 s; the test has seconds, not minutes, to converge) and the default makestep 0.005 3: the
+  # guest boots with the host's RTC, up to a second off the operator's clock, and is stepped at its
+  # first update (at maxslewrate 500 a slew of 49 ms would take 100 s). Both keep
   # rtcsync: once synchronised, chronyd clears the kernel's STA_UNSYNC, so the vehicle's adjtimex
   # samples say synchronised. The operator's never do: chronyd serving its own clock leaves
   # STA_UNSYNC set (m2mlat's uncertainty then uses chrony's samples).
@@ -39,7 +40,7 @@ chrony_start() {
       --output /etc/chrony.conf >/dev/console 2>&1
   else
     m2mlat setup chrony --mode co-referenced --role peer --reference 10.0.0.1 --minpoll -2 --maxpoll -2 \
-      --makestep "0.1 -1" --output /etc/chrony.conf >/dev/console 2>&1
+      --output /etc/chrony.conf >/dev/console 2>&1
   fi || return 1
   chronyd -u root -f /etc/chrony.conf >/dev/console 2>&1
 }
