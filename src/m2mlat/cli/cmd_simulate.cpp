@@ -55,13 +55,8 @@ void write_stage_markers(const sim::RigConfig& config, const std::string& dir, d
   core::write_output_file((std::filesystem::path(dir) / "markers.csv").string(), markers::markers_csv(markers));
   core::write_output_file(
       (std::filesystem::path(dir) / "stages.txt").string(),
-      fmt::format("# The simulated rig's stages (docs/breakdown.md): NAME = the marker that ends it\n"
-                  "operator_software = first {0}:command after cause\n"
-                  "send              = same key {0}:send\n"
-                  "network           = same key {1}:receive\n"
-                  "vehicle_software  = same key {1}:apply\n"
-                  "actuator          = effect\n",
-                  config.cause_node, config.effect_node));
+      "# The simulated rig's stages (docs/breakdown.md): NAME = the marker that ends it\n" +
+          sim::stage_rule_text(config.cause_node, config.effect_node));
   fmt::print("{}: markers.csv ({} markers of {} commands, {} dropped), stages.txt\n", core::printable(dir),
              markers.size(), stages.chains.size(), stages.dropped);
 }

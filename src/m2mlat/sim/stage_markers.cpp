@@ -73,4 +73,14 @@ StageMarkers stage_markers(const Simulation& run, const StageMarkerOptions& opti
   return out;
 }
 
+std::string stage_rule_text(std::string_view cause_node, std::string_view effect_node) {
+  return fmt::format(
+      "operator_software = first {0}:command after cause\n"
+      "send              = same key {0}:send\n"
+      "network           = same key {1}:receive\n"
+      "vehicle_software  = same key {1}:apply\n"
+      "actuator          = effect\n",
+      cause_node, effect_node);
+}
+
 }  // namespace m2mlat::sim

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -64,5 +65,9 @@ struct StageMarkers {
 // The stage markers of a whole simulated run. Throws core::Error(usage) for a drop probability
 // outside [0, 1].
 StageMarkers stage_markers(const Simulation& run, const StageMarkerOptions& options = {});
+
+// The stage rule (analysis/stage_rule.hpp) that cuts a simulated event with these markers: one stage
+// per marker, then the actuator, the boards named as the run names them.
+std::string stage_rule_text(std::string_view cause_node, std::string_view effect_node);
 
 }  // namespace m2mlat::sim

@@ -20,13 +20,7 @@ using namespace m2mlat::analysis;
 namespace m2mlat::analysis::breakdown_sim_test {
 
 const StageRule& sim_rule() {
-  static const StageRule rule = parse_stage_rule(
-      "operator_software = first operator:command after cause\n"
-      "send = same key operator:send\n"
-      "network = same key vehicle:receive\n"
-      "vehicle_software = same key vehicle:apply\n"
-      "actuator = effect\n",
-      "rule");
+  static const StageRule rule = parse_stage_rule(sim::stage_rule_text("operator", "vehicle"), "rule");
   return rule;
 }
 
@@ -91,7 +85,8 @@ TEST(BreakdownSim, StagesAddUpToTheM2MAndMatchTheTruth) {
       const auto& chain = stages.chains[static_cast<std::size_t>(events[i].pass)];
       const auto& ct = run.cause_truth[static_cast<std::size_t>(pass.cause_event)];
       const auto& et = run.effect_truth[static_cast<std::size_t>(pass.effect_event)];
-      std::vector<std::int64_t> stamps = {ct.true_time.ns() + ct.irq_latency.count() + ct.clock_error.count()};
+      std::vector<std::int64_t> stamps = {ct.true_time.ns() + ct.irq_latency.count() +
+                                          ct.clock_error.count()};
       for (std::size_t k = 0; k < sim::kStageMarkerCount; ++k)
         stamps.push_back(chain.true_ns[k] + chain.clock_error_ns[k]);
       stamps.push_back(et.true_time.ns() + et.irq_latency.count() + et.clock_error.count());
@@ -128,8 +123,8 @@ TEST(BreakdownSim, TheFreshClockModelGivesTheEventsOwnClockErrors) {
     for (const auto& t : run.truth(role))
       edges.push_back({t.true_time.ns() + t.irq_latency.count(), role, t.clock_error.count()});
   std::ranges::stable_sort(edges, {}, &Stamped::key_ns);
-  sim::ClockPair clocks(run.config.cause_clock, run.config.effect_clock, run.config.sync, run.config.start.ns(),
-                        run.config.seed);
+  sim::ClockPair clocks(run.config.cause_clock, run.config.effect_clock, run.config.sync,
+                        run.config.start.ns(), run.config.seed);
   ASSERT_GT(edges.size(), 50u);
   for (const auto& e : edges) ASSERT_EQ(clocks.error(e.role, e.key_ns).count(), e.error_ns);
 }

@@ -19,13 +19,8 @@ using namespace m2mlat;
 namespace {
 
 const analysis::StageRule& live_rule() {
-  static const analysis::StageRule rule = analysis::parse_stage_rule(
-      "operator_software = first operator:command after cause\n"
-      "send = same key operator:send\n"
-      "network = same key vehicle:receive\n"
-      "vehicle_software = same key vehicle:apply\n"
-      "actuator = effect\n",
-      "rule");
+  static const analysis::StageRule rule =
+      analysis::parse_stage_rule(sim::stage_rule_text("operator", "vehicle"), "rule");
   return rule;
 }
 
