@@ -13,6 +13,7 @@
 #include "m2mlat/sim/presets.hpp"
 #include "m2mlat/sim/simulate.hpp"
 #include "m2mlat/sim/stage_markers.hpp"
+#include "sim_pairs.hpp"
 
 using namespace m2mlat;
 using namespace m2mlat::analysis;
@@ -37,14 +38,7 @@ struct TrueEvent {
 };
 std::vector<TrueEvent> true_events(const sim::Simulation& run) {
   std::vector<TrueEvent> out;
-  for (const auto& t : run.pairs) {
-    pairing::Pair p;
-    p.cause_index = t.cause_index;
-    p.effect_index = t.effect_index;
-    p.cause_time = run.cause_events[static_cast<std::size_t>(t.cause_index)].time;
-    p.effect_time = run.effect_events[static_cast<std::size_t>(t.effect_index)].time;
-    out.push_back({p, t.pass});
-  }
+  for (const auto& t : run.pairs) out.push_back({m2mlat::testing::true_pair(run, t), t.pass});
   return out;
 }
 

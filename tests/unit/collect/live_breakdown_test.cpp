@@ -13,6 +13,7 @@
 #include "m2mlat/sim/presets.hpp"
 #include "m2mlat/sim/simulate.hpp"
 #include "m2mlat/sim/stage_markers.hpp"
+#include "sim_pairs.hpp"
 
 using namespace m2mlat;
 
@@ -40,14 +41,7 @@ Run simulated(std::int64_t manoeuvres, double drop) {
   Run out;
   out.markers = analysis::to_markers(sim::stage_markers(run, options), run.config);
   out.result.input.scenario = "live";
-  for (const auto& t : run.pairs) {
-    pairing::Pair p;
-    p.cause_index = t.cause_index;
-    p.effect_index = t.effect_index;
-    p.cause_time = run.cause_events[static_cast<std::size_t>(t.cause_index)].time;
-    p.effect_time = run.effect_events[static_cast<std::size_t>(t.effect_index)].time;
-    out.result.match.pairs.push_back(p);
-  }
+  for (const auto& t : run.pairs) out.result.match.pairs.push_back(m2mlat::testing::true_pair(run, t));
   return out;
 }
 
