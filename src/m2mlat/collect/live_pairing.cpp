@@ -116,10 +116,9 @@ const LiveSummary& LivePairing::update(bool final) {
     const std::tuple now{last_seq, sessions, rate_samples};
     // Markers come without events (a late pull of the operator's): they alone warrant a new join.
     const bool new_markers = breakdown_ && !final && breakdown_->pull(opened_->store) > 0;
-    final_ = final;
     if (seen_ && *seen_ == now && !new_markers && !(final && breakdown_)) return summary_;
     seen_ = now;
-    repair();
+    repair(final);
   } catch (const core::Error& e) {
     // A store being created by another thread may briefly be unreadable: try again next time.
     summary_.state = e.kind() == core::ErrorKind::data ? LiveState::error : LiveState::waiting;
@@ -133,7 +132,7 @@ const LiveSummary& LivePairing::update(bool final) {
   return summary_;
 }
 
-void LivePairing::repair() {
+void LivePairing::repair(bool final) {
   const auto started = std::chrono::steady_clock::now();
   const auto& store = opened_->store;
   LiveSummary s;
@@ -197,7 +196,7 @@ void LivePairing::repair() {
         LiveSample{pairs.back().cause_time.ns(), pairs.back().latency().count(), pairs.back().ambiguous()};
   s.histogram = histogram(r.latencies_ns(), options_.max_histogram_bins);
   if (breakdown_) {
-    if (final_) {
+    if (final) {
       // Every marker of the store, as `stats --stages` reads them (all scenarios).
       const auto all = markers::store_markers(store);
       analysis::attach_breakdown(r, breakdown_->rule(), analysis::MarkerIndex(all));

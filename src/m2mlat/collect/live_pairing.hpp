@@ -144,14 +144,14 @@ class LivePairing {
  private:
   struct Opened;
   const LiveSummary& update(bool final);
-  void repair();
+  // final: the breakdown from every marker of the store (finish), not the live join.
+  void repair(bool final);
   void chain(LiveSummary& s);
   std::string store_path_;
   LiveOptions options_;
   std::unique_ptr<Opened> opened_;
   LiveSummary summary_;
   std::unique_ptr<class LiveBreakdown> breakdown_;  // with options_.stages
-  bool final_ = false;
   // Last seq, session count and raw rate samples (all channels) when last paired.
   std::optional<std::tuple<std::int64_t, std::size_t, std::int64_t>> seen_;
 };
