@@ -769,7 +769,10 @@ per_event() {
 # memory, and record's edge -> durable commit latency: record measures it itself, for every stored
 # event, from the kernel's timestamp to the return of the commit that made it durable (both on
 # CLOCK_REALTIME; p50 and p99 within 3 %). Asserted: every edge of the paced stream is either stored
-# by record or counted by it as lost, and record's peak resident memory is under 20 MiB.
+# by record or counted by it as lost, and record's peak resident memory is under 24 MiB. (It was 20:
+# a run without edges now takes 19.3 MiB, most of it the pages of the larger executable and its
+# libraries, and the streams peaked at 19.4-20.2 MiB, failing now and then by 1 %. The reader's
+# queue, at most 16 chunks of 1024 events, and SQLite's page cache, at most 2 MB, fit in the rest.)
 t_perf_gpiomon() {
   need_record || return 77
   command -v gpiomon >/dev/null || { info "skipped: gpiomon is not in this guest"; return 77; }
@@ -796,8 +799,8 @@ t_perf_gpiomon() {
     info "    edge -> durable commit: p50 $(ns_to_us "$(json_field "perf-rec-$pace.out" p50)") us," \
       "p99 $(ns_to_us "$(json_field "perf-rec-$pace.out" p99)") us," \
       "max $(ns_to_us "$(json_field "perf-rec-$pace.out" max)") us"
-    if [ "${rss:-0}" -ge 20480 ]; then
-      info "  record's peak resident memory $rss KiB is not under 20 MiB"
+    if [ "${rss:-0}" -ge 24576 ]; then
+      info "  record's peak resident memory $rss KiB is not under 24 MiB"
       rc=1
     fi
     if [ "$pace" != 0 ] && [ $((events + losses)) -ne $n ]; then
