@@ -356,65 +356,82 @@ struct LocalReference {
 constexpr std::int64_t kMinAcceptance = 50'000'000;  // ns
 constexpr std::int64_t kSpreadNumerator = 15, kSpreadDenominator = 2;
 
+// The median absolute deviation of a sorted window about its median w[size / 2]: the mid-th smallest
+// (1-based, mid = size / 2) of the deviations below the median (m - w[mid - 1], m - w[mid - 2], ...,
+// ascending) and above it (w[mid + 1] - m, ..., ascending), the median's own deviation left out. The
+// k-th smallest of two ascending runs is the least, over the ways of taking a from the first and k - a
+// from the second, of the larger of the two last taken: each split's larger one is at least the k-th
+// (its k values include it), and the split of the k smallest gives it. The splits are independent of
+// each other, so there is no chain of dependent choices (a merge step by step was most of this
+// function's time, first as branches the data mispredicted, then as their latency).
+std::int64_t sorted_window_mad(const std::int64_t* w, std::size_t size) {
+  const std::size_t mid = size / 2, above_count = size - mid - 1;
+  const std::int64_t median = w[mid];
+  std::int64_t mad = std::numeric_limits<std::int64_t>::max();
+  // a taken below (a >= 1: its last is median - w[mid - a]), mid - a above (its last w[mid + mid - a] - median).
+  const std::size_t first = mid > above_count ? mid - above_count : 0;  // at most above_count above
+  for (std::size_t a = first; a <= mid; ++a) {
+    const std::int64_t low = a > 0 ? median - w[mid - a] : 0;
+    const std::int64_t high = a < mid ? w[mid + mid - a] - median : 0;
+    mad = std::min(mad, std::max(low, high));
+  }
+  return mid == 0 ? 0 : mad;
+}
+
 // Running median (and median absolute deviation) of the matched latencies over `k` pairs either side,
 // assigned to every cause (causes without a pair take the values of the nearest pair before them, or
-// the first pair). The pairs are walked in `match` itself by three cursors (the pair whose median is
-// taken, the pair entering the window, the pair leaving it), so nothing but the result and the
-// window is allocated.
+// the first pair). The window is kept sorted; in the middle of the recording one latency leaves it as
+// another enters, and the one leaving is overwritten by moving the entering one to its place (a few
+// steps: the window holds 2k + 1 values), with no vector insert or erase.
 LocalReference local_reference(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
                                const std::vector<std::uint32_t>& match, int k, std::int64_t fallback) {
   LocalReference out{std::vector<std::int64_t>(causes.size(), fallback),
                      std::vector<std::int64_t>(causes.size(), kMinAcceptance)};
-  auto& reference = out.median;
-  const auto n = static_cast<std::ptrdiff_t>(
-      std::count_if(match.begin(), match.end(), [](std::uint32_t j) { return j != kNone; }));
+  // The pairs' latencies and causes, in order.
+  std::vector<std::int64_t> latency;
+  std::vector<std::uint32_t> cause;
+  for (std::size_t i = 0; i < match.size(); ++i)
+    if (match[i] != kNone) latency.push_back(effects[match[i]] - causes[i]), cause.push_back(static_cast<std::uint32_t>(i));
+  const auto n = static_cast<std::ptrdiff_t>(latency.size());
   if (n == 0) return out;
-  const auto next_pair = [&](std::size_t from) {  // the first matched cause >= from, or the end
-    while (from < match.size() && match[from] == kNone) ++from;
-    return from;
+  std::int64_t* const reference = out.median.data();
+  std::int64_t* const acceptance_of = out.acceptance.data();
+  std::vector<std::int64_t> window(2 * static_cast<std::size_t>(k) + 1);
+  std::int64_t* const w = window.data();
+  std::size_t size = 0;
+  const auto insert = [&](std::int64_t value) {
+    std::size_t at = size++;
+    for (; at > 0 && w[at - 1] > value; --at) w[at] = w[at - 1];
+    w[at] = value;
   };
-  const auto latency = [&](std::size_t i) { return effects[match[i]] - causes[i]; };
-  // The window [p - k, p + k] slides one pair at a time: keep it sorted, remove the pair that
-  // leaves and insert the one that enters (binary search + a short move), instead of re-selecting.
-  std::vector<std::int64_t> window;
-  window.reserve(2 * static_cast<std::size_t>(k) + 1);
+  const auto erase = [&](std::int64_t value) {
+    std::size_t at = static_cast<std::size_t>(std::lower_bound(w, w + size, value) - w);
+    for (--size; at < size; ++at) w[at] = w[at + 1];
+  };
+  // Replaces one occurrence of `old_value` by `value`, keeping the window sorted.
+  const auto replace = [&](std::int64_t old_value, std::int64_t value) {
+    std::size_t at = static_cast<std::size_t>(std::lower_bound(w, w + size, old_value) - w);
+    if (value >= old_value)
+      for (; at + 1 < size && w[at + 1] < value; ++at) w[at] = w[at + 1];
+    else
+      for (; at > 0 && w[at - 1] > value; --at) w[at] = w[at - 1];
+    w[at] = value;
+  };
   std::ptrdiff_t first = 0, last = 0;  // the window holds pairs [first, last)
-  std::size_t entering = next_pair(0), leaving = entering, current = entering;  // their causes
-  std::size_t filled = 0;                                                       // reference[0, filled) set
+  std::size_t filled = 0;              // reference[0, filled) set
   for (std::ptrdiff_t p = 0; p < n; ++p) {
     const auto want_first = std::max<std::ptrdiff_t>(0, p - k),
                want_last = std::min<std::ptrdiff_t>(n, p + k + 1);
-    for (; last < want_last; ++last, entering = next_pair(entering + 1)) {
-      const auto value = latency(entering);
-      window.insert(std::upper_bound(window.begin(), window.end(), value), value);
-    }
-    for (; first < want_first; ++first, leaving = next_pair(leaving + 1))
-      window.erase(std::lower_bound(window.begin(), window.end(), latency(leaving)));
-    const std::size_t mid = window.size() / 2;
-    const std::int64_t median = window[mid];
-    // The median absolute deviation without a copy: the deviations below and above the median are two
-    // ascending runs of the sorted window; merge them up to the middle one. Written without branches
-    // (the choice between the runs is data, and mispredicting it was most of this function's time).
-    // `below` stays >= 1 inside the loop (it starts at mid and drops at most mid - 1 times before the
-    // last read); `above` may reach the end of an even-sized window, whose slot reads as "none".
-    std::int64_t mad = 0;
-    {
-      const std::int64_t* w = window.data();
-      const std::size_t size = window.size();
-      for (std::size_t below = mid, above = mid + 1, taken = 0; taken < mid; ++taken) {
-        const std::int64_t low = median - w[below - 1];
-        const std::int64_t above_value = w[std::min(above, size - 1)] - median;
-        const std::int64_t high = above < size ? above_value : std::numeric_limits<std::int64_t>::max();
-        const bool take_low = low <= high;
-        mad = take_low ? low : high;
-        below -= take_low ? 1 : 0;
-        above += take_low ? 0 : 1;
-      }
-    }
-    const std::int64_t acceptance = std::max(kMinAcceptance, mad * kSpreadNumerator / kSpreadDenominator);
-    const std::size_t next = next_pair(current + 1);  // the cause of pair p + 1, or the end
-    for (; filled < next; ++filled) reference[filled] = median, out.acceptance[filled] = acceptance;
-    current = next;
+    for (; last < want_last && first < want_first; ++last, ++first)
+      replace(latency[static_cast<std::size_t>(first)], latency[static_cast<std::size_t>(last)]);
+    for (; last < want_last; ++last) insert(latency[static_cast<std::size_t>(last)]);
+    for (; first < want_first; ++first) erase(latency[static_cast<std::size_t>(first)]);
+    const std::int64_t median = w[size / 2];
+    const std::int64_t acceptance =
+        std::max(kMinAcceptance, sorted_window_mad(w, size) * kSpreadNumerator / kSpreadDenominator);
+    // Every cause up to the next pair's takes this pair's values.
+    const std::size_t next = p + 1 < n ? cause[static_cast<std::size_t>(p + 1)] : causes.size();
+    for (; filled < next; ++filled) reference[filled] = median, acceptance_of[filled] = acceptance;
   }
   return out;
 }
