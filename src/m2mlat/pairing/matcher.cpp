@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <limits>
 #include <memory>
 
@@ -172,9 +173,12 @@ struct Candidates {
 };
 
 // One alignment pass: the order-preserving one-to-one set of candidate pairs with the largest count
-// (count(i, value) per pair), then the largest total value. value(i, latency) is the
-// worth of pairing cause i at that latency (ns of the window): > 0 to be allowed, kDisallowed to
-// forbid. Returns for each cause the matched effect or kNone.
+// (count per pair), then the largest total value. `row_of(i)` gives cause i's rule (PassRow): its
+// value(latency), the worth of pairing cause i at that latency (ns of the window), > 0 to be allowed,
+// kDisallowed to forbid; count(value); and follows(j), the extra count of the pair (i, j) continuing
+// its predecessors' sweep. Taking the rule once per cause keeps what is the same for the whole row
+// (the reference, the acceptance, the cause's interval) out of the loop over its candidates. Returns
+// for each cause the matched effect or kNone.
 //
 // G(i, j) = (count, value)(i, j) + max(0, max{ G(i', j') : i' < i, j' < j },
 // G(i - 1, j - 1) + (follows(i, j), 0)) is the best (count, then value) of an ordered chain of pairs
@@ -184,16 +188,16 @@ struct Candidates {
 // by the window are folded into one `frozen` maximum, so each cause costs O(its window), and best[]
 // only needs the effects inside the current window: it is a ring of the widest window's size
 // (a power of two), not one entry per effect.
+//
+// A chain's (count, value) is one unsigned key, count << shift | value, compared and added as one
+// number, so that every maximum is a conditional move rather than a branch the data mispredict. The
+// key is 64 bits when the largest count and total value of any chain fit (AlignKey), else 128.
 constexpr std::int64_t kDisallowed = -1;
 
-template <typename Count, typename Value, typename Follows>
-std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count count, Value value, Follows follows) {
-  struct Best {                       // 16 bytes
-    std::int64_t fit = 0;             // the chain's total value
-    std::uint32_t count = 0;          // its pairs' counts (at most 3 each, at most kMaxCandidates pairs)
-    std::uint32_t candidate = kNone;  // the chain's last candidate, or kNone for the empty chain
-    bool operator>(const Best& o) const { return count != o.count ? count > o.count : fit > o.fit; }
-  };
+__extension__ typedef unsigned __int128 WideKey;  // GCC and Clang, on every 64-bit target
+
+template <typename Key, typename RowOf>
+std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, unsigned shift, RowOf row_of) {
   const auto& [causes, effects, min_ns, max_ns] = sides;
   std::size_t window_total = 0, widest = 1;
   {
@@ -215,12 +219,24 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
   std::size_t ring_size = 1;
   while (ring_size < widest) ring_size *= 2;
   const std::size_t mask = ring_size - 1;
-  std::vector<Best> best(ring_size);  // best[j & mask] for the effects j in [folded, window end)
-  Best frozen;                        // best over effects [0, folded)
+  // A chain is its key ((count << shift) + its total value) and its last candidate (kNone: the empty
+  // chain), kept in separate arrays and scalars: a maximum is then two conditional moves.
+  // best[j & mask] for the effects j in [folded, window end); frozen: the best over effects [0, folded).
+  std::vector<Key> best_key_store(ring_size, 0);
+  std::vector<std::uint32_t> best_candidate_store(ring_size, kNone);
+  Key* const best_key = best_key_store.data();
+  std::uint32_t* const best_candidate = best_candidate_store.data();
+  Key frozen_key = 0;
+  std::uint32_t frozen_candidate = kNone;
   std::size_t folded = 0;
-  // This cause's chain ends, applied after the row, and the previous cause's: (effect, chain), at most
-  // the widest window's each.
-  std::vector<std::pair<std::uint32_t, Best>> row(widest), previous(widest);
+  // This cause's chain ends, applied after the row, and the previous cause's: effect, key (the chain's
+  // last candidate is the row's own), at most the widest window's each.
+  std::vector<std::uint32_t> row_effect_store(widest), previous_effect_store(widest);
+  std::vector<std::uint32_t> row_id_store(widest), previous_id_store(widest);
+  std::vector<Key> row_key_store(widest), previous_key_store(widest);
+  std::uint32_t *row_effect = row_effect_store.data(), *previous_effect = previous_effect_store.data();
+  std::uint32_t *row_id = row_id_store.data(), *previous_id = previous_id_store.data();
+  Key *row_key = row_key_store.data(), *previous_key = previous_key_store.data();
   std::size_t row_size = 0, previous_size = 0;
 
   Window w = sides.window();
@@ -229,52 +245,71 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
     cand.row_start[i] = next_id;
     cand.row_lo[i] = w.lo;
     for (; folded < w.lo; ++folded) {
-      Best& slot = best[folded & mask];
-      if (slot > frozen) frozen = slot;
-      slot = Best{};  // the slot now serves effect folded + ring_size
+      const std::size_t slot = folded & mask;
+      const bool up = best_key[slot] > frozen_key;
+      frozen_key = up ? best_key[slot] : frozen_key;
+      frozen_candidate = up ? best_candidate[slot] : frozen_candidate;
+      best_key[slot] = 0, best_candidate[slot] = kNone;  // the slot now serves effect folded + ring_size
     }
-    Best running = frozen;  // max over effects < j, from causes < i
-    std::swap(row, previous);
+    const auto rule = row_of(i);
+    const std::int64_t cause = causes[i];
+    Key running_key = frozen_key;  // max over effects < j, from causes < i
+    std::uint32_t running_candidate = frozen_candidate;
+    std::swap(row_effect, previous_effect);
+    std::swap(row_id, previous_id);
+    std::swap(row_key, previous_key);
     previous_size = row_size;
     row_size = 0;
     std::size_t adjacent = 0;  // previous[adjacent]: the previous cause's chain end at effect j - 1, if any
     for (auto j = w.lo; j < w.hi; ++j) {
-      const std::int64_t v = value(i, effects[j] - causes[i]);
+      const std::int64_t v = rule.value(effects[j] - cause);
       if (v > 0) {
         const std::uint32_t id = next_id++;
-        Best chain{running.fit + v, running.count + count(i, v), id};
-        std::uint32_t pred = running.candidate;
-        while (adjacent < previous_size && previous[adjacent].first + 1 < j) ++adjacent;
-        if (i > 0 && j > 0 && adjacent < previous_size && previous[adjacent].first + 1 == j) {
-          const Best& before = previous[adjacent].second;
-          const Best linked{before.fit + v, before.count + count(i, v) + follows(i, j), id};
-          if (linked > chain) chain = linked, pred = before.candidate;
+        const Key gain = (Key{rule.count(v)} << shift) + static_cast<Key>(v);
+        Key chain = running_key + gain;
+        std::uint32_t pred = running_candidate;
+        while (adjacent < previous_size && previous_effect[adjacent] + 1 < j) ++adjacent;
+        if (i > 0 && j > 0 && adjacent < previous_size && previous_effect[adjacent] + 1 == j) {
+          const Key linked = previous_key[adjacent] + gain + (Key{rule.follows(j)} << shift);
+          const bool link = linked > chain;
+          chain = link ? linked : chain;
+          pred = link ? previous_id[adjacent] : pred;
         }
         if (narrow)
           cand_offset[id] = static_cast<std::uint8_t>(j - w.lo);
         else
           cand_effect[id] = j;
         cand_pred[id] = pred;
-        row[row_size++] = {j, chain};
+        row_effect[row_size] = j, row_key[row_size] = chain, row_id[row_size] = id;
+        ++row_size;
       }
-      if (best[j & mask] > running) running = best[j & mask];
+      const std::size_t slot = j & mask;
+      const bool up = best_key[slot] > running_key;
+      running_key = up ? best_key[slot] : running_key;
+      running_candidate = up ? best_candidate[slot] : running_candidate;
     }
     for (std::size_t r = 0; r < row_size; ++r) {
-      const auto& [j, chain] = row[r];
-      if (chain > best[j & mask]) best[j & mask] = chain;
+      const std::size_t slot = row_effect[r] & mask;
+      const bool up = row_key[r] > best_key[slot];
+      best_key[slot] = up ? row_key[r] : best_key[slot];
+      best_candidate[slot] = up ? row_id[r] : best_candidate[slot];
     }
   }
   cand.row_start[causes.size()] = next_id;
 
   // Effects past the last window were never written: their slots hold the empty chain.
-  Best overall = frozen;
-  for (std::size_t j = folded; j < std::min<std::size_t>(effects.size(), folded + ring_size); ++j)
-    if (best[j & mask] > overall) overall = best[j & mask];
+  Key overall_key = frozen_key;
+  std::uint32_t overall = frozen_candidate;
+  for (std::size_t j = folded; j < std::min<std::size_t>(effects.size(), folded + ring_size); ++j) {
+    const bool up = best_key[j & mask] > overall_key;
+    overall_key = up ? best_key[j & mask] : overall_key;
+    overall = up ? best_candidate[j & mask] : overall;
+  }
 
   // Walk the chain back; candidates are numbered in cause order, so the row pointer only moves down.
   std::vector<std::uint32_t> match(causes.size(), kNone);
   std::size_t i = causes.size();
-  for (auto c = overall.candidate; c != kNone; c = cand_pred[c]) {
+  for (auto c = overall; c != kNone; c = cand_pred[c]) {
     while (cand.row_start[i] > c) --i;
     match[i] = narrow ? cand.row_lo[i] + cand_offset[c] : cand_effect[c];
   }
@@ -320,19 +355,41 @@ class SweepStretch {
     high_ = *mid * kPatternNumerator / kPatternDenominator;
   }
 
-  // 1 when cause i and effect j (both > 0) follow cause i - 1 and effect j - 1 within one sweep and
-  // within the band, else 0.
-  std::uint32_t follows(std::size_t i, std::uint32_t j) const {
-    const std::int64_t s = stretch(i, j);
-    return s >= 0 && s >= low_ && s <= high_ ? 1u : 0u;
+  // Whether the pairs (i - 1, j - 1) -> (i, j) follow each other within one sweep and within the band,
+  // for one cause i > 0 and any effect j > 0: Link(j) is 1 then, else 0. The same test as
+  // low_ <= stretch(i, j) <= high_, without a division per candidate: for x = 10^6 x the effect
+  // interval (< 10^18) and the cause interval c > 0, floor(x / c) >= low exactly when x >= low x c,
+  // and <= high exactly when x < (high + 1) x c; the two products are taken once per cause (a product
+  // beyond 64 bits is beyond every x: no pair reaches the band's low end, every pair is below its
+  // high end).
+  struct Link {
+    const std::int64_t* effects = nullptr;  // null: cause i starts no link (first cause, or a gap before it)
+    std::int64_t effect_limit = 0, low_x = 0, high_x = 0;
+    std::uint32_t operator()(std::uint32_t j) const {
+      if (effects == nullptr) return 0;
+      const std::int64_t effect_interval = effects[j] - effects[j - 1];
+      if (effect_interval >= effect_limit) return 0;
+      const std::int64_t x = effect_interval * 1'000'000;
+      return x >= low_x && x < high_x ? 1u : 0u;
+    }
+  };
+  Link link(std::size_t i) const {
+    if (i == 0) return {};
+    const std::int64_t cause_interval = causes_[i] - causes_[i - 1];
+    if (cause_interval <= 0 || cause_interval >= gap_ns_) return {};
+    constexpr std::int64_t kLargest = std::numeric_limits<std::int64_t>::max();
+    const auto times = [&](std::int64_t band) {  // band x cause_interval, or kLargest beyond 64 bits
+      return band > 0 && cause_interval > kLargest / band ? kLargest : band * cause_interval;
+    };
+    return {effects_.data(), std::min(kVehicleGapFactor * gap_ns_, kMaxInterval), times(low_), times(high_ + 1)};
   }
 
  private:
   // The stretch of (i - 1, j - 1) -> (i, j) in millionths, or -1 when either interval spans a burst gap
   // (the vehicle's side: kVehicleGapFactor of it) or kMaxInterval, so that 10^6 times it fits 64 bits
   // whatever burst gap was given.
+  static constexpr std::int64_t kMaxInterval = 1'000'000'000'000;  // ns: 1000 s
   std::int64_t stretch(std::size_t i, std::uint32_t j) const {
-    constexpr std::int64_t kMaxInterval = 1'000'000'000'000;  // ns: 1000 s
     const std::int64_t cause_interval = causes_[i] - causes_[i - 1], effect_interval = effects_[j] - effects_[j - 1];
     if (cause_interval <= 0 || cause_interval >= gap_ns_ || effect_interval >= kVehicleGapFactor * gap_ns_ ||
         effect_interval >= kMaxInterval)
@@ -737,6 +794,32 @@ std::int64_t bounce_span(std::span<const std::int64_t> times, const std::vector<
   return times[static_cast<std::size_t>(last)] - times[static_cast<std::size_t>(kept)];
 }
 
+// One cause's rule in an alignment pass (align): the worth of its candidates (pair_worth, with the
+// reference and acceptance of this cause), the count of a pair by its worth (typical or not), and its
+// sweep link.
+constexpr std::int64_t kLooseWorth = kPairWorth - kDeviationCost;  // the worth of a pair beyond the acceptance
+struct PassRow {
+  std::int64_t reference, acceptance, tolerance_ns;
+  std::uint32_t typical_count, far_count;  // the count of a pair worth more than kLooseWorth, of the others
+  SweepStretch::Link follows;
+  std::int64_t value(std::int64_t latency) const {
+    const std::int64_t deviation = latency > reference ? latency - reference : reference - latency;
+    if (tolerance_ns > 0 && deviation >= tolerance_ns) return kDisallowed;
+    return deviation >= acceptance ? kLooseWorth : kPairWorth - deviation * kDeviationCost / acceptance;
+  }
+  std::uint32_t count(std::int64_t v) const { return v > kLooseWorth ? typical_count : far_count; }
+};
+
+// Runs align with the narrowest key that holds every chain's (count, value): at most min(causes,
+// effects) pairs, each of count <= 3 and value <= kPairWorth.
+template <typename RowOf>
+std::vector<std::uint32_t> align_pass(const Sides& sides, Candidates& cand, RowOf row_of) {
+  const auto pairs = static_cast<std::uint64_t>(std::min(sides.causes.size(), sides.effects.size()));
+  const auto shift = static_cast<unsigned>(std::bit_width(pairs * kPairWorth));
+  if (std::bit_width(3 * pairs) + shift <= 64) return align<std::uint64_t>(sides, cand, shift, row_of);
+  return align<WideKey>(sides, cand, 64, row_of);
+}
+
 void check_sorted(std::span<const std::int64_t> times, const char* side) {
   const auto it = std::is_sorted_until(times.begin(), times.end());
   if (it != times.end())
@@ -793,40 +876,35 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   // Pass 1: one global reference; every candidate in the window is allowed, and the best fit wins.
   const std::int64_t global = global_reference(sides, candidate_total);
   Candidates candidates;
-  const LocalReference global_only{{global}, {kFirstPassAcceptance}};
   LocalReference reference;  // of the pass before
-  const auto fit_only = [](std::size_t, std::int64_t) { return 0u; };
-  const auto no_link = [](std::size_t, std::uint32_t) { return 0u; };
-  auto matched = align(
-      sides, candidates, fit_only,
-      [&](std::size_t, std::int64_t latency) { return pair_worth(global_only, 0, latency, options.tolerance.count()); },
-      no_link);
+  const std::int64_t tolerance = options.tolerance.count();
+  auto matched = align_pass(sides, candidates, [&](std::size_t) {
+    return PassRow{global, kFirstPassAcceptance, tolerance, 0, 0, {}};
+  });
   // Pass 2: against the local reference of pass 1; the most pairs (a typical one counting twice), then
   // the largest worth. (A third such pass, against pass 2's reference, changed nothing measurable.)
-  const auto worth = [&](std::size_t i, std::int64_t latency) {
-    return pair_worth(reference, i, latency, options.tolerance.count());
-  };
-  constexpr std::int64_t kLooseWorth = kPairWorth - kDeviationCost;
   reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
   const auto gap = options.burst_gap.count() > 0 ? options.burst_gap : burst_gap_for(options.magnets_deg);
   SweepStretch sweep(causes.ns, effects.ns, gap.count());
   sweep.fit(matched);
-  const auto links = [&sweep](std::size_t i, std::uint32_t j) { return sweep.follows(i, j); };
-  matched = align(sides, candidates, [](std::size_t, std::int64_t v) { return v > kLooseWorth ? 2u : 1u; }, worth, links);
+  matched = align_pass(sides, candidates, [&](std::size_t i) {
+    return PassRow{reference.median[i], reference.acceptance[i], tolerance, 2, 1, sweep.link(i)};
+  });
   sweep.fit(matched);
   reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
   // Pass 3: a pair far from the typical latency that an unmatched edge could replace counts nothing
   // (only its worth), so that such pairs never displace a typical one: a lost edge and a spurious one
   // must not push a true pair out.
   {
-    const auto doubtful = uncertain_pairs(sides, matched, reference, options.tolerance.count());
+    const auto doubtful = uncertain_pairs(sides, matched, reference, tolerance);
     std::vector<bool> demoted(matched.size(), false);
     for (std::size_t i = 0; i < matched.size(); ++i)
       demoted[i] = matched[i] != kNone && (doubtful[i] & kPairCompeting) != 0 &&
                    beyond_acceptance(reference, i, effects.ns[matched[i]] - causes.ns[i]);
-    matched = align(
-        sides, candidates,
-        [&](std::size_t i, std::int64_t v) { return v > kLooseWorth ? 2u : demoted[i] ? 0u : 1u; }, worth, links);
+    matched = align_pass(sides, candidates, [&](std::size_t i) {
+      return PassRow{reference.median[i], reference.acceptance[i], tolerance, 2, demoted[i] ? 0u : 1u,
+                     sweep.link(i)};
+    });
   }
   candidates = Candidates();
 
