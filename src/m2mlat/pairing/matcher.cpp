@@ -785,14 +785,25 @@ std::vector<std::uint32_t> uncertain_pairs(const Sides& sides, const std::vector
 // How long after the kept edge at input index `kept` the edges dropped as its bounces go on (ns; 0
 // without bounces). The refractory filter keeps the first edge of a cluster: right for contact bounce,
 // which follows the true edge, but a spurious edge just before the true one makes the true one a
-// "bounce". The pass's edge is then somewhere in the cluster.
-std::int64_t bounce_span(std::span<const std::int64_t> times, const std::vector<std::int64_t>& bounces,
-                         std::int64_t kept) {
-  auto it = std::lower_bound(bounces.begin(), bounces.end(), kept + 1);
-  std::int64_t last = kept;
-  for (; it != bounces.end() && *it == last + 1; ++it) last = *it;
-  return times[static_cast<std::size_t>(last)] - times[static_cast<std::size_t>(kept)];
-}
+// "bounce". The pass's edge is then somewhere in the cluster. The pairs ask in the order of their
+// edges, so a cursor walks the bounces along (no search per pair).
+class BounceSpan {
+ public:
+  BounceSpan(std::span<const std::int64_t> times, const std::vector<std::int64_t>& bounces)
+      : times_(times), bounces_(bounces) {}
+  // `kept` must not decrease from one call to the next.
+  std::int64_t operator()(std::int64_t kept) {
+    while (next_ < bounces_.size() && bounces_[next_] <= kept) ++next_;
+    std::int64_t last = kept;
+    for (; next_ < bounces_.size() && bounces_[next_] == last + 1; ++next_) last = bounces_[next_];
+    return times_[static_cast<std::size_t>(last)] - times_[static_cast<std::size_t>(kept)];
+  }
+
+ private:
+  std::span<const std::int64_t> times_;
+  const std::vector<std::int64_t>& bounces_;
+  std::size_t next_ = 0;  // the first bounce after the last edge asked for
+};
 
 // One cause's rule in an alignment pass (align): the worth of its candidates (pair_worth, with the
 // reference and acceptance of this cause), the count of a pair by its worth (typical or not), and its
@@ -977,11 +988,11 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   static_assert(sizeof(Pair) == 56, "Pair::bounce_span_ns lives in what was padding");
   result.pairs.reserve(pair_count);
   KeptIndex cause_index(causes.bounces), effect_index(effects.bounces);
+  BounceSpan cause_bounce_span(cause_ns, causes.bounces), effect_bounce_span(effect_ns, effects.bounces);
   for (std::size_t i = 0; i < matched.size(); ++i) {
     if (matched[i] == kNone) continue;
     const auto c = cause_index(i), e = effect_index(matched[i]);
-    const std::int64_t cause_span = bounce_span(cause_ns, causes.bounces, c),
-                       effect_span = bounce_span(effect_ns, effects.bounces, e);
+    const std::int64_t cause_span = cause_bounce_span(c), effect_span = effect_bounce_span(e);
     const bool bounced = cause_span > kBounceSpanLimit.count() || effect_span > kBounceSpanLimit.count();
     result.pairs.push_back(Pair{c, e, core::TimePoint::from_ns(clock, cause_ns[static_cast<std::size_t>(c)]),
                                 core::TimePoint::from_ns(clock, effect_ns[static_cast<std::size_t>(e)]),
