@@ -445,8 +445,12 @@ LocalReference local_reference(std::span<const std::int64_t> causes, std::span<c
   LocalReference out{std::vector<std::int64_t>(causes.size(), fallback),
                      std::vector<std::int64_t>(causes.size(), kMinAcceptance)};
   // The pairs' latencies and causes, in order.
+  const auto pair_count = static_cast<std::size_t>(
+      std::count_if(match.begin(), match.end(), [](std::uint32_t j) { return j != kNone; }));
   std::vector<std::int64_t> latency;
   std::vector<std::uint32_t> cause;
+  latency.reserve(pair_count);
+  cause.reserve(pair_count);
   for (std::size_t i = 0; i < match.size(); ++i)
     if (match[i] != kNone) latency.push_back(effects[match[i]] - causes[i]), cause.push_back(static_cast<std::uint32_t>(i));
   const auto n = static_cast<std::ptrdiff_t>(latency.size());
