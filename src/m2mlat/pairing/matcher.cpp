@@ -88,16 +88,21 @@ struct Sides {
   Window window() const { return Window(causes, effects, min_ns, max_ns); }
 };
 
-// The number of candidate pairs: the sum over causes of the number of effects in their window,
-// counted by walking the window (nothing is allocated).
-std::size_t candidate_count(const Sides& sides) {
-  std::size_t total = 0;
+// The number of candidate pairs (the sum over causes of the number of effects in their window) and
+// the widest window, counted by walking the windows (nothing is allocated). Every pass takes them
+// from here.
+struct CandidateCount {
+  std::size_t total = 0, widest = 1;
+};
+CandidateCount candidate_count(const Sides& sides) {
+  CandidateCount count;
   Window w = sides.window();
   for (std::size_t i = 0; i < sides.causes.size(); ++i) {
     w.at(i);
-    total += w.hi - w.lo;
+    count.total += w.hi - w.lo;
+    count.widest = std::max<std::size_t>(count.widest, w.hi - w.lo);
   }
-  return total;
+  return count;
 }
 
 // Global reference latency: the centre of the densest 100 ms-wide bin of all candidate latencies.
@@ -197,17 +202,10 @@ constexpr std::int64_t kDisallowed = -1;
 __extension__ typedef unsigned __int128 WideKey;  // GCC and Clang, on every 64-bit target
 
 template <typename Key, typename RowOf>
-std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, unsigned shift, RowOf row_of) {
+std::vector<std::uint32_t> align(const Sides& sides, const CandidateCount& count, Candidates& cand, unsigned shift,
+                                 RowOf row_of) {
   const auto& [causes, effects, min_ns, max_ns] = sides;
-  std::size_t window_total = 0, widest = 1;
-  {
-    Window w = sides.window();
-    for (std::size_t i = 0; i < causes.size(); ++i) {
-      w.at(i);
-      window_total += w.hi - w.lo;
-      widest = std::max<std::size_t>(widest, w.hi - w.lo);
-    }
-  }
+  const std::size_t window_total = count.total, widest = count.widest;
   const bool narrow = widest <= 256;  // every offset in a window fits a byte
   cand.reserve(window_total, narrow);
   std::uint32_t* const cand_effect = cand.effect.get();
@@ -828,11 +826,12 @@ struct PassRow {
 // Runs align with the narrowest key that holds every chain's (count, value): at most min(causes,
 // effects) pairs, each of count <= 3 and value <= kPairWorth.
 template <typename RowOf>
-std::vector<std::uint32_t> align_pass(const Sides& sides, Candidates& cand, RowOf row_of) {
+std::vector<std::uint32_t> align_pass(const Sides& sides, const CandidateCount& count, Candidates& cand,
+                                      RowOf row_of) {
   const auto pairs = static_cast<std::uint64_t>(std::min(sides.causes.size(), sides.effects.size()));
   const auto shift = static_cast<unsigned>(std::bit_width(pairs * kPairWorth));
-  if (std::bit_width(3 * pairs) + shift <= 64) return align<std::uint64_t>(sides, cand, shift, row_of);
-  return align<WideKey>(sides, cand, 64, row_of);
+  if (std::bit_width(3 * pairs) + shift <= 64) return align<std::uint64_t>(sides, count, cand, shift, row_of);
+  return align<WideKey>(sides, count, cand, 64, row_of);
 }
 
 void check_sorted(std::span<const std::int64_t> times, const char* side) {
@@ -879,7 +878,8 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   const std::int64_t min_ns = sides.min_ns, max_ns = sides.max_ns;
   // Memory follows the number of candidate pairs (5 to 8 bytes each in the passes): refuse a window that
   // holds more than the limit before anything is allocated for them.
-  const std::size_t candidate_total = candidate_count(sides);
+  const CandidateCount counted = candidate_count(sides);
+  const std::size_t candidate_total = counted.total;
   if (candidate_total > kMaxCandidates)
     throw core::Error(
         core::ErrorKind::usage,
@@ -893,7 +893,7 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   Candidates candidates;
   LocalReference reference;  // of the pass before
   const std::int64_t tolerance = options.tolerance.count();
-  auto matched = align_pass(sides, candidates, [&](std::size_t) {
+  auto matched = align_pass(sides, counted, candidates, [&](std::size_t) {
     return PassRow{global, kFirstPassAcceptance, tolerance, 0, 0, {}};
   });
   // Pass 2: against the local reference of pass 1; the most pairs (a typical one counting twice), then
@@ -902,7 +902,7 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   const auto gap = options.burst_gap.count() > 0 ? options.burst_gap : burst_gap_for(options.magnets_deg);
   SweepStretch sweep(causes.ns, effects.ns, gap.count());
   sweep.fit(matched);
-  matched = align_pass(sides, candidates, [&](std::size_t i) {
+  matched = align_pass(sides, counted, candidates, [&](std::size_t i) {
     return PassRow{reference.median[i], reference.acceptance[i], tolerance, 2, 1, sweep.link(i)};
   });
   sweep.fit(matched);
@@ -916,7 +916,7 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
     for (std::size_t i = 0; i < matched.size(); ++i)
       demoted[i] = matched[i] != kNone && (doubtful[i] & kPairCompeting) != 0 &&
                    beyond_acceptance(reference, i, effects.ns[matched[i]] - causes.ns[i]);
-    matched = align_pass(sides, candidates, [&](std::size_t i) {
+    matched = align_pass(sides, counted, candidates, [&](std::size_t i) {
       return PassRow{reference.median[i], reference.acceptance[i], tolerance, 2, demoted[i] ? 0u : 1u,
                      sweep.link(i)};
     });
