@@ -442,17 +442,18 @@ LocalReference local_reference(std::span<const std::int64_t> causes, std::span<c
                                const std::vector<std::uint32_t>& match, int k, std::int64_t fallback) {
   LocalReference out{std::vector<std::int64_t>(causes.size(), fallback),
                      std::vector<std::int64_t>(causes.size(), kMinAcceptance)};
-  // The pairs' latencies and causes, in order.
-  const auto pair_count = static_cast<std::size_t>(
+  const auto n = static_cast<std::ptrdiff_t>(
       std::count_if(match.begin(), match.end(), [](std::uint32_t j) { return j != kNone; }));
-  std::vector<std::int64_t> latency;
-  std::vector<std::uint32_t> cause;
-  latency.reserve(pair_count);
-  cause.reserve(pair_count);
-  for (std::size_t i = 0; i < match.size(); ++i)
-    if (match[i] != kNone) latency.push_back(effects[match[i]] - causes[i]), cause.push_back(static_cast<std::uint32_t>(i));
-  const auto n = static_cast<std::ptrdiff_t>(latency.size());
   if (n == 0) return out;
+  // The pairs are walked in `match` itself by three cursors (the pair whose median is taken, the pair
+  // entering the window, the pair leaving it), so that nothing but the result and the window is
+  // allocated (a list of the pairs' latencies would add 8 bytes a pair while the passes' candidates
+  // are held).
+  const auto next_pair = [&](std::size_t from) {  // the first matched cause >= from, or the end
+    while (from < match.size() && match[from] == kNone) ++from;
+    return from;
+  };
+  const auto latency = [&](std::size_t i) { return effects[match[i]] - causes[i]; };
   std::int64_t* const reference = out.median.data();
   std::int64_t* const acceptance_of = out.acceptance.data();
   std::vector<std::int64_t> window(2 * static_cast<std::size_t>(k) + 1);
@@ -477,20 +478,24 @@ LocalReference local_reference(std::span<const std::int64_t> causes, std::span<c
     w[at] = value;
   };
   std::ptrdiff_t first = 0, last = 0;  // the window holds pairs [first, last)
-  std::size_t filled = 0;              // reference[0, filled) set
+  std::size_t entering = next_pair(0), leaving = entering, current = entering;  // their causes
+  std::size_t filled = 0;                                                       // reference[0, filled) set
   for (std::ptrdiff_t p = 0; p < n; ++p) {
     const auto want_first = std::max<std::ptrdiff_t>(0, p - k),
                want_last = std::min<std::ptrdiff_t>(n, p + k + 1);
-    for (; last < want_last && first < want_first; ++last, ++first)
-      replace(latency[static_cast<std::size_t>(first)], latency[static_cast<std::size_t>(last)]);
-    for (; last < want_last; ++last) insert(latency[static_cast<std::size_t>(last)]);
-    for (; first < want_first; ++first) erase(latency[static_cast<std::size_t>(first)]);
+    for (; last < want_last && first < want_first; ++last, ++first) {
+      replace(latency(leaving), latency(entering));
+      entering = next_pair(entering + 1), leaving = next_pair(leaving + 1);
+    }
+    for (; last < want_last; ++last, entering = next_pair(entering + 1)) insert(latency(entering));
+    for (; first < want_first; ++first, leaving = next_pair(leaving + 1)) erase(latency(leaving));
     const std::int64_t median = w[size / 2];
     const std::int64_t acceptance =
         std::max(kMinAcceptance, sorted_window_mad(w, size) * kSpreadNumerator / kSpreadDenominator);
     // Every cause up to the next pair's takes this pair's values.
-    const std::size_t next = p + 1 < n ? cause[static_cast<std::size_t>(p + 1)] : causes.size();
+    const std::size_t next = next_pair(current + 1);  // the cause of pair p + 1, or the end
     for (; filled < next; ++filled) reference[filled] = median, acceptance_of[filled] = acceptance;
+    current = next;
   }
   return out;
 }
