@@ -470,7 +470,10 @@ LocalReference local_reference(std::span<const std::int64_t> causes, std::span<c
   };
   // Replaces one occurrence of `old_value` by `value`, keeping the window sorted.
   const auto replace = [&](std::int64_t old_value, std::int64_t value) {
-    std::size_t at = static_cast<std::size_t>(std::lower_bound(w, w + size, old_value) - w);
+    // Its first occurrence, counted rather than searched: a binary search's steps go either way at
+    // random and are mispredicted; the count is 2k + 1 compares without a branch.
+    std::size_t at = 0;
+    for (std::size_t t = 0; t < size; ++t) at += w[t] < old_value ? 1 : 0;
     if (value >= old_value)
       for (; at + 1 < size && w[at + 1] < value; ++at) w[at] = w[at + 1];
     else
