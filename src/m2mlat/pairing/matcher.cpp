@@ -346,11 +346,13 @@ class SweepStretch {
         if (s >= 0) stretches.push_back(s);
       }
     low_ = 1, high_ = 0;  // no band
+    low_reach_ = reach(low_), high_reach_ = reach(high_ + 1);
     if (stretches.size() < 2) return;
     const auto mid = stretches.begin() + static_cast<std::ptrdiff_t>(stretches.size() / 2);
     std::nth_element(stretches.begin(), mid, stretches.end());
     low_ = *mid * kPatternDenominator / kPatternNumerator;
     high_ = *mid * kPatternNumerator / kPatternDenominator;
+    low_reach_ = reach(low_), high_reach_ = reach(high_ + 1);
   }
 
   // Whether the pairs (i - 1, j - 1) -> (i, j) follow each other within one sweep and within the band,
@@ -375,11 +377,12 @@ class SweepStretch {
     if (i == 0) return {};
     const std::int64_t cause_interval = causes_[i] - causes_[i - 1];
     if (cause_interval <= 0 || cause_interval >= gap_ns_) return {};
-    constexpr std::int64_t kLargest = std::numeric_limits<std::int64_t>::max();
-    const auto times = [&](std::int64_t band) {  // band x cause_interval, or kLargest beyond 64 bits
-      return band > 0 && cause_interval > kLargest / band ? kLargest : band * cause_interval;
+    // band x cause_interval, or kLargest beyond 64 bits (the division that tells is taken once a fit)
+    const auto times = [&](std::int64_t band, std::int64_t band_reach) {
+      return cause_interval > band_reach ? kLargest : band * cause_interval;
     };
-    return {effects_.data(), std::min(kVehicleGapFactor * gap_ns_, kMaxInterval), times(low_), times(high_ + 1)};
+    return {effects_.data(), std::min(kVehicleGapFactor * gap_ns_, kMaxInterval), times(low_, low_reach_),
+            times(high_ + 1, high_reach_)};
   }
 
  private:
@@ -397,7 +400,12 @@ class SweepStretch {
 
   std::span<const std::int64_t> causes_, effects_;
   std::int64_t gap_ns_;
+  static constexpr std::int64_t kLargest = std::numeric_limits<std::int64_t>::max();
+  // The largest cause interval whose product with `band` (>= 0) fits 64 bits.
+  static std::int64_t reach(std::int64_t band) { return band > 0 ? kLargest / band : kLargest; }
+
   std::int64_t low_ = 1, high_ = 0;  // the band, millionths; low_ > high_: none (too few pairs yet)
+  std::int64_t low_reach_ = reach(1), high_reach_ = reach(1);  // reach(low_), reach(high_ + 1)
 };
 
 // The locally typical latency and how far a true pair may stray from it, per cause (ns).
