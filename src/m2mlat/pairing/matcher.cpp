@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <bit>
 #include <limits>
 #include <memory>
 
@@ -87,16 +88,21 @@ struct Sides {
   Window window() const { return Window(causes, effects, min_ns, max_ns); }
 };
 
-// The number of candidate pairs: the sum over causes of the number of effects in their window,
-// counted by walking the window (nothing is allocated).
-std::size_t candidate_count(const Sides& sides) {
-  std::size_t total = 0;
+// The number of candidate pairs (the sum over causes of the number of effects in their window) and
+// the widest window, counted by walking the windows (nothing is allocated). Every pass takes them
+// from here.
+struct CandidateCount {
+  std::size_t total = 0, widest = 1;
+};
+CandidateCount candidate_count(const Sides& sides) {
+  CandidateCount count;
   Window w = sides.window();
   for (std::size_t i = 0; i < sides.causes.size(); ++i) {
     w.at(i);
-    total += w.hi - w.lo;
+    count.total += w.hi - w.lo;
+    count.widest = std::max<std::size_t>(count.widest, w.hi - w.lo);
   }
-  return total;
+  return count;
 }
 
 // Global reference latency: the centre of the densest 100 ms-wide bin of all candidate latencies.
@@ -172,9 +178,12 @@ struct Candidates {
 };
 
 // One alignment pass: the order-preserving one-to-one set of candidate pairs with the largest count
-// (count(i, value) per pair), then the largest total value. value(i, latency) is the
-// worth of pairing cause i at that latency (ns of the window): > 0 to be allowed, kDisallowed to
-// forbid. Returns for each cause the matched effect or kNone.
+// (count per pair), then the largest total value. `row_of(i)` gives cause i's rule (PassRow): its
+// value(latency), the worth of pairing cause i at that latency (ns of the window), > 0 to be allowed,
+// kDisallowed to forbid; count(value); and follows(j), the extra count of the pair (i, j) continuing
+// its predecessors' sweep. Taking the rule once per cause keeps what is the same for the whole row
+// (the reference, the acceptance, the cause's interval) out of the loop over its candidates. Returns
+// for each cause the matched effect or kNone.
 //
 // G(i, j) = (count, value)(i, j) + max(0, max{ G(i', j') : i' < i, j' < j },
 // G(i - 1, j - 1) + (follows(i, j), 0)) is the best (count, then value) of an ordered chain of pairs
@@ -184,26 +193,19 @@ struct Candidates {
 // by the window are folded into one `frozen` maximum, so each cause costs O(its window), and best[]
 // only needs the effects inside the current window: it is a ring of the widest window's size
 // (a power of two), not one entry per effect.
+//
+// A chain's (count, value) is one unsigned key, count << shift | value, compared and added as one
+// number, so that every maximum is a conditional move rather than a branch the data mispredict. The
+// key is 64 bits when the largest count and total value of any chain fit (AlignKey), else 128.
 constexpr std::int64_t kDisallowed = -1;
 
-template <typename Count, typename Value, typename Follows>
-std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count count, Value value, Follows follows) {
-  struct Best {                       // 16 bytes
-    std::int64_t fit = 0;             // the chain's total value
-    std::uint32_t count = 0;          // its pairs' counts (at most 3 each, at most kMaxCandidates pairs)
-    std::uint32_t candidate = kNone;  // the chain's last candidate, or kNone for the empty chain
-    bool operator>(const Best& o) const { return count != o.count ? count > o.count : fit > o.fit; }
-  };
+__extension__ typedef unsigned __int128 WideKey;  // GCC and Clang, on every 64-bit target
+
+template <typename Key, typename RowOf>
+std::vector<std::uint32_t> align(const Sides& sides, const CandidateCount& count, Candidates& cand, unsigned shift,
+                                 RowOf row_of) {
   const auto& [causes, effects, min_ns, max_ns] = sides;
-  std::size_t window_total = 0, widest = 1;
-  {
-    Window w = sides.window();
-    for (std::size_t i = 0; i < causes.size(); ++i) {
-      w.at(i);
-      window_total += w.hi - w.lo;
-      widest = std::max<std::size_t>(widest, w.hi - w.lo);
-    }
-  }
+  const std::size_t window_total = count.total, widest = count.widest;
   const bool narrow = widest <= 256;  // every offset in a window fits a byte
   cand.reserve(window_total, narrow);
   std::uint32_t* const cand_effect = cand.effect.get();
@@ -215,12 +217,24 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
   std::size_t ring_size = 1;
   while (ring_size < widest) ring_size *= 2;
   const std::size_t mask = ring_size - 1;
-  std::vector<Best> best(ring_size);  // best[j & mask] for the effects j in [folded, window end)
-  Best frozen;                        // best over effects [0, folded)
+  // A chain is its key ((count << shift) + its total value) and its last candidate (kNone: the empty
+  // chain), kept in separate arrays and scalars: a maximum is then two conditional moves.
+  // best[j & mask] for the effects j in [folded, window end); frozen: the best over effects [0, folded).
+  std::vector<Key> best_key_store(ring_size, 0);
+  std::vector<std::uint32_t> best_candidate_store(ring_size, kNone);
+  Key* const best_key = best_key_store.data();
+  std::uint32_t* const best_candidate = best_candidate_store.data();
+  Key frozen_key = 0;
+  std::uint32_t frozen_candidate = kNone;
   std::size_t folded = 0;
-  // This cause's chain ends, applied after the row, and the previous cause's: (effect, chain), at most
-  // the widest window's each.
-  std::vector<std::pair<std::uint32_t, Best>> row(widest), previous(widest);
+  // This cause's chain ends, applied after the row, and the previous cause's: effect, key (the chain's
+  // last candidate is the row's own), at most the widest window's each.
+  std::vector<std::uint32_t> row_effect_store(widest), previous_effect_store(widest);
+  std::vector<std::uint32_t> row_id_store(widest), previous_id_store(widest);
+  std::vector<Key> row_key_store(widest), previous_key_store(widest);
+  std::uint32_t *row_effect = row_effect_store.data(), *previous_effect = previous_effect_store.data();
+  std::uint32_t *row_id = row_id_store.data(), *previous_id = previous_id_store.data();
+  Key *row_key = row_key_store.data(), *previous_key = previous_key_store.data();
   std::size_t row_size = 0, previous_size = 0;
 
   Window w = sides.window();
@@ -229,52 +243,71 @@ std::vector<std::uint32_t> align(const Sides& sides, Candidates& cand, Count cou
     cand.row_start[i] = next_id;
     cand.row_lo[i] = w.lo;
     for (; folded < w.lo; ++folded) {
-      Best& slot = best[folded & mask];
-      if (slot > frozen) frozen = slot;
-      slot = Best{};  // the slot now serves effect folded + ring_size
+      const std::size_t slot = folded & mask;
+      const bool up = best_key[slot] > frozen_key;
+      frozen_key = up ? best_key[slot] : frozen_key;
+      frozen_candidate = up ? best_candidate[slot] : frozen_candidate;
+      best_key[slot] = 0, best_candidate[slot] = kNone;  // the slot now serves effect folded + ring_size
     }
-    Best running = frozen;  // max over effects < j, from causes < i
-    std::swap(row, previous);
+    const auto rule = row_of(i);
+    const std::int64_t cause = causes[i];
+    Key running_key = frozen_key;  // max over effects < j, from causes < i
+    std::uint32_t running_candidate = frozen_candidate;
+    std::swap(row_effect, previous_effect);
+    std::swap(row_id, previous_id);
+    std::swap(row_key, previous_key);
     previous_size = row_size;
     row_size = 0;
     std::size_t adjacent = 0;  // previous[adjacent]: the previous cause's chain end at effect j - 1, if any
     for (auto j = w.lo; j < w.hi; ++j) {
-      const std::int64_t v = value(i, effects[j] - causes[i]);
+      const std::int64_t v = rule.value(effects[j] - cause);
       if (v > 0) {
         const std::uint32_t id = next_id++;
-        Best chain{running.fit + v, running.count + count(i, v), id};
-        std::uint32_t pred = running.candidate;
-        while (adjacent < previous_size && previous[adjacent].first + 1 < j) ++adjacent;
-        if (i > 0 && j > 0 && adjacent < previous_size && previous[adjacent].first + 1 == j) {
-          const Best& before = previous[adjacent].second;
-          const Best linked{before.fit + v, before.count + count(i, v) + follows(i, j), id};
-          if (linked > chain) chain = linked, pred = before.candidate;
+        const Key gain = (Key{rule.count(v)} << shift) + static_cast<Key>(v);
+        Key chain = running_key + gain;
+        std::uint32_t pred = running_candidate;
+        while (adjacent < previous_size && previous_effect[adjacent] + 1 < j) ++adjacent;
+        if (i > 0 && j > 0 && adjacent < previous_size && previous_effect[adjacent] + 1 == j) {
+          const Key linked = previous_key[adjacent] + gain + (Key{rule.follows(j)} << shift);
+          const bool link = linked > chain;
+          chain = link ? linked : chain;
+          pred = link ? previous_id[adjacent] : pred;
         }
         if (narrow)
           cand_offset[id] = static_cast<std::uint8_t>(j - w.lo);
         else
           cand_effect[id] = j;
         cand_pred[id] = pred;
-        row[row_size++] = {j, chain};
+        row_effect[row_size] = j, row_key[row_size] = chain, row_id[row_size] = id;
+        ++row_size;
       }
-      if (best[j & mask] > running) running = best[j & mask];
+      const std::size_t slot = j & mask;
+      const bool up = best_key[slot] > running_key;
+      running_key = up ? best_key[slot] : running_key;
+      running_candidate = up ? best_candidate[slot] : running_candidate;
     }
     for (std::size_t r = 0; r < row_size; ++r) {
-      const auto& [j, chain] = row[r];
-      if (chain > best[j & mask]) best[j & mask] = chain;
+      const std::size_t slot = row_effect[r] & mask;
+      const bool up = row_key[r] > best_key[slot];
+      best_key[slot] = up ? row_key[r] : best_key[slot];
+      best_candidate[slot] = up ? row_id[r] : best_candidate[slot];
     }
   }
   cand.row_start[causes.size()] = next_id;
 
   // Effects past the last window were never written: their slots hold the empty chain.
-  Best overall = frozen;
-  for (std::size_t j = folded; j < std::min<std::size_t>(effects.size(), folded + ring_size); ++j)
-    if (best[j & mask] > overall) overall = best[j & mask];
+  Key overall_key = frozen_key;
+  std::uint32_t overall = frozen_candidate;
+  for (std::size_t j = folded; j < std::min<std::size_t>(effects.size(), folded + ring_size); ++j) {
+    const bool up = best_key[j & mask] > overall_key;
+    overall_key = up ? best_key[j & mask] : overall_key;
+    overall = up ? best_candidate[j & mask] : overall;
+  }
 
   // Walk the chain back; candidates are numbered in cause order, so the row pointer only moves down.
   std::vector<std::uint32_t> match(causes.size(), kNone);
   std::size_t i = causes.size();
-  for (auto c = overall.candidate; c != kNone; c = cand_pred[c]) {
+  for (auto c = overall; c != kNone; c = cand_pred[c]) {
     while (cand.row_start[i] > c) --i;
     match[i] = narrow ? cand.row_lo[i] + cand_offset[c] : cand_effect[c];
   }
@@ -313,26 +346,51 @@ class SweepStretch {
         if (s >= 0) stretches.push_back(s);
       }
     low_ = 1, high_ = 0;  // no band
+    low_reach_ = reach(low_), high_reach_ = reach(high_ + 1);
     if (stretches.size() < 2) return;
     const auto mid = stretches.begin() + static_cast<std::ptrdiff_t>(stretches.size() / 2);
     std::nth_element(stretches.begin(), mid, stretches.end());
     low_ = *mid * kPatternDenominator / kPatternNumerator;
     high_ = *mid * kPatternNumerator / kPatternDenominator;
+    low_reach_ = reach(low_), high_reach_ = reach(high_ + 1);
   }
 
-  // 1 when cause i and effect j (both > 0) follow cause i - 1 and effect j - 1 within one sweep and
-  // within the band, else 0.
-  std::uint32_t follows(std::size_t i, std::uint32_t j) const {
-    const std::int64_t s = stretch(i, j);
-    return s >= 0 && s >= low_ && s <= high_ ? 1u : 0u;
+  // Whether the pairs (i - 1, j - 1) -> (i, j) follow each other within one sweep and within the band,
+  // for one cause i > 0 and any effect j > 0: Link(j) is 1 then, else 0. The same test as
+  // low_ <= stretch(i, j) <= high_, without a division per candidate: for x = 10^6 x the effect
+  // interval (< 10^18) and the cause interval c > 0, floor(x / c) >= low exactly when x >= low x c,
+  // and <= high exactly when x < (high + 1) x c; the two products are taken once per cause (a product
+  // beyond 64 bits is beyond every x: no pair reaches the band's low end, every pair is below its
+  // high end).
+  struct Link {
+    const std::int64_t* effects = nullptr;  // null: cause i starts no link (first cause, or a gap before it)
+    std::int64_t effect_limit = 0, low_x = 0, high_x = 0;
+    std::uint32_t operator()(std::uint32_t j) const {
+      if (effects == nullptr) return 0;
+      const std::int64_t effect_interval = effects[j] - effects[j - 1];
+      if (effect_interval >= effect_limit) return 0;
+      const std::int64_t x = effect_interval * 1'000'000;
+      return x >= low_x && x < high_x ? 1u : 0u;
+    }
+  };
+  Link link(std::size_t i) const {
+    if (i == 0) return {};
+    const std::int64_t cause_interval = causes_[i] - causes_[i - 1];
+    if (cause_interval <= 0 || cause_interval >= gap_ns_) return {};
+    // band x cause_interval, or kLargest beyond 64 bits (the division that tells is taken once a fit)
+    const auto times = [&](std::int64_t band, std::int64_t band_reach) {
+      return cause_interval > band_reach ? kLargest : band * cause_interval;
+    };
+    return {effects_.data(), std::min(kVehicleGapFactor * gap_ns_, kMaxInterval), times(low_, low_reach_),
+            times(high_ + 1, high_reach_)};
   }
 
  private:
   // The stretch of (i - 1, j - 1) -> (i, j) in millionths, or -1 when either interval spans a burst gap
   // (the vehicle's side: kVehicleGapFactor of it) or kMaxInterval, so that 10^6 times it fits 64 bits
   // whatever burst gap was given.
+  static constexpr std::int64_t kMaxInterval = 1'000'000'000'000;  // ns: 1000 s
   std::int64_t stretch(std::size_t i, std::uint32_t j) const {
-    constexpr std::int64_t kMaxInterval = 1'000'000'000'000;  // ns: 1000 s
     const std::int64_t cause_interval = causes_[i] - causes_[i - 1], effect_interval = effects_[j] - effects_[j - 1];
     if (cause_interval <= 0 || cause_interval >= gap_ns_ || effect_interval >= kVehicleGapFactor * gap_ns_ ||
         effect_interval >= kMaxInterval)
@@ -342,7 +400,12 @@ class SweepStretch {
 
   std::span<const std::int64_t> causes_, effects_;
   std::int64_t gap_ns_;
+  static constexpr std::int64_t kLargest = std::numeric_limits<std::int64_t>::max();
+  // The largest cause interval whose product with `band` (>= 0) fits 64 bits.
+  static std::int64_t reach(std::int64_t band) { return band > 0 ? kLargest / band : kLargest; }
+
   std::int64_t low_ = 1, high_ = 0;  // the band, millionths; low_ > high_: none (too few pairs yet)
+  std::int64_t low_reach_ = reach(1), high_reach_ = reach(1);  // reach(low_), reach(high_ + 1)
 };
 
 // The locally typical latency and how far a true pair may stray from it, per cause (ns).
@@ -356,64 +419,93 @@ struct LocalReference {
 constexpr std::int64_t kMinAcceptance = 50'000'000;  // ns
 constexpr std::int64_t kSpreadNumerator = 15, kSpreadDenominator = 2;
 
+// The median absolute deviation of a sorted window about its median w[size / 2]: the mid-th smallest
+// (1-based, mid = size / 2) of the deviations below the median (m - w[mid - 1], m - w[mid - 2], ...,
+// ascending) and above it (w[mid + 1] - m, ..., ascending), the median's own deviation left out. The
+// k-th smallest of two ascending runs is the least, over the ways of taking a from the first and k - a
+// from the second, of the larger of the two last taken: each split's larger one is at least the k-th
+// (its k values include it), and the split of the k smallest gives it. The splits are independent of
+// each other, so there is no chain of dependent choices (a merge step by step was most of this
+// function's time, first as branches the data mispredicted, then as their latency).
+std::int64_t sorted_window_mad(const std::int64_t* w, std::size_t size) {
+  const std::size_t mid = size / 2, above_count = size - mid - 1;
+  const std::int64_t median = w[mid];
+  std::int64_t mad = std::numeric_limits<std::int64_t>::max();
+  // a taken below (a >= 1: its last is median - w[mid - a]), mid - a above (its last w[mid + mid - a] - median).
+  const std::size_t first = mid > above_count ? mid - above_count : 0;  // at most above_count above
+  for (std::size_t a = first; a <= mid; ++a) {
+    const std::int64_t low = a > 0 ? median - w[mid - a] : 0;
+    const std::int64_t high = a < mid ? w[mid + mid - a] - median : 0;
+    mad = std::min(mad, std::max(low, high));
+  }
+  return mid == 0 ? 0 : mad;
+}
+
 // Running median (and median absolute deviation) of the matched latencies over `k` pairs either side,
 // assigned to every cause (causes without a pair take the values of the nearest pair before them, or
-// the first pair). The pairs are walked in `match` itself by three cursors (the pair whose median is
-// taken, the pair entering the window, the pair leaving it), so nothing but the result and the
-// window is allocated.
+// the first pair). The window is kept sorted; in the middle of the recording one latency leaves it as
+// another enters, and the one leaving is overwritten by moving the entering one to its place (a few
+// steps: the window holds 2k + 1 values), with no vector insert or erase.
 LocalReference local_reference(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
                                const std::vector<std::uint32_t>& match, int k, std::int64_t fallback) {
   LocalReference out{std::vector<std::int64_t>(causes.size(), fallback),
                      std::vector<std::int64_t>(causes.size(), kMinAcceptance)};
-  auto& reference = out.median;
   const auto n = static_cast<std::ptrdiff_t>(
       std::count_if(match.begin(), match.end(), [](std::uint32_t j) { return j != kNone; }));
   if (n == 0) return out;
+  // The pairs are walked in `match` itself by three cursors (the pair whose median is taken, the pair
+  // entering the window, the pair leaving it), so that nothing but the result and the window is
+  // allocated (a list of the pairs' latencies would add 8 bytes a pair while the passes' candidates
+  // are held).
   const auto next_pair = [&](std::size_t from) {  // the first matched cause >= from, or the end
     while (from < match.size() && match[from] == kNone) ++from;
     return from;
   };
   const auto latency = [&](std::size_t i) { return effects[match[i]] - causes[i]; };
-  // The window [p - k, p + k] slides one pair at a time: keep it sorted, remove the pair that
-  // leaves and insert the one that enters (binary search + a short move), instead of re-selecting.
-  std::vector<std::int64_t> window;
-  window.reserve(2 * static_cast<std::size_t>(k) + 1);
+  std::int64_t* const reference = out.median.data();
+  std::int64_t* const acceptance_of = out.acceptance.data();
+  std::vector<std::int64_t> window(2 * static_cast<std::size_t>(k) + 1);
+  std::int64_t* const w = window.data();
+  std::size_t size = 0;
+  const auto insert = [&](std::int64_t value) {
+    std::size_t at = size++;
+    for (; at > 0 && w[at - 1] > value; --at) w[at] = w[at - 1];
+    w[at] = value;
+  };
+  const auto erase = [&](std::int64_t value) {
+    std::size_t at = static_cast<std::size_t>(std::lower_bound(w, w + size, value) - w);
+    for (--size; at < size; ++at) w[at] = w[at + 1];
+  };
+  // Replaces one occurrence of `old_value` by `value`, keeping the window sorted.
+  const auto replace = [&](std::int64_t old_value, std::int64_t value) {
+    // Its first occurrence, counted rather than searched: a binary search's steps go either way at
+    // random and are mispredicted; the count is 2k + 1 compares without a branch.
+    std::size_t at = 0;
+    for (std::size_t t = 0; t < size; ++t) at += w[t] < old_value ? 1 : 0;
+    if (value >= old_value)
+      for (; at + 1 < size && w[at + 1] < value; ++at) w[at] = w[at + 1];
+    else
+      for (; at > 0 && w[at - 1] > value; --at) w[at] = w[at - 1];
+    w[at] = value;
+  };
   std::ptrdiff_t first = 0, last = 0;  // the window holds pairs [first, last)
   std::size_t entering = next_pair(0), leaving = entering, current = entering;  // their causes
   std::size_t filled = 0;                                                       // reference[0, filled) set
   for (std::ptrdiff_t p = 0; p < n; ++p) {
     const auto want_first = std::max<std::ptrdiff_t>(0, p - k),
                want_last = std::min<std::ptrdiff_t>(n, p + k + 1);
-    for (; last < want_last; ++last, entering = next_pair(entering + 1)) {
-      const auto value = latency(entering);
-      window.insert(std::upper_bound(window.begin(), window.end(), value), value);
+    for (; last < want_last && first < want_first; ++last, ++first) {
+      replace(latency(leaving), latency(entering));
+      entering = next_pair(entering + 1), leaving = next_pair(leaving + 1);
     }
-    for (; first < want_first; ++first, leaving = next_pair(leaving + 1))
-      window.erase(std::lower_bound(window.begin(), window.end(), latency(leaving)));
-    const std::size_t mid = window.size() / 2;
-    const std::int64_t median = window[mid];
-    // The median absolute deviation without a copy: the deviations below and above the median are two
-    // ascending runs of the sorted window; merge them up to the middle one. Written without branches
-    // (the choice between the runs is data, and mispredicting it was most of this function's time).
-    // `below` stays >= 1 inside the loop (it starts at mid and drops at most mid - 1 times before the
-    // last read); `above` may reach the end of an even-sized window, whose slot reads as "none".
-    std::int64_t mad = 0;
-    {
-      const std::int64_t* w = window.data();
-      const std::size_t size = window.size();
-      for (std::size_t below = mid, above = mid + 1, taken = 0; taken < mid; ++taken) {
-        const std::int64_t low = median - w[below - 1];
-        const std::int64_t above_value = w[std::min(above, size - 1)] - median;
-        const std::int64_t high = above < size ? above_value : std::numeric_limits<std::int64_t>::max();
-        const bool take_low = low <= high;
-        mad = take_low ? low : high;
-        below -= take_low ? 1 : 0;
-        above += take_low ? 0 : 1;
-      }
-    }
-    const std::int64_t acceptance = std::max(kMinAcceptance, mad * kSpreadNumerator / kSpreadDenominator);
+    for (; last < want_last; ++last, entering = next_pair(entering + 1)) insert(latency(entering));
+    for (; first < want_first; ++first, leaving = next_pair(leaving + 1)) erase(latency(leaving));
+    const std::int64_t median = w[size / 2];
+    const std::int64_t acceptance =
+        std::max(kMinAcceptance, sorted_window_mad(w, size) * kSpreadNumerator / kSpreadDenominator);
+    // Every cause up to the next pair's takes this pair's values.
     const std::size_t next = next_pair(current + 1);  // the cause of pair p + 1, or the end
-    for (; filled < next; ++filled) reference[filled] = median, out.acceptance[filled] = acceptance;
+    for (; filled < next; ++filled) reference[filled] = median, acceptance_of[filled] = acceptance;
     current = next;
   }
   return out;
@@ -711,13 +803,51 @@ std::vector<std::uint32_t> uncertain_pairs(const Sides& sides, const std::vector
 // How long after the kept edge at input index `kept` the edges dropped as its bounces go on (ns; 0
 // without bounces). The refractory filter keeps the first edge of a cluster: right for contact bounce,
 // which follows the true edge, but a spurious edge just before the true one makes the true one a
-// "bounce". The pass's edge is then somewhere in the cluster.
-std::int64_t bounce_span(std::span<const std::int64_t> times, const std::vector<std::int64_t>& bounces,
-                         std::int64_t kept) {
-  auto it = std::lower_bound(bounces.begin(), bounces.end(), kept + 1);
-  std::int64_t last = kept;
-  for (; it != bounces.end() && *it == last + 1; ++it) last = *it;
-  return times[static_cast<std::size_t>(last)] - times[static_cast<std::size_t>(kept)];
+// "bounce". The pass's edge is then somewhere in the cluster. The pairs ask in the order of their
+// edges, so a cursor walks the bounces along (no search per pair).
+class BounceSpan {
+ public:
+  BounceSpan(std::span<const std::int64_t> times, const std::vector<std::int64_t>& bounces)
+      : times_(times), bounces_(bounces) {}
+  // `kept` must not decrease from one call to the next.
+  std::int64_t operator()(std::int64_t kept) {
+    while (next_ < bounces_.size() && bounces_[next_] <= kept) ++next_;
+    std::int64_t last = kept;
+    for (; next_ < bounces_.size() && bounces_[next_] == last + 1; ++next_) last = bounces_[next_];
+    return times_[static_cast<std::size_t>(last)] - times_[static_cast<std::size_t>(kept)];
+  }
+
+ private:
+  std::span<const std::int64_t> times_;
+  const std::vector<std::int64_t>& bounces_;
+  std::size_t next_ = 0;  // the first bounce after the last edge asked for
+};
+
+// One cause's rule in an alignment pass (align): the worth of its candidates (pair_worth, with the
+// reference and acceptance of this cause), the count of a pair by its worth (typical or not), and its
+// sweep link.
+constexpr std::int64_t kLooseWorth = kPairWorth - kDeviationCost;  // the worth of a pair beyond the acceptance
+struct PassRow {
+  std::int64_t reference, acceptance, tolerance_ns;
+  std::uint32_t typical_count, far_count;  // the count of a pair worth more than kLooseWorth, of the others
+  SweepStretch::Link follows;
+  std::int64_t value(std::int64_t latency) const {
+    const std::int64_t deviation = latency > reference ? latency - reference : reference - latency;
+    if (tolerance_ns > 0 && deviation >= tolerance_ns) return kDisallowed;
+    return deviation >= acceptance ? kLooseWorth : kPairWorth - deviation * kDeviationCost / acceptance;
+  }
+  std::uint32_t count(std::int64_t v) const { return v > kLooseWorth ? typical_count : far_count; }
+};
+
+// Runs align with the narrowest key that holds every chain's (count, value): at most min(causes,
+// effects) pairs, each of count <= 3 and value <= kPairWorth.
+template <typename RowOf>
+std::vector<std::uint32_t> align_pass(const Sides& sides, const CandidateCount& count, Candidates& cand,
+                                      RowOf row_of) {
+  const auto pairs = static_cast<std::uint64_t>(std::min(sides.causes.size(), sides.effects.size()));
+  const auto shift = static_cast<unsigned>(std::bit_width(pairs * kPairWorth));
+  if (std::bit_width(3 * pairs) + shift <= 64) return align<std::uint64_t>(sides, count, cand, shift, row_of);
+  return align<WideKey>(sides, count, cand, 64, row_of);
 }
 
 void check_sorted(std::span<const std::int64_t> times, const char* side) {
@@ -764,7 +894,8 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   const std::int64_t min_ns = sides.min_ns, max_ns = sides.max_ns;
   // Memory follows the number of candidate pairs (5 to 8 bytes each in the passes): refuse a window that
   // holds more than the limit before anything is allocated for them.
-  const std::size_t candidate_total = candidate_count(sides);
+  const CandidateCount counted = candidate_count(sides);
+  const std::size_t candidate_total = counted.total;
   if (candidate_total > kMaxCandidates)
     throw core::Error(
         core::ErrorKind::usage,
@@ -776,40 +907,35 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   // Pass 1: one global reference; every candidate in the window is allowed, and the best fit wins.
   const std::int64_t global = global_reference(sides, candidate_total);
   Candidates candidates;
-  const LocalReference global_only{{global}, {kFirstPassAcceptance}};
   LocalReference reference;  // of the pass before
-  const auto fit_only = [](std::size_t, std::int64_t) { return 0u; };
-  const auto no_link = [](std::size_t, std::uint32_t) { return 0u; };
-  auto matched = align(
-      sides, candidates, fit_only,
-      [&](std::size_t, std::int64_t latency) { return pair_worth(global_only, 0, latency, options.tolerance.count()); },
-      no_link);
+  const std::int64_t tolerance = options.tolerance.count();
+  auto matched = align_pass(sides, counted, candidates, [&](std::size_t) {
+    return PassRow{global, kFirstPassAcceptance, tolerance, 0, 0, {}};
+  });
   // Pass 2: against the local reference of pass 1; the most pairs (a typical one counting twice), then
   // the largest worth. (A third such pass, against pass 2's reference, changed nothing measurable.)
-  const auto worth = [&](std::size_t i, std::int64_t latency) {
-    return pair_worth(reference, i, latency, options.tolerance.count());
-  };
-  constexpr std::int64_t kLooseWorth = kPairWorth - kDeviationCost;
   reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
   const auto gap = options.burst_gap.count() > 0 ? options.burst_gap : burst_gap_for(options.magnets_deg);
   SweepStretch sweep(causes.ns, effects.ns, gap.count());
   sweep.fit(matched);
-  const auto links = [&sweep](std::size_t i, std::uint32_t j) { return sweep.follows(i, j); };
-  matched = align(sides, candidates, [](std::size_t, std::int64_t v) { return v > kLooseWorth ? 2u : 1u; }, worth, links);
+  matched = align_pass(sides, counted, candidates, [&](std::size_t i) {
+    return PassRow{reference.median[i], reference.acceptance[i], tolerance, 2, 1, sweep.link(i)};
+  });
   sweep.fit(matched);
   reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
   // Pass 3: a pair far from the typical latency that an unmatched edge could replace counts nothing
   // (only its worth), so that such pairs never displace a typical one: a lost edge and a spurious one
   // must not push a true pair out.
   {
-    const auto doubtful = uncertain_pairs(sides, matched, reference, options.tolerance.count());
+    const auto doubtful = uncertain_pairs(sides, matched, reference, tolerance);
     std::vector<bool> demoted(matched.size(), false);
     for (std::size_t i = 0; i < matched.size(); ++i)
       demoted[i] = matched[i] != kNone && (doubtful[i] & kPairCompeting) != 0 &&
                    beyond_acceptance(reference, i, effects.ns[matched[i]] - causes.ns[i]);
-    matched = align(
-        sides, candidates,
-        [&](std::size_t i, std::int64_t v) { return v > kLooseWorth ? 2u : demoted[i] ? 0u : 1u; }, worth, links);
+    matched = align_pass(sides, counted, candidates, [&](std::size_t i) {
+      return PassRow{reference.median[i], reference.acceptance[i], tolerance, 2, demoted[i] ? 0u : 1u,
+                     sweep.link(i)};
+    });
   }
   candidates = Candidates();
 
@@ -882,11 +1008,11 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   static_assert(sizeof(Pair) == 56, "Pair::bounce_span_ns lives in what was padding");
   result.pairs.reserve(pair_count);
   KeptIndex cause_index(causes.bounces), effect_index(effects.bounces);
+  BounceSpan cause_bounce_span(cause_ns, causes.bounces), effect_bounce_span(effect_ns, effects.bounces);
   for (std::size_t i = 0; i < matched.size(); ++i) {
     if (matched[i] == kNone) continue;
     const auto c = cause_index(i), e = effect_index(matched[i]);
-    const std::int64_t cause_span = bounce_span(cause_ns, causes.bounces, c),
-                       effect_span = bounce_span(effect_ns, effects.bounces, e);
+    const std::int64_t cause_span = cause_bounce_span(c), effect_span = effect_bounce_span(e);
     const bool bounced = cause_span > kBounceSpanLimit.count() || effect_span > kBounceSpanLimit.count();
     result.pairs.push_back(Pair{c, e, core::TimePoint::from_ns(clock, cause_ns[static_cast<std::size_t>(c)]),
                                 core::TimePoint::from_ns(clock, effect_ns[static_cast<std::size_t>(e)]),
