@@ -1,7 +1,8 @@
 // Input text read whole, and a cursor over its lines.
 //
-// Every importer reads its whole input before it builds anything, so that a malformed line anywhere
-// ends in an exception and leaves the caller with nothing partial. Lines are string_views into one
+// Every importer reads its whole input before it returns anything, so that a malformed line anywhere
+// ends in an exception and leaves the caller with nothing partial (the lean kernel-log import reads
+// its file block by block instead: file_lines.hpp). Lines are string_views into one
 // buffer (no per-line allocation), which is what lets the importers parse tens of millions of lines
 // per second. A UTF-8 byte-order mark and Windows line endings (CRLF) are accepted.
 //
