@@ -153,8 +153,10 @@ SideSteps correct_side(store::Timestamps& side, std::span<const store::ClockStep
   }
   // A corrected event's bounds: those of every step acting on it (an event with an exception is
   // marked unknown and carries none).
-  const auto max_ns = [&](std::size_t k) { return total_max[applied[k]]; };
-  const auto var = [&](std::size_t k) { return total_var[applied[k]]; };
+  for (std::size_t j = 0; j <= steps.size(); ++j)
+    out.bounds.push_back({total_max[j], std::llround(std::sqrt(total_var[j]))});
+  const bool any_corrected = std::find(mark.begin(), mark.end(), StepMark::corrected) != mark.end();
+  const bool any_marked = any_corrected || std::find(mark.begin(), mark.end(), StepMark::unknown) != mark.end();
 
   // Apply and re-sort by corrected time.
   std::vector<std::int64_t> corrected(n);
@@ -167,14 +169,14 @@ SideSteps correct_side(store::Timestamps& side, std::span<const store::ClockStep
   store::Timestamps sorted{side.clock, {}, {}};
   sorted.seq.reserve(n);
   sorted.t_ns.reserve(n);
-  out.mark.reserve(n);
+  if (any_marked) out.mark.reserve(n);
+  if (any_corrected) out.bound_of.reserve(n);
   for (auto i : by_time) {
     const std::size_t k = position[i];
     sorted.seq.push_back(side.seq[i]);
     sorted.t_ns.push_back(corrected[i]);
-    out.mark.push_back(mark[k]);
-    out.size_max_ns.push_back(mark[k] == StepMark::corrected ? max_ns(k) : 0);
-    out.size_est_ns.push_back(mark[k] == StepMark::corrected ? std::llround(std::sqrt(var(k))) : 0);
+    if (any_marked) out.mark.push_back(mark[k]);
+    if (any_corrected) out.bound_of.push_back(mark[k] == StepMark::corrected ? applied[k] : 0);
     if (mark[k] == StepMark::corrected) ++out.corrected;
     if (mark[k] == StepMark::unknown) ++out.unknown;
   }

@@ -254,9 +254,10 @@ void attach_uncertainty(ScenarioResult& result, const ClockTrack& cause, const C
   // its bound adds to the worst case, its standard uncertainty to u in quadrature.
   const auto add_step = [](SampleUncertainty& u, const SideSteps& side, std::int64_t event) {
     const auto k = static_cast<std::size_t>(event);
-    if (!u.bounded() || side.at(k) != StepMark::corrected || k >= side.size_max_ns.size()) return;
-    u.max_error_ns = add_saturating(u.max_error_ns, side.size_max_ns[k]);
-    u.u_ns = to_ns(std::hypot(static_cast<double>(u.u_ns), static_cast<double>(side.size_est_ns[k])));
+    if (!u.bounded() || side.at(k) != StepMark::corrected) return;
+    const auto bound = side.bound(k);
+    u.max_error_ns = add_saturating(u.max_error_ns, bound.max_ns);
+    u.u_ns = to_ns(std::hypot(static_cast<double>(u.u_ns), static_cast<double>(bound.est_ns)));
   };
   for (std::size_t i = 0; i < result.uncertainty.size(); ++i) {
     add_step(result.uncertainty[i], result.steps.cause, result.match.pairs[i].cause_index);

@@ -85,6 +85,8 @@ std::optional<Format> detect_file_format(const std::string& path) {
 
 std::vector<TimestampSeries> read_timestamps(const std::string& path, std::optional<Format> format,
                                              std::string_view only_line) {
+  // A kernel log is read block by block (file_lines.hpp): 8 or 16 bytes an edge instead of ~50.
+  if (format == Format::kernel_log) return read_kernel_log_timestamps(path, only_line);
   const InputText input = InputText::read_file(path);
   check_input(input.text(), input.name());
   const Format chosen = format ? *format : require_format(input.text(), input.name());

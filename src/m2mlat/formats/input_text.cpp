@@ -27,13 +27,15 @@ namespace {
 
 }  // namespace
 
-InputText InputText::read_file(const std::string& path) {
+OpenedInput open_input(const std::string& path) {
   const bool is_stdin = path == "-";
-  const std::string name = is_stdin ? "<stdin>" : path;
+  OpenedInput in;
+  in.name = is_stdin ? "<stdin>" : path;
   // Closed when the read ends, whichever way it ends; standard input is never closed.
-  const core::Fd opened(is_stdin ? -1 : ::open(path.c_str(), O_RDONLY | O_CLOEXEC));
-  const int fd = is_stdin ? 0 : opened.get();
-  if (fd < 0) {
+  in.owned = core::Fd(is_stdin ? -1 : ::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+  in.fd = is_stdin ? 0 : in.owned.get();
+  const std::string& name = in.name;
+  if (in.fd < 0) {
     const int err = errno;
     if (err == ENOENT || err == ENOTDIR)
       throw core::Error(core::ErrorKind::no_input, fmt::format("{}: no such file", name));
@@ -41,20 +43,28 @@ InputText InputText::read_file(const std::string& path) {
   }
 
   struct stat st {};
-  if (::fstat(fd, &st) != 0) throw_io(name, "cannot stat", errno);
+  if (::fstat(in.fd, &st) != 0) throw_io(name, "cannot stat", errno);
   if (S_ISDIR(st.st_mode))
     throw core::Error(core::ErrorKind::no_input, fmt::format("{}: is a directory, not a file", name));
   // A named device is no input file: /dev/zero and /dev/urandom never end. Standard input is
   // whatever the caller made it (a pipe, a terminal, /dev/null) and is read with the line limit.
-  const bool stream = is_stdin || S_ISFIFO(st.st_mode);
-  if (!S_ISREG(st.st_mode) && !stream)
+  in.stream = is_stdin || S_ISFIFO(st.st_mode);
+  if (!S_ISREG(st.st_mode) && !in.stream)
     throw core::Error(core::ErrorKind::no_input,
                       fmt::format("{}: is not a regular file or a pipe (a device or a socket)", name));
+  in.regular = S_ISREG(st.st_mode);
+  in.size = in.regular ? static_cast<std::size_t>(st.st_size) : 0;
+  return in;
+}
 
+InputText InputText::read_file(const std::string& path) {
+  const OpenedInput in = open_input(path);
+  const int fd = in.fd;
+  const std::string& name = in.name;
+  const bool stream = in.stream;
   // A regular file's size is known: read it into a buffer of exactly that size (plus one byte to
   // notice a file that grew meanwhile). Otherwise start with 1 MiB and double.
-  std::size_t capacity =
-      S_ISREG(st.st_mode) ? static_cast<std::size_t>(st.st_size) + 1 : std::size_t{1} << 20;
+  std::size_t capacity = in.regular ? in.size + 1 : std::size_t{1} << 20;
   auto buffer = std::make_unique_for_overwrite<char[]>(capacity);
   std::size_t size = 0;
   std::size_t line_start = 0;  // a stream's lines before this one are checked
@@ -78,13 +88,15 @@ InputText InputText::read_file(const std::string& path) {
   return InputText(std::move(buffer), size, name);
 }
 
-std::size_t check_line_lengths(std::string_view text, std::string_view name, std::size_t from) {
+std::size_t check_line_lengths(std::string_view text, std::string_view name, std::size_t from,
+                               long lines_before) {
   // Any kMaxLineBytes + 1 bytes from a line's start hold a newline unless that line is too long;
   // the last newline among them is the start of the next line to look from.
   while (text.size() - from > kMaxLineBytes) {
     const void* nl = ::memrchr(text.data() + from, '\n', kMaxLineBytes + 1);
     if (nl == nullptr) {
-      const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(from), '\n');
+      const auto line =
+          1 + lines_before + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(from), '\n');
       throw core::Error(core::ErrorKind::data,
                         fmt::format("{}:{}: line is longer than {} bytes (no reader takes longer lines)",
                                     name, line, kMaxLineBytes));
@@ -101,7 +113,10 @@ void check_input(std::string_view text, std::string_view name) {
   if (last_nl == std::string_view::npos) return;  // one line: nothing says it was cut
   const std::string_view last = text.substr(last_nl + 1);
   if (is_blank(last) || last == "\r") return;
-  const auto line = 1 + std::count(text.begin(), text.end(), '\n');
+  throw_cut_last_line(name, 1 + std::count(text.begin(), text.end(), '\n'), last);
+}
+
+void throw_cut_last_line(std::string_view name, long line, std::string_view last) {
   throw core::Error(core::ErrorKind::data,
                     fmt::format("{}:{}: the last line does not end with a newline: the file looks cut "
                                 "mid-write (if the line {} is complete, add the newline)",

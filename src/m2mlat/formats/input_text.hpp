@@ -1,7 +1,8 @@
 // Input text read whole, and a cursor over its lines.
 //
-// Every importer reads its whole input before it builds anything, so that a malformed line anywhere
-// ends in an exception and leaves the caller with nothing partial. Lines are string_views into one
+// Every importer reads its whole input before it returns anything, so that a malformed line anywhere
+// ends in an exception and leaves the caller with nothing partial (the lean kernel-log import reads
+// its file block by block instead: file_lines.hpp). Lines are string_views into one
 // buffer (no per-line allocation), which is what lets the importers parse tens of millions of lines
 // per second. A UTF-8 byte-order mark and Windows line endings (CRLF) are accepted.
 //
@@ -17,7 +18,22 @@
 #include <string>
 #include <string_view>
 
+#include "m2mlat/core/fd.hpp"
+
 namespace m2mlat::formats {
+
+// An input opened for reading: a regular file, a pipe, or standard input ("-", named "<stdin>").
+struct OpenedInput {
+  core::Fd owned;  // closed with this (never standard input)
+  int fd = -1;
+  std::string name;         // for messages
+  bool stream = false;      // a pipe or standard input: its lines are checked as the data comes
+  bool regular = false;     // a regular file (standard input may be one too)
+  std::size_t size = 0;     // a regular file's size at opening, bytes (else 0)
+};
+// Throws core::Error: no_input if the file does not exist, is a directory or a device (/dev/zero
+// would never end), io if it cannot be opened.
+OpenedInput open_input(const std::string& path);
 
 // The bytes of one input, owned, with the name used in error messages.
 class InputText {
@@ -51,7 +67,9 @@ inline constexpr std::size_t kMaxLineBytes = 64 * 1024;
 // text[from, end) longer than kMaxLineBytes (`from` must be a line's start). Returns the start of
 // the last line of the text when it is not longer than the limit (with a stream, where the next
 // check can begin). Costs one memrchr of at most a few lines per 64 KiB.
-std::size_t check_line_lengths(std::string_view text, std::string_view name, std::size_t from = 0);
+// `lines_before`: lines of the input before `text` (when text is a block of a longer input).
+std::size_t check_line_lengths(std::string_view text, std::string_view name, std::size_t from = 0,
+                               long lines_before = 0);
 
 // The checks every importer makes before it reads a line: the line lengths, and the last line.
 // A last line without a newline, after lines that ended with one, is how a file cut mid-write
@@ -59,6 +77,8 @@ std::size_t check_line_lengths(std::string_view text, std::string_view name, std
 // an event at 17000 ns. It is refused with core::Error(data) naming file and line unless it is
 // blank. A text of one line without a newline (echo -n, a string in memory) is accepted.
 void check_input(std::string_view text, std::string_view name);
+// check_input's error for the last line (line number `line`, text `last`) without its newline.
+[[noreturn]] void throw_cut_last_line(std::string_view name, long line, std::string_view last);
 
 // Removes a leading UTF-8 byte-order mark (EF BB BF), which spreadsheet programs write.
 constexpr std::string_view strip_bom(std::string_view text) {
@@ -71,6 +91,9 @@ constexpr std::string_view strip_bom(std::string_view text) {
 class LineReader {
  public:
   explicit LineReader(std::string_view text) : rest_(strip_bom(text)) {}
+  // A block from the middle of an input: a byte-order mark there is text, not a mark.
+  struct Continued {};
+  LineReader(std::string_view text, Continued) : rest_(text) {}
 
   // The next line; false at the end. A final line without a newline is still returned (check_input
   // refuses one that looks cut); the empty "line" after a final newline is not.

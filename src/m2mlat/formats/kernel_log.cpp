@@ -7,6 +7,7 @@
 
 #include "m2mlat/core/number.hpp"
 #include "m2mlat/formats/fields.hpp"
+#include "m2mlat/formats/file_lines.hpp"
 #include "m2mlat/formats/input_text.hpp"
 #include "m2mlat/formats/line_selection.hpp"
 
@@ -150,12 +151,11 @@ struct ScanCounts {
   std::size_t lines = 0;
 };
 
-// Runs `on_record(parsed, line_number)` for every GPIO record; throws for malformed ones.
-template <class OnRecord>
-ScanCounts scan(std::string_view text, std::string_view name, OnRecord&& on_record) {
-  if (strip_bom(text).empty()) throw_line_error(name, 0, "is empty");
+// Runs `on_record(parsed, line_number)` for every GPIO record of the lines `reader` gives (a
+// LineReader over a whole text, or FileLines); throws for malformed ones.
+template <class Reader, class OnRecord>
+ScanCounts scan(Reader& reader, std::string_view name, OnRecord&& on_record) {
   ScanCounts counts;
-  LineReader reader(text);
   std::string_view line;
   while (reader.next(line)) {
     const KernelLogLine parsed = parse_kernel_log_line(line);
@@ -163,12 +163,18 @@ ScanCounts scan(std::string_view text, std::string_view name, OnRecord&& on_reco
       ++counts.records;
       on_record(parsed, reader.line_number());
     } else if (parsed.kind == KernelLineKind::malformed) {
-      throw_line_error(name, reader.line_number(), parsed.describe());
+      const long at = reader.line_number();
+      std::string what = parsed.describe();  // before the line's buffer is read into again
+      // A file read block by block: the checks of the whole file (line lengths, a cut last line)
+      // come first, as they do when it is read whole.
+      if constexpr (requires { reader.read_to_end(); }) reader.read_to_end();
+      throw_line_error(name, at, what);
     } else if (!is_blank(line)) {
       ++counts.ignored;
     }
   }
   counts.lines = static_cast<std::size_t>(reader.line_number());
+  if (counts.lines == 0) throw_line_error(name, 0, "is empty");
   if (counts.records == 0)
     throw_line_error(name, 0,
                      fmt::format("has no GPIO_<pin>_IRQ:<ns> lines ({} other lines); is it a kernel log?",
@@ -194,7 +200,8 @@ EventImport import_kernel_log(std::string_view text, std::string_view name, cons
   event.node = options.node;
   event.edge = options.edge;
   event.flags = core::kFlagImported | core::kFlagNoKernelSeqno;
-  const ScanCounts counts = scan(text, name, [&](const KernelLogLine& parsed, long line) {
+  LineReader reader(text);
+  const ScanCounts counts = scan(reader, name, [&](const KernelLogLine& parsed, long line) {
     const std::string* channel = selection.channel_for(parsed.pin_text, line, "pin");
     if (channel == nullptr) {
       ++result.skipped_lines;
@@ -215,14 +222,18 @@ EventImport import_kernel_log(std::string_view text, std::string_view name, cons
   return result;
 }
 
-std::vector<TimestampSeries> scan_kernel_log_timestamps(std::string_view text, std::string_view name,
-                                                        std::string_view only_line) {
+namespace {
+
+// The lean import over any line reader; `expected_lines`: what to reserve for the first series.
+template <class Reader>
+std::vector<TimestampSeries> scan_timestamps(Reader& reader, std::string_view name, std::string_view only_line,
+                                             std::size_t expected_lines) {
   const std::string_view wanted = canonical_label(trim(only_line));
   std::vector<TimestampSeries> series;
   std::size_t last = 0;
   std::size_t kept = 0;
   bool all_stamped = true;  // every kept line had the log's own stamp
-  const ScanCounts counts = scan(text, name, [&](const KernelLogLine& parsed, long) {
+  const ScanCounts counts = scan(reader, name, [&](const KernelLogLine& parsed, long) {
     const std::string_view pin = canonical_label(parsed.pin_text);
     if (series.empty() || series[last].label != pin) {
       if (!wanted.empty() && pin != wanted) return;
@@ -231,7 +242,11 @@ std::vector<TimestampSeries> scan_kernel_log_timestamps(std::string_view text, s
         if (series[i].label == pin) last = i;
       if (last == series.size()) {
         series.push_back({std::string(pin), {}, {}});
-        if (last == 0) series.front().ns.reserve(count_lines(text));
+        if (last == 0) {
+          // Both columns at once: the log's stamps grew by doubling, copying as they went.
+          series.front().ns.reserve(expected_lines);
+          series.front().log_time_us.reserve(expected_lines);
+        }
       }
     }
     series[last].ns.push_back(parsed.record.time_ns);
@@ -245,6 +260,22 @@ std::vector<TimestampSeries> scan_kernel_log_timestamps(std::string_view text, s
   if (!all_stamped)
     for (auto& s : series) std::vector<std::int64_t>().swap(s.log_time_us);
   return series;
+}
+
+}  // namespace
+
+std::vector<TimestampSeries> scan_kernel_log_timestamps(std::string_view text, std::string_view name,
+                                                        std::string_view only_line) {
+  LineReader reader(text);
+  return scan_timestamps(reader, name, only_line, count_lines(text));
+}
+
+std::vector<TimestampSeries> read_kernel_log_timestamps(const std::string& path, std::string_view only_line) {
+  FileLines lines(path);
+  // Reserved, not touched: pages a shorter estimate leaves unused cost address space only. 32 bytes
+  // is the module's bare line ("GPIO_16_IRQ:1762872545550296135\n"); lines with a dmesg or kmsg
+  // prefix are longer, and a log of shorter lines grows the columns as it goes.
+  return scan_timestamps(lines, lines.name(), only_line, lines.size_hint() / 32 + 16);
 }
 
 }  // namespace m2mlat::formats

@@ -59,5 +59,9 @@ EventImport import_kernel_log(std::string_view text, std::string_view name, cons
 // checks and errors as import_kernel_log. `only_line` (a pin number, or empty for all) filters.
 std::vector<TimestampSeries> scan_kernel_log_timestamps(std::string_view text, std::string_view name,
                                                         std::string_view only_line = {});
+// The same from a file ("-" = standard input), read block by block (file_lines.hpp): the same
+// series and the same errors as InputText::read_file + check_input + scan_kernel_log_timestamps,
+// without the whole file in memory.
+std::vector<TimestampSeries> read_kernel_log_timestamps(const std::string& path, std::string_view only_line = {});
 
 }  // namespace m2mlat::formats

@@ -6,6 +6,7 @@
 
 #include "m2mlat/stats/moments.hpp"
 #include "m2mlat/stats/quantile.hpp"
+#include "m2mlat/stats/radix_sort.hpp"
 
 namespace m2mlat::stats {
 
@@ -34,7 +35,7 @@ Summary summarize_in_place(std::span<std::int64_t> latencies_ns, std::span<const
     s.max = e->max;
   }
 
-  std::sort(latencies_ns.begin(), latencies_ns.end());
+  sort_ns(latencies_ns);
   const std::span<const std::int64_t> view(latencies_ns);
 
   s.thresholds = threshold_shares(view, options.thresholds);

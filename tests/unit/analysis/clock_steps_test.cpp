@@ -44,8 +44,9 @@ TEST(ClockSteps, AKnownStepForwardIsTakenBackOut) {
   EXPECT_EQ(marks.unknown, 0u);
   EXPECT_EQ(marks.at(9), StepMark::none);
   EXPECT_EQ(marks.at(10), StepMark::corrected);
-  EXPECT_EQ(marks.size_max_ns[10], 100);
-  EXPECT_EQ(marks.size_est_ns[10], 50);
+  EXPECT_EQ(marks.bound(10).max_ns, 100);
+  EXPECT_EQ(marks.bound(10).est_ns, 50);
+  EXPECT_EQ(marks.bound(9).max_ns, 0);  // not corrected: no bounds
   EXPECT_EQ(marks.first_after, (std::vector<std::int64_t>{10}));
 }
 

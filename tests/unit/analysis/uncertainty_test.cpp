@@ -118,8 +118,8 @@ TEST(Uncertainty, ACorrectedEventCarriesItsStepsUncertainty) {
     result.match.pairs.push_back({k, k, core::TimePoint::from_ns(core::Clock::realtime, kT0 + k * kS),
                                   core::TimePoint::from_ns(core::Clock::realtime, kT0 + k * kS + kS / 2), 0});
   result.steps.effect.mark = {StepMark::none, StepMark::corrected};
-  result.steps.effect.size_max_ns = {0, 1'200'000};
-  result.steps.effect.size_est_ns = {0, 1'200'000};
+  result.steps.effect.bound_of = {0, 1};
+  result.steps.effect.bounds = {{}, {1'200'000, 1'200'000}};
   attach_uncertainty(result, cause, effect, o, {});
   ASSERT_EQ(result.uncertainty.size(), 2u);
   EXPECT_EQ(result.uncertainty[0].max_error_ns, 3'000'000);
