@@ -114,8 +114,8 @@ int synchronous_level(Durability durability) {
   return 1;
 }
 
-// The FROM and WHERE clauses of an event filter, for `columns` of "events e" (and "sessions s" if
-// `sessions`). Parameters ?1..?3 are clock, from, to; the optional ones follow in the order of
+// The SELECT of `columns` of "events e" (and "sessions s" if `sessions`) that an event filter
+// selects. Parameters ?1..?3 are clock, from, to; the optional ones follow in the order of
 // bind_event_filter. The spans (event_spans.hpp) on the clock that overlap the range, of the session
 // and channel if given, are the outer loop (CROSS JOIN keeps SQLite from reordering it), and each
 // span's events are read by their seq (rowid) range; an event matches only the span of its own
@@ -472,16 +472,11 @@ std::vector<StoredEvent> Store::events_in_time(core::TimePoint from, core::TimeP
   bind_event_filter(query, from, to, filter);
   std::vector<StoredEvent> read;
   while (query.step()) read.push_back(rows::read_event(query, path()));
-  // Ordered through (t_ns, index) keys: moving the events themselves (two strings each) costs more.
-  std::vector<std::pair<std::int64_t, std::int64_t>> keys(read.size());
-  bool ordered = true;
-  for (std::size_t i = 0; i < read.size(); ++i) {
-    keys[i] = {read[i].event.time.ns(), read[i].seq};
-    ordered = ordered && (i == 0 || keys[i - 1] < keys[i]);
-  }
-  if (ordered) return read;
+  // Ordered through ((t_ns, seq), index) keys: moving the events themselves (two strings each)
+  // costs more.
   std::vector<std::pair<std::pair<std::int64_t, std::int64_t>, std::size_t>> order(read.size());
-  for (std::size_t i = 0; i < read.size(); ++i) order[i] = {keys[i], i};
+  for (std::size_t i = 0; i < read.size(); ++i) order[i] = {{read[i].event.time.ns(), read[i].seq}, i};
+  if (std::is_sorted(order.begin(), order.end())) return read;
   std::sort(order.begin(), order.end());
   std::vector<StoredEvent> out;
   out.reserve(read.size());

@@ -24,11 +24,11 @@ using namespace m2mlat::store::test;
 
 namespace {
 
-constexpr std::int64_t kT0 = 1'700'000'000'000'000'000;
+constexpr std::int64_t kSpanT0 = 1'700'000'000'000'000'000;
 
 // The seqs a filter selects, in (t_ns, seq) order, by a plain scan of the events table: the answer
 // the store's reads must give whatever indexes or spans they use.
-std::vector<std::int64_t> scanned(const std::string& path, core::Clock clock, std::int64_t from, std::int64_t to,
+std::vector<std::int64_t> span_test_scanned(const std::string& path, core::Clock clock, std::int64_t from, std::int64_t to,
                                   const EventFilter& filter) {
   auto db = sqlite::Database::open(path, sqlite::Database::Mode::read_only);
   sqlite::Statement query(db,
@@ -52,7 +52,7 @@ std::vector<std::int64_t> scanned(const std::string& path, core::Clock clock, st
   return out;
 }
 
-std::int64_t scanned_count(const std::string& path, std::optional<std::int64_t> session) {
+std::int64_t span_test_scanned_count(const std::string& path, std::optional<std::int64_t> session) {
   auto db = sqlite::Database::open(path, sqlite::Database::Mode::read_only);
   sqlite::Statement query(db, "SELECT count(*) FROM events NOT INDEXED WHERE ?1 IS NULL OR session_id = ?1");
   if (session) query.bind(1, *session);
@@ -76,21 +76,21 @@ void expect_reads_match_a_scan(const Store& store) {
       filters.push_back(f);
       f.edge.reset();
     }
-    EXPECT_EQ(store.event_count(session.id), scanned_count(path, session.id)) << "session " << session.id;
+    EXPECT_EQ(store.event_count(session.id), span_test_scanned_count(path, session.id)) << "session " << session.id;
   }
   EventFilter by_node;
   by_node.node = "vehicle";
   filters.push_back(by_node);
   by_node.channel = "wheel";
   filters.push_back(by_node);
-  EXPECT_EQ(store.event_count(), scanned_count(path, std::nullopt));
+  EXPECT_EQ(store.event_count(), span_test_scanned_count(path, std::nullopt));
   constexpr auto kMin = std::numeric_limits<std::int64_t>::min(), kMax = std::numeric_limits<std::int64_t>::max();
   const std::vector<std::pair<std::int64_t, std::int64_t>> windows{
-      {kMin, kMax}, {kT0 + 1'000'000, kT0 + 3'500'000}, {kT0 + 2'000'000, kT0 + 2'000'000}, {kT0 - 10, kT0 - 1}};
+      {kMin, kMax}, {kSpanT0 + 1'000'000, kSpanT0 + 3'500'000}, {kSpanT0 + 2'000'000, kSpanT0 + 2'000'000}, {kSpanT0 - 10, kSpanT0 - 1}};
   for (const auto clock : {core::Clock::realtime, core::Clock::monotonic})
     for (const auto& [from, to] : windows)
       for (const auto& filter : filters) {
-        const auto want = scanned(path, clock, from, to, filter);
+        const auto want = span_test_scanned(path, clock, from, to, filter);
         const auto f = core::TimePoint::from_ns(clock, from), t = core::TimePoint::from_ns(clock, to);
         std::vector<std::int64_t> got;
         for (const auto& e : store.events_in_time(f, t, filter)) got.push_back(e.seq);
@@ -105,7 +105,7 @@ void expect_reads_match_a_scan(const Store& store) {
 
 // Batches as a recorder and an import write them: two sessions of two nodes, two channels, stamps
 // out of order within a batch, a few events on the monotonic clock, batches of 1 to 700 events.
-void fill(Store& store) {
+void fill_mixed_batches(Store& store) {
   const auto vehicle = store.begin_session(make_session("vehicle", "a"));
   const auto op = store.begin_session(make_session("operator", "b"));
   std::int64_t k = 0;
@@ -114,7 +114,7 @@ void fill(Store& store) {
       std::vector<core::Event> batch;
       for (std::size_t i = 0; i < size; ++i, ++k) {
         const std::string node = session == vehicle ? "vehicle" : "operator";
-        auto e = make_event(node, k % 3 == 0 ? "motion" : "wheel", kT0 + (k * 2'000) % 5'000'000 + (k % 7) * 100,
+        auto e = make_event(node, k % 3 == 0 ? "motion" : "wheel", kSpanT0 + (k * 2'000) % 5'000'000 + (k % 7) * 100,
                             static_cast<std::uint64_t>(k));
         e.edge = k % 2 == 0 ? core::Edge::rising : core::Edge::falling;
         if (k % 50 == 0) e.time = core::TimePoint::from_ns(core::Clock::monotonic, 1'000'000 + k);
@@ -123,7 +123,7 @@ void fill(Store& store) {
       store.append_events(session, batch);
     }
   }
-  store.end_session(op, rt(kT0 + 10'000'000));  // the vehicle's stays open, as a recorder's killed one
+  store.end_session(op, rt(kSpanT0 + 10'000'000));  // the vehicle's stays open, as a recorder's killed one
 }
 
 }  // namespace
@@ -131,7 +131,7 @@ void fill(Store& store) {
 TEST(EventSpans, ReadsOfMixedBatchesMatchAPlainScan) {
   TempDir dir;
   auto store = Store::open(dir.file("mixed.m2mlat"));
-  fill(store);
+  fill_mixed_batches(store);
   ASSERT_EQ(store.event_count(), 2 * (1 + 700 + 33 + 2 + 512));
   EXPECT_EQ(store.channels(1), (std::vector<std::string>{"motion", "wheel"}));
   expect_reads_match_a_scan(store);
@@ -143,11 +143,11 @@ TEST(EventSpans, EventsTakenByAMergeReadAsTheBoardsDo) {
   TempDir dir;
   {
     auto board = Store::open(dir.file("board.m2mlat"));
-    fill(board);
+    fill_mixed_batches(board);
   }
   auto campaign = Store::open(dir.file("campaign.m2mlat"));
   const auto other = campaign.begin_session(make_session("vehicle", "local"));
-  campaign.append_events(other, std::vector{make_event("vehicle", "wheel", kT0 + 2'000'000, 1)});
+  campaign.append_events(other, std::vector{make_event("vehicle", "wheel", kSpanT0 + 2'000'000, 1)});
   merge_store(campaign, dir.file("board.m2mlat"), 300);  // chunks of 300: a span per chunk and group
   EXPECT_EQ(campaign.event_count(), 1 + 2 * (1 + 700 + 33 + 2 + 512));
   expect_reads_match_a_scan(campaign);
@@ -179,7 +179,7 @@ TEST(EventSpans, AVersion4StoreIsMigratedAndReadsTheSame) {
   for (const std::int64_t session : {1, 2}) {
     EventFilter f;
     f.session_id = session;
-    const auto all = scanned(path, core::Clock::realtime, std::numeric_limits<std::int64_t>::min(),
+    const auto all = span_test_scanned(path, core::Clock::realtime, std::numeric_limits<std::int64_t>::min(),
                              std::numeric_limits<std::int64_t>::max(), f);
     before.insert(before.end(), all.begin(), all.end());
   }
@@ -195,7 +195,7 @@ TEST(EventSpans, AVersion4StoreIsMigratedAndReadsTheSame) {
   EXPECT_EQ(store.event_count(), 9000);
   expect_reads_match_a_scan(store);
   // It takes new events as a new store does.
-  store.append_events(1, std::vector{make_event("vehicle", "wheel", kT0 + 4'000'000, 1)});
+  store.append_events(1, std::vector{make_event("vehicle", "wheel", kSpanT0 + 4'000'000, 1)});
   expect_reads_match_a_scan(store);
   store.check_rows();
 }
@@ -205,7 +205,7 @@ TEST(EventSpans, ASpanRowBreakingTheSchemaIsReported) {
   const auto path = dir.file("damaged.m2mlat");
   {
     auto store = Store::open(path);
-    fill(store);
+    fill_mixed_batches(store);
   }
   {
     auto db = sqlite::Database::open(path, sqlite::Database::Mode::read_write);
