@@ -171,6 +171,7 @@ IngestCursor Store::ingest(const IngestBatch& batch) {
   };
 
   IngestCursor after = before;
+  event_spans::SpanBuilder spans;
   for (std::size_t i = 0; i < batch.events.size(); ++i) {
     const StoredEvent& item = batch.events[i];
     if (!take(path(), "event", i, item.seq, before.events, after.events)) continue;
@@ -182,7 +183,10 @@ IngestCursor Store::ingest(const IngestBatch& batch) {
     rows::bind_event(s.insert_event, local.id, item.event);
     s.insert_event.step();
     s.insert_event.reset();
+    spans.add(s.db.last_insert_rowid(), local.id, item.event.channel, item.event.time.clock(),
+                item.event.time.ns());
   }
+  spans.write(s.insert_span);
   const auto local_id = [&](std::int64_t origin_id, std::string_view what, std::size_t index) {
     return local_session(origin_id, what, index).id;
   };

@@ -93,6 +93,18 @@ constexpr Rule kMarkerRules[] = {
     {"sender_ns", "sender_ns IS NOT NULL AND typeof(sender_ns) <> 'integer'", "an integer or NULL"},
 };
 
+constexpr Rule kEventSpanRules[] = {
+    {"session_id", "session_id NOT IN (SELECT id FROM sessions)", "an existing session"},
+    {"channel", "channel = ''", "not empty"},
+    {"clock", kClockBroken, "0 to 3"},
+    {"first_seq", "typeof(first_seq) <> 'integer' OR first_seq < 1", "an integer >= 1"},
+    {"last_seq", "typeof(last_seq) <> 'integer' OR last_seq < first_seq", "an integer >= first_seq"},
+    {"first_ns", "typeof(first_ns) <> 'integer'", "an integer"},
+    {"last_ns", "typeof(last_ns) <> 'integer' OR last_ns < first_ns", "an integer >= first_ns"},
+    {"count", "typeof(count) <> 'integer' OR count NOT BETWEEN 1 AND last_seq - first_seq + 1",
+     "1 to the span's seq range"},
+};
+
 constexpr Table kTables[] = {
     {"sessions", "id", kSessionRules},
     {"events", "seq", kEventRules},
@@ -100,6 +112,7 @@ constexpr Table kTables[] = {
     {"losses", "id", kLossRules},
     {"rate_blocks", "id", kRateBlockRules},
     {"markers", "id", kMarkerRules},
+    {"event_spans", "id", kEventSpanRules},
 };
 
 }  // namespace

@@ -1,4 +1,4 @@
-// The schema's versions (1 to 4) and the migration runner. Columns, types and units are documented in
+// The schema's versions (1 to 5) and the migration runner. Columns, types and units are documented in
 // docs/store.md; how rows map to the in-memory values is in rows.cpp.
 #include "m2mlat/store/schema.hpp"
 
@@ -177,11 +177,38 @@ CREATE INDEX markers_by_session ON markers (session_id, clock, t_ns);
 ALTER TABLE origins ADD COLUMN marker_id INTEGER NOT NULL DEFAULT 0;
 )sql";
 
+// Version 5: event spans (event_spans.hpp) instead of the events table's two per-row indexes, which
+// cost most of SQLite's work per stored event. A span is one (session, channel, clock) group of the
+// events of one transaction: their seq range, earliest and latest t_ns (ns on `clock`) and number.
+// The events already stored get spans of up to 4096 seqs (seq >> 12), so that a time read of an old
+// store narrows as well as of a new one; then the two indexes go.
+constexpr std::string_view kVersion5 = R"sql(
+CREATE TABLE event_spans (
+  id         INTEGER PRIMARY KEY,
+  session_id INTEGER NOT NULL REFERENCES sessions (id),
+  channel    TEXT NOT NULL CHECK (channel <> ''),
+  clock      INTEGER NOT NULL CHECK (clock BETWEEN 0 AND 3),
+  first_seq  INTEGER NOT NULL CHECK (first_seq >= 1),
+  last_seq   INTEGER NOT NULL CHECK (last_seq >= first_seq),
+  first_ns   INTEGER NOT NULL,
+  last_ns    INTEGER NOT NULL CHECK (last_ns >= first_ns),
+  count      INTEGER NOT NULL CHECK (count BETWEEN 1 AND last_seq - first_seq + 1)
+);
+INSERT INTO event_spans (session_id, channel, clock, first_seq, last_seq, first_ns, last_ns, count)
+  SELECT session_id, channel, clock, min(seq), max(seq), min(t_ns), max(t_ns), count(*) FROM events
+  GROUP BY seq >> 12, session_id, channel, clock ORDER BY min(seq);
+CREATE INDEX event_spans_by_time ON event_spans (clock, last_ns);
+CREATE INDEX event_spans_by_session ON event_spans (session_id, channel, clock, first_ns);
+DROP INDEX events_by_time;
+DROP INDEX events_by_session;
+)sql";
+
 constexpr std::array kMigrations{
     Migration{"sessions, events, clock samples, losses, meta", kVersion1},
     Migration{"store identity, origins of a campaign store", kVersion2},
     Migration{"raw rate samples in blocks, the gyroscope's loss kinds", kVersion3},
     Migration{"markers", kVersion4},
+    Migration{"event spans instead of the events' per-row indexes", kVersion5},
 };
 
 // Table name -> its column names, of the main database of `db` (SQLite's own tables left out).

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/store/event_spans.hpp"
 #include "m2mlat/store/rows.hpp"
 #include "m2mlat/store/sqlite.hpp"
 #include "m2mlat/store/store.hpp"
@@ -41,6 +42,7 @@ struct Store::Impl {
         insert_clock_sample(db, rows::kInsertClockSample),
         insert_rate_block(db, rows::kInsertRateBlock),
         insert_marker(db, rows::kInsertMarker),
+        insert_span(db, event_spans::kInsertSpan),
         session_state(db, "SELECT node, end_ns IS NOT NULL FROM sessions WHERE id = ?1"),
         // LEFT JOIN: an event naming a missing session is refused by read_event, not skipped.
         events_after(db, fmt::format("SELECT {} FROM events e LEFT JOIN sessions s ON s.id = e.session_id "
@@ -83,6 +85,7 @@ struct Store::Impl {
   sqlite::Statement insert_clock_sample;
   sqlite::Statement insert_rate_block;
   sqlite::Statement insert_marker;
+  sqlite::Statement insert_span;
   sqlite::Statement session_state;
   sqlite::Statement events_after;
 };

@@ -81,6 +81,24 @@ std::uint64_t verify(const std::string& path, const std::vector<std::int64_t>& r
   const std::int64_t last = store.last_seq();
   EXPECT_EQ(static_cast<std::int64_t>(events.size()), last);  // seqs 1..last, no holes
 
+  // The session the killed writer left open reads the same by time, by session and by count (its
+  // stamps increase with seq, so time order is seq order).
+  const auto all_time = store.events_in_time(core::TimePoint::from_ns(core::Clock::realtime, 0),
+                                             core::TimePoint::from_ns(core::Clock::realtime,
+                                                                      std::numeric_limits<std::int64_t>::max()));
+  EXPECT_EQ(all_time, events);
+  EXPECT_EQ(store.event_count(), last);
+  if (!events.empty()) {
+    EventFilter of_session;
+    of_session.session_id = events.front().session_id;
+    EXPECT_EQ(store.timestamps(core::TimePoint::from_ns(core::Clock::realtime, 0),
+                               core::TimePoint::from_ns(core::Clock::realtime, std::numeric_limits<std::int64_t>::max()),
+                               of_session)
+                  .seq.size(),
+              events.size());
+    EXPECT_EQ(store.channels(of_session.session_id.value()), std::vector<std::string>{"wheel"});
+  }
+
   std::set<std::int64_t> present;
   for (const auto& e : events) present.insert(e.seq);
   for (const auto seq : reported) EXPECT_TRUE(present.count(seq)) << "acknowledged seq " << seq << " lost";
