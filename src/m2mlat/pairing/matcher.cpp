@@ -186,13 +186,14 @@ struct Candidates {
 // for each cause the matched effect or kNone.
 //
 // G(i, j) = (count, value)(i, j) + max(0, max{ G(i', j') : i' < i, j' < j },
-// G(i - 1, j - 1) + (follows(i, j), 0)) is the best (count, then value) of an ordered chain of pairs
-// ending in (i, j); follows(i, j) is the extra count of a pair that continues its predecessors' sweep
-// (SweepStretch), found in the previous cause's row, which is kept. Causes are processed in order; for effects we keep best[j] = max
-// over the causes so far of G(., j). Because candidate windows only move forward, effects left behind
-// by the window are folded into one `frozen` maximum, so each cause costs O(its window), and best[]
-// only needs the effects inside the current window: it is a ring of the widest window's size
-// (a power of two), not one entry per effect.
+// G(i - 1, j - 1) + (follows(i, j), 0), G(i - 1, j - 2) + (skip(i, j), 0)) is the best (count, then
+// value) of an ordered chain of pairs ending in (i, j); follows(i, j) is the extra count of a pair that
+// continues its predecessors' sweep, skip(i, j) the same over an effect whose cause was lost
+// (SweepStretch::Link), both found in the previous cause's row, which is kept. Causes are processed in
+// order; for effects we keep best[j] = max over the causes so far of G(., j). Because candidate windows
+// only move forward, effects left behind by the window are folded into one `frozen` maximum, so each
+// cause costs O(its window), and best[] only needs the effects inside the current window: it is a ring
+// of the widest window's size (a power of two), not one entry per effect.
 //
 // A chain's (count, value) is one unsigned key, count << shift | value, compared and added as one
 // number, so that every maximum is a conditional move rather than a branch the data mispredict. The
@@ -258,6 +259,7 @@ std::vector<std::uint32_t> align(const Sides& sides, const CandidateCount& count
     std::swap(row_key, previous_key);
     previous_size = row_size;
     row_size = 0;
+    std::size_t skipping = 0;  // previous[skipping]: the previous cause's chain end at effect j - 2, if any
     std::size_t adjacent = 0;  // previous[adjacent]: the previous cause's chain end at effect j - 1, if any
     for (auto j = w.lo; j < w.hi; ++j) {
       const std::int64_t v = rule.value(effects[j] - cause);
@@ -266,6 +268,15 @@ std::vector<std::uint32_t> align(const Sides& sides, const CandidateCount& count
         const Key gain = (Key{rule.count(v)} << shift) + static_cast<Key>(v);
         Key chain = running_key + gain;
         std::uint32_t pred = running_candidate;
+        if (rule.follows.skips && j > 1) {  // over an effect left unpaired (its cause lost): SweepStretch
+          while (skipping < previous_size && previous_effect[skipping] + 2 < j) ++skipping;
+          if (skipping < previous_size && previous_effect[skipping] + 2 == j) {
+            const Key linked = previous_key[skipping] + gain + (Key{rule.follows.skip(j)} << shift);
+            const bool link = linked > chain;
+            chain = link ? linked : chain;
+            pred = link ? previous_id[skipping] : pred;
+          }
+        }
         while (adjacent < previous_size && previous_effect[adjacent] + 1 < j) ++adjacent;
         if (i > 0 && j > 0 && adjacent < previous_size && previous_effect[adjacent] + 1 == j) {
           const Key linked = previous_key[adjacent] + gain + (Key{rule.follows(j)} << shift);
@@ -334,8 +345,21 @@ constexpr std::int64_t kPatternNumerator = 3, kPatternDenominator = 2;
 // its effect's predecessors within the band once more (SweepStretch::follows).
 class SweepStretch {
  public:
-  SweepStretch(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects, std::int64_t gap_ns)
-      : causes_(causes), effects_(effects), gap_ns_(gap_ns) {}
+  SweepStretch(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
+               std::int64_t gap_ns, std::size_t magnets)
+      : causes_(causes), effects_(effects), gap_ns_(gap_ns), pass_short_(causes.size(), false) {
+    // A burst one pass short of a multiple of the magnets (a sweep with a lost pass): its causes may
+    // link over the effect of the lost pass (Link::skip). Only there: elsewhere a link over an effect
+    // is a chain that leaves a true effect out (a stall's queued effects lie a few ms apart, and twice
+    // a slow sweep's interval may lie in the band).
+    if (magnets < 2) return;
+    for (std::size_t k = 0, first = 0; k <= causes.size(); ++k)
+      if (k == causes.size() || (k > first && causes[k] - causes[k - 1] >= gap_ns)) {
+        if ((k - first) % magnets == magnets - 1)
+          for (std::size_t q = first; q < k; ++q) pass_short_[q] = true;
+        first = k;
+      }
+  }
 
   // The band from the consecutive pairs of an alignment (matched effect per cause, or kNone).
   void fit(const std::vector<std::uint32_t>& matched) {
@@ -365,9 +389,17 @@ class SweepStretch {
   struct Link {
     const std::int64_t* effects = nullptr;  // null: cause i starts no link (first cause, or a gap before it)
     std::int64_t effect_limit = 0, low_x = 0, high_x = 0;
-    std::uint32_t operator()(std::uint32_t j) const {
+    bool skips = false;  // the cause's burst is a pass short: skip() may link
+    std::uint32_t operator()(std::uint32_t j) const { return within(j, 1); }
+    // The same for (i - 1, j - 2) -> (i, j), effect j - 1 left unpaired (j > 1): a pass lost on the
+    // cause side inside a sweep leaves two consecutive causes two passes apart, whose effects are then
+    // two apart. Without it, a chain shifted by one pass (cause i with effect j - 1) lies as close to
+    // the typical latency and breaks no link either, and the lost pass's effect pulls the rest of the
+    // sweep off by one.
+    std::uint32_t skip(std::uint32_t j) const { return skips ? within(j, 2) : 0u; }
+    std::uint32_t within(std::uint32_t j, std::uint32_t back) const {
       if (effects == nullptr) return 0;
-      const std::int64_t effect_interval = effects[j] - effects[j - 1];
+      const std::int64_t effect_interval = effects[j] - effects[j - back];
       if (effect_interval >= effect_limit) return 0;
       const std::int64_t x = effect_interval * 1'000'000;
       return x >= low_x && x < high_x ? 1u : 0u;
@@ -382,7 +414,7 @@ class SweepStretch {
       return cause_interval > band_reach ? kLargest : band * cause_interval;
     };
     return {effects_.data(), std::min(kVehicleGapFactor * gap_ns_, kMaxInterval), times(low_, low_reach_),
-            times(high_ + 1, high_reach_)};
+            times(high_ + 1, high_reach_), pass_short_[i]};
   }
 
  private:
@@ -405,6 +437,7 @@ class SweepStretch {
   static std::int64_t reach(std::int64_t band) { return band > 0 ? kLargest / band : kLargest; }
 
   std::int64_t low_ = 1, high_ = 0;  // the band, millionths; low_ > high_: none (too few pairs yet)
+  std::vector<bool> pass_short_;     // per cause: its burst is a pass short of a multiple of the magnets
   std::int64_t low_reach_ = reach(1), high_reach_ = reach(1);  // reach(low_), reach(high_ + 1)
 };
 
@@ -916,7 +949,8 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   // the largest worth. (A third such pass, against pass 2's reference, changed nothing measurable.)
   reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
   const auto gap = options.burst_gap.count() > 0 ? options.burst_gap : burst_gap_for(options.magnets_deg);
-  SweepStretch sweep(causes.ns, effects.ns, gap.count());
+  const std::size_t magnet_count = std::max<std::size_t>(1, options.magnets_deg.size());
+  SweepStretch sweep(causes.ns, effects.ns, gap.count(), magnet_count);
   sweep.fit(matched);
   matched = align_pass(sides, counted, candidates, [&](std::size_t i) {
     return PassRow{reference.median[i], reference.acceptance[i], tolerance, 2, 1, sweep.link(i)};

@@ -85,7 +85,9 @@ TEST(MatcherProperty, CleanDetectionsGiveTheTruePairs) {
 // Drops, bounces and spurious edges at field rates (1 % missed passes, 3 % bounces, a spurious edge
 // every 5 minutes) and at harsher rates. Pairs the matcher is not sure of are flagged (and left out of statistics by default). Stated limits (docs/matcher.md), measured over
 // 4 presets x 3 wheels x 8 seeds: field: < 0.1 % of the unflagged pairs wrong, > 97 % of the true
-// pairs found, > 88 % of pairs unflagged; harsh: < 0.5 % wrong among unflagged, > 85 % found.
+// pairs found, > 88 % of pairs unflagged; harsh: < 0.5 % wrong among unflagged, > 85 % found, > 59.5 %
+// unflagged (60.5 % before the link over a pass lost on the cause side, which finds 2 points more of the
+// true pairs, flagged in their bursts, and flags 0.6 % more of the others: 59.96 %).
 TEST(MatcherProperty, ImperfectDetectionsFindSurvivingPairsAndRarelyPairWrongly) {
   struct Level {
     const char* name;
@@ -102,7 +104,7 @@ TEST(MatcherProperty, ImperfectDetectionsFindSurvivingPairsAndRarelyPairWrongly)
        {"sensor.miss_probability=0.05", "sensor.bounce_probability=0.2", "sensor.spurious_per_minute=1"},
        0.005,
        0.85,
-       0.60}};
+       0.595}};
   for (const auto& level : levels) {
     Score total;
     for (const auto& preset : kPresets)
