@@ -138,6 +138,17 @@ void check(sqlite::Database& db) {
                                        "breaks the store's schema (written or edited by another tool?)",
                                        table.name, table.key, key, rule.field, shown, rule.expected));
   }
+  // Every read finds events through their spans (event_spans.hpp), which m2mlat writes in the
+  // transaction of the events they count: an event another tool inserted without one, or deleted
+  // under one, would be left out of a read, or missed, without a word. (Two counts: the events'
+  // b-tree walked without decoding rows, and the spans' sum.)
+  const std::int64_t events = db.query_int("SELECT count(*) FROM events");
+  const std::int64_t spanned = db.query_int("SELECT coalesce(sum(count), 0) FROM event_spans");
+  if (events != spanned)
+    core::throw_data_error({db.path(), 0},
+                           fmt::format("table 'events' holds {} rows, its spans (table 'event_spans') count {}: "
+                                       "the file breaks the store's schema (written or edited by another tool?)",
+                                       events, spanned));
 }
 
 }  // namespace m2mlat::store::row_check

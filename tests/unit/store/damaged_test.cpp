@@ -102,6 +102,11 @@ TEST(DamagedStore, RowsBreakingTheSchemaAreRefusedNotLeftOut) {
       {"INSERT INTO losses (session_id, channel, clock, t_ns, first_missing, count, kind) "
        "VALUES (1, 'wheel', 0, 5, 1, 0, 'seqno_gap')",
        "table 'losses' row id 1: field 'count' holds 0"},
+      // Events outside their spans: read through the spans, they would be left out without a word.
+      {"INSERT INTO events (session_id, channel, edge, clock, t_ns, seqno, line_seqno, flags) "
+       "VALUES (1, 'wheel', 1, 0, 9, 9, 9, 0)",
+       "table 'events' holds 6 rows, its spans (table 'event_spans') count 5"},
+      {"DELETE FROM events WHERE seq = 2", "table 'events' holds 4 rows, its spans (table 'event_spans') count 5"},
   };
   int n = 0;
   for (const auto& c : cases) {
