@@ -36,7 +36,6 @@ class SpanBuilder {
            std::int64_t t_ns);
   // Inserts one row per group with `insert` (a statement of kInsertSpan) and forgets them.
   void write(sqlite::Statement& insert);
-  bool empty() const { return spans_.empty(); }
 
  private:
   struct Span {
