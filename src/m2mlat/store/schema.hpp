@@ -8,7 +8,10 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
+#include <set>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "m2mlat/store/sqlite.hpp"
@@ -34,11 +37,24 @@ int latest_version();
 // version (0 = empty). Throws core::Error(data) naming the file otherwise.
 int identify(sqlite::Database& db, std::span<const Migration> steps);
 
-// Checks that `db`, identified as a store of `version`, has every table and column the first
-// `version` steps create (compared with those steps run on an empty in-memory database), so a
-// damaged or foreign schema is a data error naming the file and what is missing, not a failure of
-// the first statement that needs it. Throws core::Error(data).
-void check_tables(sqlite::Database& db, std::span<const Migration> steps, int version);
+// Table name -> the names of its columns.
+using Tables = std::map<std::string, std::set<std::string>>;
+
+// The tables and columns of the main database of `db` (SQLite's own tables left out).
+Tables tables_of(sqlite::Database& db);
+
+// The tables and columns that `steps` create, run on an empty in-memory database.
+Tables tables_created_by(std::span<const Migration> steps);
+
+// The tables and columns a store of `version` has: for the latest version a list kept beside the
+// steps (equal to tables_created_by(migrations()), which the unit tests check); for an older one,
+// the first `version` steps run in memory (once per upgrade, so their cost does not matter).
+Tables expected_tables(int version);
+
+// Checks that `db`, identified as a store of `version`, has every table and column of
+// expected_tables(version), so a damaged or foreign schema is a data error naming the file and what
+// is missing, not a failure of the first statement that needs it. Throws core::Error(data).
+void check_tables(sqlite::Database& db, int version);
 
 // Applies the steps from the store's version up to steps.size(), one transaction each; creating a
 // store (version 0 -> 1) also writes the application id and the meta rows. Safe against a second

@@ -207,7 +207,7 @@ Store Store::open(const std::string& path, const Options& options) {
                       fmt::format("{}: not an m2mlat store (not an SQLite database)", path));
   const auto steps = schema::migrations();
   int version = schema::identify(db, steps);
-  if (version > 0) schema::check_tables(db, steps, version);
+  if (version > 0) schema::check_tables(db, version);
   if (options.read_only) {
     if (version == 0)
       throw core::Error(core::ErrorKind::data,

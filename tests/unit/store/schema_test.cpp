@@ -179,6 +179,30 @@ TEST(StoreSchema, MigrationsRunForwardAndAFailedStepChangesNothing) {
   EXPECT_THROW(schema::identify(db, current), core::Error);
 }
 
+// An open compares the store's tables with a list kept in schema.cpp, not with the steps run in
+// memory: the list must be exactly what the steps create, and what a new store has.
+TEST(StoreSchema, TheLatestVersionsTableListIsWhatTheStepsCreate) {
+  const auto listed = schema::expected_tables(schema::latest_version());
+  EXPECT_EQ(listed, schema::tables_created_by(schema::migrations()));
+  EXPECT_EQ(listed.size(), 10U);
+  EXPECT_EQ(listed.at("origins").size(), 6U);
+
+  TempDir dir;
+  const auto path = dir.file("new.m2mlat");
+  { Store::open(path); }
+  auto db = sqlite::Database::open(path, sqlite::Database::Mode::read_only);
+  EXPECT_EQ(schema::tables_of(db), listed);
+}
+
+// An older store is checked against its own version's tables (before its upgrade).
+TEST(StoreSchema, AnOlderVersionsTablesAreThoseOfItsSteps) {
+  const auto version3 = schema::expected_tables(3);
+  EXPECT_EQ(version3, schema::tables_created_by(schema::migrations().first(3)));
+  EXPECT_TRUE(version3.contains("rate_blocks"));
+  EXPECT_FALSE(version3.contains("markers"));
+  EXPECT_FALSE(version3.at("origins").contains("marker_id"));
+}
+
 TEST(StoreSchema, ReadOnlyOpenOfAnEmptyDatabaseDoesNotMakeAStore) {
   TempDir dir;
   const auto path = dir.file("v0.m2mlat");
