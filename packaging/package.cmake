@@ -74,9 +74,10 @@ set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 # The shared libraries' packages come from dpkg-shlibdeps, for the cross build too: it reads the
 # symbols files of the arm64 library packages installed through multiarch (libsqlite3-0:arm64, ...).
-# adduser runs in postinst.
+# adduser runs in postinst. libpq5 is loaded with dlopen (archive/libpq.hpp), which dpkg-shlibdeps
+# cannot see: it is named here.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser")
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, libpq5")
 set(CPACK_DEBIAN_PACKAGE_SUGGESTS "chrony, linuxptp, rt-tests")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
     ${M2MLAT_PACKAGING_DIR}/postinst ${M2MLAT_PACKAGING_DIR}/prerm ${M2MLAT_PACKAGING_DIR}/postrm

@@ -2,16 +2,19 @@
 #include "m2mlat/archive/connection.hpp"
 
 #include <fmt/format.h>
-#include <libpq-fe.h>
 
 #include <cstdlib>
 #include <fstream>
 
+#include "m2mlat/archive/libpq.hpp"
 #include "m2mlat/core/error.hpp"
 
 namespace m2mlat::archive {
 
 namespace {
+
+// libpq's functions, loaded on first use (libpq.hpp).
+const libpq::Api& pq() { return libpq::api(); }
 
 std::string trimmed_message(const char* text) {
   std::string s = text == nullptr ? "" : text;
@@ -20,7 +23,7 @@ std::string trimmed_message(const char* text) {
 }
 
 struct ResultDeleter {
-  void operator()(PGresult* r) const { PQclear(r); }
+  void operator()(PGresult* r) const { pq().PQclear(r); }
 };
 using Result = std::unique_ptr<PGresult, ResultDeleter>;
 
@@ -76,11 +79,11 @@ std::string resolve_conninfo(const std::string& url, const std::string& url_file
 
 std::string describe(const std::string& conninfo) {
   char* error = nullptr;
-  PQconninfoOption* options = PQconninfoParse(conninfo.c_str(), &error);
+  PQconninfoOption* options = pq().PQconninfoParse(conninfo.c_str(), &error);
   if (options == nullptr) {
     // libpq's message may quote the whole string: never its password.
     const auto what = scrubbed(trimmed_message(error), conninfo);
-    PQfreemem(error);
+    pq().PQfreemem(error);
     throw core::Error(core::ErrorKind::usage, fmt::format("archive connection string: {}", what));
   }
   std::string user, host, port, dbname;
@@ -93,7 +96,7 @@ std::string describe(const std::string& conninfo) {
     if (key == "port") port = value;
     if (key == "dbname") dbname = value;
   }
-  PQconninfoFree(options);
+  pq().PQconninfoFree(options);
   // Unset parts are libpq's defaults (PG* variables, the local socket, the login name).
   const auto or_env = [](std::string value, const char* variable, const char* fallback) {
     if (!value.empty()) return value;
@@ -119,7 +122,7 @@ struct Connection::Impl {
   PGconn* conn = nullptr;
   std::string name;
   ~Impl() {
-    if (conn != nullptr) PQfinish(conn);
+    if (conn != nullptr) pq().PQfinish(conn);
   }
   [[noreturn]] void fail(const std::string& what, const char* message) const {
     throw core::Error(core::ErrorKind::io,
@@ -135,13 +138,14 @@ Connection::~Connection() = default;
 Connection Connection::open(const std::string& conninfo) {
   auto impl = std::make_unique<Impl>();
   impl->name = describe(conninfo);
-  impl->conn = PQconnectdb(conninfo.c_str());
+  impl->conn = pq().PQconnectdb(conninfo.c_str());
   if (impl->conn == nullptr)
     throw core::Error(core::ErrorKind::io, fmt::format("archive {}: out of memory", impl->name));
-  if (PQstatus(impl->conn) != CONNECTION_OK)
-    impl->fail("cannot connect", scrubbed(trimmed_message(PQerrorMessage(impl->conn)), conninfo).c_str());
+  if (pq().PQstatus(impl->conn) != CONNECTION_OK)
+    impl->fail("cannot connect",
+               scrubbed(trimmed_message(pq().PQerrorMessage(impl->conn)), conninfo).c_str());
   // Notices (e.g. "relation already exists, skipping") are not the user's business.
-  PQsetNoticeProcessor(
+  pq().PQsetNoticeProcessor(
       impl->conn, [](void*, const char*) {}, nullptr);
   return Connection(std::move(impl));
 }
@@ -153,42 +157,44 @@ Rows Connection::exec(const std::string& sql, const std::vector<std::optional<st
   values.reserve(params.size());
   for (const auto& p : params) values.push_back(p ? p->c_str() : nullptr);
   // Without parameters a text may hold several statements (a migration): PQexec takes those.
-  Result result(params.empty() ? PQexec(impl_->conn, sql.c_str())
-                               : PQexecParams(impl_->conn, sql.c_str(), static_cast<int>(values.size()),
-                                              nullptr, values.data(), nullptr, nullptr, 0));
-  const auto status = PQresultStatus(result.get());
+  Result result(params.empty() ? pq().PQexec(impl_->conn, sql.c_str())
+                               : pq().PQexecParams(impl_->conn, sql.c_str(), static_cast<int>(values.size()),
+                                                   nullptr, values.data(), nullptr, nullptr, 0));
+  const auto status = pq().PQresultStatus(result.get());
   if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) {
     // The statement's first words say which one failed.
     const auto start = sql.find_first_not_of(" \n");
     const auto text = start == std::string::npos ? std::string() : sql.substr(start, 48);
-    impl_->fail(text.substr(0, text.find('\n')), PQresultErrorMessage(result.get()));
+    impl_->fail(text.substr(0, text.find('\n')), pq().PQresultErrorMessage(result.get()));
   }
   Rows rows;
-  const int n_fields = PQnfields(result.get());
-  for (int c = 0; c < n_fields; ++c) rows.columns.emplace_back(PQfname(result.get(), c));
-  for (int r = 0; r < PQntuples(result.get()); ++r) {
+  const int n_fields = pq().PQnfields(result.get());
+  for (int c = 0; c < n_fields; ++c) rows.columns.emplace_back(pq().PQfname(result.get(), c));
+  for (int r = 0; r < pq().PQntuples(result.get()); ++r) {
     auto& row = rows.rows.emplace_back();
     for (int c = 0; c < n_fields; ++c)
-      if (PQgetisnull(result.get(), r, c) != 0)
+      if (pq().PQgetisnull(result.get(), r, c) != 0)
         row.emplace_back(std::nullopt);
       else
-        row.emplace_back(std::string(PQgetvalue(result.get(), r, c),
-                                     static_cast<std::size_t>(PQgetlength(result.get(), r, c))));
+        row.emplace_back(std::string(pq().PQgetvalue(result.get(), r, c),
+                                     static_cast<std::size_t>(pq().PQgetlength(result.get(), r, c))));
   }
   return rows;
 }
 
 std::int64_t Connection::copy_in(const std::string& copy_sql, const std::string& data) {
-  Result start(PQexec(impl_->conn, copy_sql.c_str()));
-  if (PQresultStatus(start.get()) != PGRES_COPY_IN) impl_->fail(copy_sql, PQresultErrorMessage(start.get()));
-  if (PQputCopyData(impl_->conn, data.data(), static_cast<int>(data.size())) != 1 ||
-      PQputCopyEnd(impl_->conn, nullptr) != 1)
-    impl_->fail(copy_sql, PQerrorMessage(impl_->conn));
-  Result end(PQgetResult(impl_->conn));
-  if (PQresultStatus(end.get()) != PGRES_COMMAND_OK) impl_->fail(copy_sql, PQresultErrorMessage(end.get()));
-  const char* tuples = PQcmdTuples(end.get());
+  Result start(pq().PQexec(impl_->conn, copy_sql.c_str()));
+  if (pq().PQresultStatus(start.get()) != PGRES_COPY_IN)
+    impl_->fail(copy_sql, pq().PQresultErrorMessage(start.get()));
+  if (pq().PQputCopyData(impl_->conn, data.data(), static_cast<int>(data.size())) != 1 ||
+      pq().PQputCopyEnd(impl_->conn, nullptr) != 1)
+    impl_->fail(copy_sql, pq().PQerrorMessage(impl_->conn));
+  Result end(pq().PQgetResult(impl_->conn));
+  if (pq().PQresultStatus(end.get()) != PGRES_COMMAND_OK)
+    impl_->fail(copy_sql, pq().PQresultErrorMessage(end.get()));
+  const char* tuples = pq().PQcmdTuples(end.get());
   // Drain: libpq returns NULL once the command is complete.
-  while (Result more{PQgetResult(impl_->conn)}) {
+  while (Result more{pq().PQgetResult(impl_->conn)}) {
   }
   return tuples != nullptr && *tuples != '\0' ? std::stoll(tuples) : 0;
 }
