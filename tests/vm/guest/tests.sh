@@ -770,9 +770,10 @@ per_event() {
 # event, from the kernel's timestamp to the return of the commit that made it durable (both on
 # CLOCK_REALTIME; p50 and p99 within 3 %). Asserted: every edge of the paced stream is either stored
 # by record or counted by it as lost, and record's peak resident memory is under 24 MiB. (It was 20:
-# a run without edges now takes 19.3 MiB, most of it the pages of the larger executable and its
-# libraries, and the streams peaked at 19.4-20.2 MiB, failing now and then by 1 %. The reader's
-# queue, at most 16 chunks of 1024 events, and SQLite's page cache, at most 2 MB, fit in the rest.)
+# a run without edges took 19.3 MiB, most of it the pages of the larger executable and its
+# libraries, and the streams peaked at 19.4-20.2 MiB, failing now and then by 1 %. Since libpq is
+# loaded only by the archive, 14.8 MiB and 14.9-15.5 MiB. The reader's queue, at most 16 chunks of
+# 1024 events, and SQLite's page cache, at most 2 MB, fit in the rest.)
 t_perf_gpiomon() {
   need_record || return 77
   command -v gpiomon >/dev/null || { info "skipped: gpiomon is not in this guest"; return 77; }
