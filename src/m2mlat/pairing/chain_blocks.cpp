@@ -7,15 +7,13 @@
 namespace m2mlat::pairing {
 
 namespace {
-// Blocks kept for reuse: one more than the blocks live at a time where the chains meet within a block.
+// Blocks kept for reuse: where the chains meet in the block just written, the one before it is given
+// back as each block is opened, so two spares serve a whole pass.
 constexpr std::size_t kSpareBlocks = 2;
 }  // namespace
 
 void ChainBlocks::start(std::size_t causes, bool narrow) {
-  while (!blocks_.empty()) {
-    spare_.push_back(std::move(blocks_.front()));
-    blocks_.pop_front();
-  }
+  blocks_.clear();  // empty unless a pass before ended without finish()
   match_.assign(causes, kNoCandidate);
   settled_ = kNoCandidate;
   causes_ = causes;

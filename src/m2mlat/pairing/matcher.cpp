@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <bit>
 #include <limits>
-#include <memory>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/pairing/chain_blocks.hpp"
@@ -171,7 +170,9 @@ std::int64_t global_reference(const Sides& sides, std::size_t candidates) {
 // order; for effects we keep best[j] = max over the causes so far of G(., j). Because candidate windows
 // only move forward, effects left behind by the window are folded into one `frozen` maximum, so each
 // cause costs O(its window), and best[] only needs the effects inside the current window: it is a ring
-// of the widest window's size (a power of two), not one entry per effect.
+// of the widest window's size (a power of two), not one entry per effect. Each candidate's predecessor
+// goes to `chains` (ChainBlocks), handed the ends of the open chains after every block: it writes out
+// the chains as they meet and gives their memory back.
 //
 // A chain's (count, value) is one unsigned key, count << shift | value, compared and added as one
 // number, so that every maximum is a conditional move rather than a branch the data mispredict. The
