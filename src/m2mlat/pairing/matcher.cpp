@@ -6,16 +6,16 @@
 #include <algorithm>
 #include <bit>
 #include <limits>
-#include <memory>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/pairing/chain_blocks.hpp"
 #include "m2mlat/pairing/refractory.hpp"
 
 namespace m2mlat::pairing {
 
 namespace {
 
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+constexpr std::uint32_t kNone = kNoCandidate;
 constexpr std::size_t kMaxEvents = std::size_t{1} << 31;  // per side: a chain's count (2 a pair) fits 32 bits
 static_assert(kMaxCandidates < kNone, "candidate ids are 32 bits, kNone excluded");
 static_assert(3 * kMaxCandidates < kNone, "a chain's count (3 a pair at most) fits 32 bits");
@@ -88,18 +88,21 @@ struct Sides {
   Window window() const { return Window(causes, effects, min_ns, max_ns); }
 };
 
-// The number of candidate pairs (the sum over causes of the number of effects in their window) and
-// the widest window, counted by walking the windows (nothing is allocated). Every pass takes them
-// from here.
+// The number of candidate pairs (the sum over causes of the number of effects in their window), the
+// same per block of causes (ChainBlocks::kBlockCauses) and the widest window, counted by walking the
+// windows. Every pass takes them from here.
 struct CandidateCount {
   std::size_t total = 0, widest = 1;
+  std::vector<std::size_t> per_block;
 };
 CandidateCount candidate_count(const Sides& sides) {
   CandidateCount count;
+  count.per_block.assign(sides.causes.size() / ChainBlocks::kBlockCauses + 1, 0);
   Window w = sides.window();
   for (std::size_t i = 0; i < sides.causes.size(); ++i) {
     w.at(i);
     count.total += w.hi - w.lo;
+    count.per_block[i / ChainBlocks::kBlockCauses] += w.hi - w.lo;
     count.widest = std::max<std::size_t>(count.widest, w.hi - w.lo);
   }
   return count;
@@ -151,32 +154,6 @@ std::int64_t global_reference(const Sides& sides, std::size_t candidates) {
   return sides.min_ns + static_cast<std::int64_t>(best_bin) * kBin + kBin / 2;
 }
 
-// Candidates of an alignment pass, in cause order: the effect and the predecessor candidate, with
-// the first candidate and the window's first effect of every cause. The effect is kept as its offset
-// in the cause's window, one byte, while every window holds at most 256 effects (5 bytes a candidate
-// instead of 8: the candidates are the matcher's largest memory, 12 a cause with the default window),
-// else as its index. Allocated once for every window's size and reused by the later passes, so that
-// their pages are touched once. Plain arrays, not vectors: each candidate is written once without a
-// capacity check, and nothing is zeroed first.
-struct Candidates {
-  std::unique_ptr<std::uint32_t[]> pred, effect;  // `effect` when the windows are wide
-  std::unique_ptr<std::uint8_t[]> offset;         // `offset` (effect - window start) when narrow
-  std::size_t capacity = 0;
-  bool narrow = false;
-  std::vector<std::uint32_t> row_start, row_lo;
-  void reserve(std::size_t n, bool narrow_windows) {
-    if (n <= capacity && narrow_windows == narrow) return;
-    pred.reset(), effect.reset(), offset.reset();
-    pred = std::make_unique_for_overwrite<std::uint32_t[]>(n);
-    if (narrow_windows)
-      offset = std::make_unique_for_overwrite<std::uint8_t[]>(n);
-    else
-      effect = std::make_unique_for_overwrite<std::uint32_t[]>(n);
-    capacity = n;
-    narrow = narrow_windows;
-  }
-};
-
 // One alignment pass: the order-preserving one-to-one set of candidate pairs with the largest count
 // (count per pair), then the largest total value. `row_of(i)` gives cause i's rule (PassRow): its
 // value(latency), the worth of pairing cause i at that latency (ns of the window), > 0 to be allowed,
@@ -193,7 +170,9 @@ struct Candidates {
 // order; for effects we keep best[j] = max over the causes so far of G(., j). Because candidate windows
 // only move forward, effects left behind by the window are folded into one `frozen` maximum, so each
 // cause costs O(its window), and best[] only needs the effects inside the current window: it is a ring
-// of the widest window's size (a power of two), not one entry per effect.
+// of the widest window's size (a power of two), not one entry per effect. Each candidate's predecessor
+// goes to `chains` (ChainBlocks), handed the ends of the open chains after every block: it writes out
+// the chains as they meet and gives their memory back.
 //
 // A chain's (count, value) is one unsigned key, count << shift | value, compared and added as one
 // number, so that every maximum is a conditional move rather than a branch the data mispredict. The
@@ -203,18 +182,16 @@ constexpr std::int64_t kDisallowed = -1;
 __extension__ typedef unsigned __int128 WideKey;  // GCC and Clang, on every 64-bit target
 
 template <typename Key, typename RowOf>
-std::vector<std::uint32_t> align(const Sides& sides, const CandidateCount& count, Candidates& cand, unsigned shift,
-                                 RowOf row_of) {
+std::vector<std::uint32_t> align(const Sides& sides, const CandidateCount& count, ChainBlocks& chains,
+                                 unsigned shift, RowOf row_of) {
   const auto& [causes, effects, min_ns, max_ns] = sides;
-  const std::size_t window_total = count.total, widest = count.widest;
+  const std::size_t widest = count.widest;
   const bool narrow = widest <= 256;  // every offset in a window fits a byte
-  cand.reserve(window_total, narrow);
-  std::uint32_t* const cand_effect = cand.effect.get();
-  std::uint8_t* const cand_offset = cand.offset.get();
-  std::uint32_t* const cand_pred = cand.pred.get();
-  std::uint32_t next_id = 0;  // candidates written so far (at most window_total)
-  cand.row_start.assign(causes.size() + 1, 0);
-  cand.row_lo.resize(causes.size());
+  chains.start(causes.size(), narrow);
+  ChainBlocks::Rows rows{};    // the open block's arrays, indexed from its first candidate and cause
+  std::uint32_t first_id = 0;  // the open block's first candidate
+  std::size_t first_cause = 0;
+  std::uint32_t next_id = 0;  // candidates written so far (at most count.total)
   std::size_t ring_size = 1;
   while (ring_size < widest) ring_size *= 2;
   const std::size_t mask = ring_size - 1;
@@ -237,12 +214,32 @@ std::vector<std::uint32_t> align(const Sides& sides, const CandidateCount& count
   std::uint32_t *row_id = row_id_store.data(), *previous_id = previous_id_store.data();
   Key *row_key = row_key_store.data(), *previous_key = previous_key_store.data();
   std::size_t row_size = 0, previous_size = 0;
+  // The ends of every chain a later cause can extend: the frozen one, each effect's best, the last row's.
+  std::vector<std::uint32_t> ends;
+  ends.reserve(1 + ring_size + widest);
+  const auto live_ends = [&]() -> std::span<const std::uint32_t> {
+    ends.clear();
+    if (frozen_candidate == kNone) return {};  // a chain may still start anywhere: nothing is settled
+    ends.push_back(frozen_candidate);
+    for (std::size_t s = 0; s < ring_size; ++s)
+      if (best_candidate[s] != kNone) ends.push_back(best_candidate[s]);
+    ends.insert(ends.end(), row_id, row_id + row_size);
+    return ends;
+  };
 
   Window w = sides.window();
   for (std::size_t i = 0; i < causes.size(); ++i) {
     w.at(i);
-    cand.row_start[i] = next_id;
-    cand.row_lo[i] = w.lo;
+    if (i % ChainBlocks::kBlockCauses == 0) {
+      if (i > 0) {
+        chains.close(next_id);
+        chains.settle(live_ends());
+      }
+      rows = chains.open(i, next_id, count.per_block[i / ChainBlocks::kBlockCauses]);
+      first_id = next_id, first_cause = i;
+    }
+    rows.row_start[i - first_cause] = next_id;
+    rows.row_lo[i - first_cause] = w.lo;
     for (; folded < w.lo; ++folded) {
       const std::size_t slot = folded & mask;
       const bool up = best_key[slot] > frozen_key;
@@ -285,10 +282,10 @@ std::vector<std::uint32_t> align(const Sides& sides, const CandidateCount& count
           pred = link ? previous_id[adjacent] : pred;
         }
         if (narrow)
-          cand_offset[id] = static_cast<std::uint8_t>(j - w.lo);
+          rows.offset[id - first_id] = static_cast<std::uint8_t>(j - w.lo);
         else
-          cand_effect[id] = j;
-        cand_pred[id] = pred;
+          rows.effect[id - first_id] = j;
+        rows.pred[id - first_id] = pred;
         row_effect[row_size] = j, row_key[row_size] = chain, row_id[row_size] = id;
         ++row_size;
       }
@@ -304,7 +301,7 @@ std::vector<std::uint32_t> align(const Sides& sides, const CandidateCount& count
       best_candidate[slot] = up ? row_id[r] : best_candidate[slot];
     }
   }
-  cand.row_start[causes.size()] = next_id;
+  if (!causes.empty()) chains.close(next_id);
 
   // Effects past the last window were never written: their slots hold the empty chain.
   Key overall_key = frozen_key;
@@ -314,15 +311,7 @@ std::vector<std::uint32_t> align(const Sides& sides, const CandidateCount& count
     overall_key = up ? best_key[j & mask] : overall_key;
     overall = up ? best_candidate[j & mask] : overall;
   }
-
-  // Walk the chain back; candidates are numbered in cause order, so the row pointer only moves down.
-  std::vector<std::uint32_t> match(causes.size(), kNone);
-  std::size_t i = causes.size();
-  for (auto c = overall; c != kNone; c = cand_pred[c]) {
-    while (cand.row_start[i] > c) --i;
-    match[i] = narrow ? cand.row_lo[i] + cand_offset[c] : cand_effect[c];
-  }
-  return match;
+  return chains.finish(overall);
 }
 
 // The vehicle's wheel may turn at half the operator's speed: its bursts take a gap this many times wider.
@@ -880,12 +869,12 @@ struct PassRow {
 // Runs align with the narrowest key that holds every chain's (count, value): at most min(causes,
 // effects) pairs, each of count <= 3 and value <= kPairWorth.
 template <typename RowOf>
-std::vector<std::uint32_t> align_pass(const Sides& sides, const CandidateCount& count, Candidates& cand,
+std::vector<std::uint32_t> align_pass(const Sides& sides, const CandidateCount& count, ChainBlocks& chains,
                                       RowOf row_of) {
   const auto pairs = static_cast<std::uint64_t>(std::min(sides.causes.size(), sides.effects.size()));
   const auto shift = static_cast<unsigned>(std::bit_width(pairs * kPairWorth));
-  if (std::bit_width(3 * pairs) + shift <= 64) return align<std::uint64_t>(sides, count, cand, shift, row_of);
-  return align<WideKey>(sides, count, cand, 64, row_of);
+  if (std::bit_width(3 * pairs) + shift <= 64) return align<std::uint64_t>(sides, count, chains, shift, row_of);
+  return align<WideKey>(sides, count, chains, 64, row_of);
 }
 
 void check_sorted(std::span<const std::int64_t> times, const char* side) {
@@ -930,8 +919,8 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   Kept effects(effect_ns, options.refractory);
   const Sides sides{causes.ns, effects.ns, options.min_latency.count(), options.max_latency.count()};
   const std::int64_t min_ns = sides.min_ns, max_ns = sides.max_ns;
-  // Memory follows the number of candidate pairs (5 to 8 bytes each in the passes): refuse a window that
-  // holds more than the limit before anything is allocated for them.
+  // Memory follows the number of candidate pairs where the chains do not meet (5 to 8 bytes each in the
+  // passes, ChainBlocks): refuse a window that holds more than the limit before anything is allocated.
   const CandidateCount counted = candidate_count(sides);
   const std::size_t candidate_total = counted.total;
   if (candidate_total > kMaxCandidates)
@@ -944,10 +933,10 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
 
   // Pass 1: one global reference; every candidate in the window is allowed, and the best fit wins.
   const std::int64_t global = global_reference(sides, candidate_total);
-  Candidates candidates;
+  ChainBlocks chains;
   LocalReference reference;  // of the pass before
   const std::int64_t tolerance = options.tolerance.count();
-  auto matched = align_pass(sides, counted, candidates, [&](std::size_t) {
+  auto matched = align_pass(sides, counted, chains, [&](std::size_t) {
     return PassRow{global, kFirstPassAcceptance, tolerance, 0, 0, {}};
   });
   // Pass 2: against the local reference of pass 1; the most pairs (a typical one counting twice), then
@@ -957,7 +946,7 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   const std::size_t magnet_count = std::max<std::size_t>(1, options.magnets_deg.size());
   SweepStretch sweep(causes.ns, effects.ns, gap.count(), magnet_count);
   sweep.fit(matched);
-  matched = align_pass(sides, counted, candidates, [&](std::size_t i) {
+  matched = align_pass(sides, counted, chains, [&](std::size_t i) {
     return PassRow{reference.median[i], reference.acceptance[i], tolerance, 2, 1, sweep.link(i)};
   });
   sweep.fit(matched);
@@ -971,12 +960,12 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
     for (std::size_t i = 0; i < matched.size(); ++i)
       demoted[i] = matched[i] != kNone && (doubtful[i] & kPairCompeting) != 0 &&
                    beyond_acceptance(reference, i, effects.ns[matched[i]] - causes.ns[i]);
-    matched = align_pass(sides, counted, candidates, [&](std::size_t i) {
+    matched = align_pass(sides, counted, chains, [&](std::size_t i) {
       return PassRow{reference.median[i], reference.acceptance[i], tolerance, 2, demoted[i] ? 0u : 1u,
                      sweep.link(i)};
     });
   }
-  candidates = Candidates();
+  chains = ChainBlocks();
 
   MatchResult result;
   result.clock = clock;

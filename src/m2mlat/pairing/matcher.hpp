@@ -16,10 +16,10 @@
 //     (a stalled link) is still paired where it displaces no typical pair;
 //  5. pass 3 repeats pass 2 with the far pairs that an unmatched edge could replace counting nothing.
 // Each alignment is exact in integers and deterministic. Its cost is linear in the number of candidate
-// pairs (events times the average number of effect edges inside one latency window), with 5 bytes
-// kept per candidate (8 where a window holds more than 256 effects). Every event left without a
-// partner is reported with a reason, and every pair the data cannot make certain is flagged with the
-// reason (PairFlag). docs/matcher.md has the details.
+// pairs (events times the average number of effect edges inside one latency window); its back-tracking
+// memory (5 bytes a candidate) is given back block by block once every open chain goes through one pair
+// (chain_blocks.hpp). Every event left without a partner is reported with a reason, and every pair the
+// data cannot make certain is flagged with the reason (PairFlag). docs/matcher.md has the details.
 #pragma once
 
 #include <cstddef>
@@ -34,8 +34,8 @@
 namespace m2mlat::pairing {
 
 // Limits that keep the matcher's memory bounded whatever the options say. A latency beyond one day
-// is no latency of a teleoperation link; the candidate pairs (5 to 8 bytes each) bound the memory
-// of the alignment, which follows their number and never the window's width.
+// is no latency of a teleoperation link; the candidate pairs (5 to 8 bytes each while the chains do
+// not meet) bound the memory of the alignment, which follows their number and never the window's width.
 inline constexpr core::Duration kMaxLatency{86'400'000'000'000};  // |min_latency|, |max_latency| (ns): 1 day
 inline constexpr std::size_t kMaxCandidates = std::size_t{1} << 28;  // candidate pairs (2 GiB of alignment)
 
