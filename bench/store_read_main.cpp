@@ -117,8 +117,9 @@ Step append_events(std::uint64_t n, std::uint64_t sessions, const std::string& p
 // the whole session, a 1 s window without a session, and with `full_check` the whole store's row
 // check (what merge runs). Each step's figures are printed and returned; `status` becomes 1 if a read
 // does not return what the store holds.
+// `total` becomes the store's number of events.
 std::vector<Step> read_store(const std::string& path, std::optional<std::uint64_t> expected_total, bool full_check,
-                             int& status) {
+                             std::uint64_t& total, int& status) {
   std::vector<Step> steps;
   const auto timed = [&](std::string_view what, auto&& read) {
     const double cpu0 = cpu_s(), wall0 = wall_s();
@@ -143,7 +144,7 @@ std::vector<Step> read_store(const std::string& path, std::optional<std::uint64_
     return steps;
   }
   const std::int64_t last = sessions.back().id;
-  const auto total = timed("event_count of the store", [&] { return static_cast<std::uint64_t>(s.event_count()); });
+  total = timed("event_count of the store", [&] { return static_cast<std::uint64_t>(s.event_count()); });
   if (expected_total) check("store", total, *expected_total);
   const auto per_session = timed("event_count of the session", [&] { return static_cast<std::uint64_t>(s.event_count(last)); });
   timed("channels of the session", [&] { return s.channels(last).size(); });
@@ -232,8 +233,10 @@ int main(int argc, char** argv) {
     const auto size = fs::file_size(path);
     fmt::print("store file: {:.1f} MB\n", static_cast<double>(size) / 1e6);
     nlohmann::json steps = nlohmann::json::array();
-    for (const Step& step : read_store(path, written, full_check, status)) steps.push_back(to_json(step));
+    std::uint64_t total = 0;
+    for (const Step& step : read_store(path, written, full_check, total, status)) steps.push_back(to_json(step));
     out["steps"] = steps;
+    out["events"] = total;
     out["bytes"] = size;
     if (json_path) std::ofstream(*json_path) << out.dump() << '\n';
   } catch (const std::exception& e) {
