@@ -17,7 +17,6 @@
 // --keep left, without appending (10^8 events take minutes to append). --json FILE writes the
 // figures for bench/report.py. Exit status 1 if a read does not return the number of events written.
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -28,6 +27,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -107,8 +107,9 @@ Step append_events(std::uint64_t n, std::uint64_t sessions, const std::string& p
     s.end_session(id, event(k - 1).time);
   }
   const double cpu = cpu_s() - cpu0, wall = wall_s() - wall0;
-  fmt::print("append: {} events in {} sessions, batches of {}: {:.2f} s CPU ({:.3f} us/event), {:.2f} s wall\n", k,
-             sessions, kBatch, cpu, cpu / static_cast<double>(k) * 1e6, wall);
+  fmt::print(
+      "append: {} events in {} sessions, batches of {}: {:.2f} s CPU ({:.3f} us/event), {:.2f} s wall\n", k,
+      sessions, kBatch, cpu, cpu / static_cast<double>(k) * 1e6, wall);
   return {"append", wall, cpu, peak_mib()};
 }
 
@@ -118,15 +119,16 @@ Step append_events(std::uint64_t n, std::uint64_t sessions, const std::string& p
 // check (what merge runs). Each step's figures are printed and returned; `status` becomes 1 if a read
 // does not return what the store holds.
 // `total` becomes the store's number of events.
-std::vector<Step> read_store(const std::string& path, std::optional<std::uint64_t> expected_total, bool full_check,
-                             std::uint64_t& total, int& status) {
+std::vector<Step> read_store(const std::string& path, std::optional<std::uint64_t> expected_total,
+                             bool full_check, std::uint64_t& total, int& status) {
   std::vector<Step> steps;
   const auto timed = [&](std::string_view what, auto&& read) {
     const double cpu0 = cpu_s(), wall0 = wall_s();
     auto result = read();
     steps.push_back({std::string(what), wall_s() - wall0, cpu_s() - cpu0, peak_mib()});
     const Step& step = steps.back();
-    fmt::print("  {:<52} {:8.3f} s wall {:8.3f} s CPU {:6} MiB peak\n", what, step.wall_s, step.cpu_s, step.peak_mib);
+    fmt::print("  {:<52} {:8.3f} s wall {:8.3f} s CPU {:6} MiB peak\n", what, step.wall_s, step.cpu_s,
+               step.peak_mib);
     return result;
   };
   const auto check = [&](std::string_view what, std::uint64_t got, std::uint64_t want) {
@@ -146,7 +148,8 @@ std::vector<Step> read_store(const std::string& path, std::optional<std::uint64_
   const std::int64_t last = sessions.back().id;
   total = timed("event_count of the store", [&] { return static_cast<std::uint64_t>(s.event_count()); });
   if (expected_total) check("store", total, *expected_total);
-  const auto per_session = timed("event_count of the session", [&] { return static_cast<std::uint64_t>(s.event_count(last)); });
+  const auto per_session =
+      timed("event_count of the session", [&] { return static_cast<std::uint64_t>(s.event_count(last)); });
   timed("channels of the session", [&] { return s.channels(last).size(); });
   // The store's events are numbered from the first session's on (event(k)), the last session's last.
   const std::uint64_t first_k = total - per_session, end_k = total;
@@ -160,13 +163,17 @@ std::vector<Step> read_store(const std::string& path, std::optional<std::uint64_
   const std::uint64_t minute_events = std::min<std::uint64_t>(600'000, end_k - window_k);
   const std::int64_t minute0 = event(window_k).time.ns();
   const auto m0 = core::TimePoint::from_ns(core::Clock::realtime, minute0);
-  const auto m1 = core::TimePoint::from_ns(core::Clock::realtime,
-                                           minute0 + static_cast<std::int64_t>(minute_events) * kSpacingNs - 1);
-  check("minute", timed("timestamps, one minute of one channel (first read)", [&] { return s.timestamps(m0, m1, channel).t_ns.size(); }),
+  const auto m1 = core::TimePoint::from_ns(
+      core::Clock::realtime, minute0 + static_cast<std::int64_t>(minute_events) * kSpacingNs - 1);
+  check("minute",
+        timed("timestamps, one minute of one channel (first read)",
+              [&] { return s.timestamps(m0, m1, channel).t_ns.size(); }),
         (minute_events + 1) / 2);
   const auto from = core::TimePoint::from_ns(core::Clock::realtime, std::numeric_limits<std::int64_t>::min());
   const auto to = core::TimePoint::from_ns(core::Clock::realtime, std::numeric_limits<std::int64_t>::max());
-  check("timestamps", timed("timestamps, whole session, one channel", [&] { return s.timestamps(from, to, channel).t_ns.size(); }),
+  check("timestamps",
+        timed("timestamps, whole session, one channel",
+              [&] { return s.timestamps(from, to, channel).t_ns.size(); }),
         per_session / 2);
   store::EventFilter of_session;
   of_session.session_id = last;
@@ -175,8 +182,10 @@ std::vector<Step> read_store(const std::string& path, std::optional<std::uint64_
   // The minute's first second, no session given: 10,000 events.
   const auto w0 = m0;
   const auto w1 = core::TimePoint::from_ns(core::Clock::realtime, minute0 + 1'000'000'000 - 1);
-  check("window", timed("events_in_time, 1 s window, no session given", [&] { return s.events_in_time(w0, w1).size(); }),
-        std::min<std::uint64_t>(10'000, end_k - window_k));
+  check(
+      "window",
+      timed("events_in_time, 1 s window, no session given", [&] { return s.events_in_time(w0, w1).size(); }),
+      std::min<std::uint64_t>(10'000, end_k - window_k));
   if (full_check)
     timed("check_rows, the whole store", [&] {
       s.check_rows();
@@ -204,22 +213,27 @@ int main(int argc, char** argv) {
     if (i + 1 < argc && arg == "--events") n = std::strtoull(argv[++i], nullptr, 10);
     else if (i + 1 < argc && arg == "--sessions") sessions = std::strtoull(argv[++i], nullptr, 10);
     else if (i + 1 < argc && arg == "--keep") keep = argv[++i];
-    else if (i + 1 < argc && arg == "--reuse") reuse = argv[++i];
-    else if (i + 1 < argc && arg == "--json") json_path = argv[++i];
-    else if (arg == "--full-check") full_check = true;
+    else if (i + 1 < argc && arg == "--reuse")
+      reuse = argv[++i];
+    else if (i + 1 < argc && arg == "--json")
+      json_path = argv[++i];
+    else if (arg == "--full-check")
+      full_check = true;
     else {
       fmt::print(stderr, "{}", kUsage);
       return 2;
     }
   }
   if (sessions == 0 || n < sessions || (keep && reuse)) {
-    fmt::print(stderr, "{}m2mlat_store_read_bench: --events must be at least --sessions, which must be at least 1\n",
+    fmt::print(stderr,
+               "{}m2mlat_store_read_bench: --events must be at least --sessions, which must be at least 1\n",
                kUsage);
     return 2;
   }
   namespace fs = std::filesystem;
   const bool temporary = !keep && !reuse;
-  const fs::path dir = temporary ? fs::temp_directory_path() / fmt::format("m2mlat-store-read-{}", ::getpid()) : fs::path();
+  const fs::path dir =
+      temporary ? fs::temp_directory_path() / fmt::format("m2mlat-store-read-{}", ::getpid()) : fs::path();
   if (temporary) fs::create_directories(dir);
   const std::string path = keep ? *keep : reuse ? *reuse : (dir / "events.db").string();
   int status = 0;
@@ -234,7 +248,8 @@ int main(int argc, char** argv) {
     fmt::print("store file: {:.1f} MB\n", static_cast<double>(size) / 1e6);
     nlohmann::json steps = nlohmann::json::array();
     std::uint64_t total = 0;
-    for (const Step& step : read_store(path, written, full_check, total, status)) steps.push_back(to_json(step));
+    for (const Step& step : read_store(path, written, full_check, total, status))
+      steps.push_back(to_json(step));
     out["steps"] = steps;
     out["events"] = total;
     out["bytes"] = size;

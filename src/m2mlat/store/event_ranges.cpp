@@ -20,7 +20,8 @@ void Checked::refresh() {
   new_spans_.bind(1, last_span_id_);
   while (new_spans_.step()) {
     last_span_id_ = new_spans_.column_int64(0);
-    ranges_.push_back({new_spans_.column_int64(1), new_spans_.column_int64(2), new_spans_.column_int64(3), false});
+    ranges_.push_back(
+        {new_spans_.column_int64(1), new_spans_.column_int64(2), new_spans_.column_int64(3), false});
   }
   new_spans_.reset();
   const auto by_first = [](const Range& a, const Range& b) { return a.first < b.first; };
@@ -67,7 +68,8 @@ void Checked::check(Range& range) {
 }
 
 void Checked::check_hole(std::size_t i) {
-  constexpr auto kMin = std::numeric_limits<std::int64_t>::min(), kMax = std::numeric_limits<std::int64_t>::max();
+  constexpr auto kMin = std::numeric_limits<std::int64_t>::min(),
+                 kMax = std::numeric_limits<std::int64_t>::max();
   const Range* before = i > 0 ? &ranges_[i - 1] : nullptr;
   const Range* after = i < ranges_.size() ? &ranges_[i] : nullptr;
   if (before && after && after->first - before->last <= 1) return;  // adjacent: no seq between them

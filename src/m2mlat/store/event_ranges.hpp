@@ -6,8 +6,8 @@
 // selects (row_check::EventCheck: each event's rules and the range's number of events), so its first
 // read of a big store costs time in proportion to what it reads. An event outside every range (one
 // inserted by another tool without a span) would be seen by no read at all: every refresh looks for
-// one in the holes between ranges, before the first and after the last, each hole one rowid range
-// query, and refuses every read while one is there.
+// one before the first range and after the last, and in the holes between ranges it has not looked
+// at yet (each one rowid range query), and refuses every read while one is there.
 #pragma once
 
 #include <cstdint>

@@ -108,12 +108,9 @@ constexpr Rule kEventSpanRules[] = {
 constexpr Table kEvents = {"events", "seq", kEventRules};
 // The tables check_tables scans whole.
 constexpr Table kTables[] = {
-    {"sessions", "id", kSessionRules},
-    {"clock_samples", "id", kClockSampleRules},
-    {"losses", "id", kLossRules},
-    {"rate_blocks", "id", kRateBlockRules},
-    {"markers", "id", kMarkerRules},
-    {"event_spans", "id", kEventSpanRules},
+    {"sessions", "id", kSessionRules}, {"clock_samples", "id", kClockSampleRules},
+    {"losses", "id", kLossRules},      {"rate_blocks", "id", kRateBlockRules},
+    {"markers", "id", kMarkerRules},   {"event_spans", "id", kEventSpanRules},
 };
 
 // The first row of `table` breaking a rule, and the rule's index: one scan (of the rows `where`
@@ -123,15 +120,16 @@ std::string broken_row_sql(const Table& table, std::string_view where) {
   int index = 0;
   for (const Rule& rule : table.rules) which += fmt::format(" WHEN {} THEN {}", rule.broken, index++);
   which += " END";
-  return fmt::format("SELECT {}, {} AS rule FROM {} WHERE {} rule IS NOT NULL LIMIT 1", table.key, which, table.name,
-                     where);
+  return fmt::format("SELECT {}, {} AS rule FROM {} WHERE {} rule IS NOT NULL LIMIT 1", table.key, which,
+                     table.name, where);
 }
 
 // Throws for the row of `table` with key `key` that breaks rule `rule_index`, showing its value.
-[[noreturn]] void refuse_row(sqlite::Database& db, const Table& table, std::int64_t key, std::int64_t rule_index) {
+[[noreturn]] void refuse_row(sqlite::Database& db, const Table& table, std::int64_t key,
+                             std::int64_t rule_index) {
   const Rule& rule = table.rules[static_cast<std::size_t>(rule_index)];
-  sqlite::Statement value(db,
-                          fmt::format("SELECT quote({}) FROM {} WHERE {} = ?1", rule.field, table.name, table.key));
+  sqlite::Statement value(
+      db, fmt::format("SELECT quote({}) FROM {} WHERE {} = ?1", rule.field, table.name, table.key));
   value.bind(1, key);
   const std::string shown = value.step() ? std::string(value.column_text(0)) : "?";
   core::throw_data_error({db.path(), 0},
@@ -178,12 +176,13 @@ std::optional<std::int64_t> EventCheck::first_between(std::int64_t after, std::i
   return seq;
 }
 
-void EventCheck::refuse_count(std::int64_t first, std::int64_t last, std::int64_t spanned, std::string_view why) {
-  core::throw_data_error({db_.path(), 0},
-                         fmt::format("table 'events' holds {} rows, its spans (table 'event_spans') count {}, "
-                                     "from seq {} to {}{}: the file breaks the store's schema (written or "
-                                     "edited by another tool?)",
-                                     count(first, last), spanned, first, last, why));
+void EventCheck::refuse_count(std::int64_t first, std::int64_t last, std::int64_t spanned,
+                              std::string_view why) {
+  core::throw_data_error(
+      {db_.path(), 0}, fmt::format("table 'events' holds {} rows, its spans (table 'event_spans') count {}, "
+                                   "from seq {} to {}{}: the file breaks the store's schema (written or "
+                                   "edited by another tool?)",
+                                   count(first, last), spanned, first, last, why));
 }
 
 std::int64_t EventCheck::count(std::int64_t first, std::int64_t last) {

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string_view>
 
 #include "m2mlat/store/sqlite.hpp"
 
@@ -37,7 +38,8 @@ class EventCheck {
   // rowid: one b-tree descent, whatever the table's size.
   std::optional<std::int64_t> first_between(std::int64_t after, std::int64_t before);
   // Throws the error of check() for first..last, `why` appended (an event found outside every span).
-  [[noreturn]] void refuse_count(std::int64_t first, std::int64_t last, std::int64_t spanned, std::string_view why);
+  [[noreturn]] void refuse_count(std::int64_t first, std::int64_t last, std::int64_t spanned,
+                                 std::string_view why);
 
  private:
   std::int64_t count(std::int64_t first, std::int64_t last);

@@ -154,7 +154,8 @@ void order_by_time(std::vector<std::pair<std::int64_t, std::int64_t>>& keys) {
 }
 
 // Binds span_select's parameters (?1 to ?6).
-void bind_span_filter(sqlite::Statement& query, core::TimePoint from, core::TimePoint to, const EventFilter& filter) {
+void bind_span_filter(sqlite::Statement& query, core::TimePoint from, core::TimePoint to,
+                      const EventFilter& filter) {
   query.bind(1, static_cast<std::int64_t>(from.clock()));
   query.bind(2, from.ns());
   query.bind(3, to.ns());

@@ -107,7 +107,7 @@ struct Store::Impl {
   sqlite::Database db;
   Options options;
   int version;
-  bool tables_checked = false;                    // row_check::check_tables ran on this connection
+  bool tables_checked = false;                   // row_check::check_tables ran on this connection
   std::optional<event_ranges::Checked> checked;  // made by the first read that checks rows
   sqlite::Statement insert_event;
   sqlite::Statement insert_events;  // rows::kEventsPerInsert rows

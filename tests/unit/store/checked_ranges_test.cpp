@@ -35,7 +35,8 @@ std::string make_store(const TempDir& dir, const std::string& name) {
       std::vector<core::Event> batch;
       for (std::int64_t i = 0; i < kPerBatch; ++i) {
         const std::int64_t k = b * kPerBatch + i;
-        batch.push_back(make_event("vehicle", k % 2 == 0 ? "wheel" : "motion", kT0 + s * 1'000'000'000 + k * 1'000'000,
+        batch.push_back(make_event("vehicle", k % 2 == 0 ? "wheel" : "motion",
+                                   kT0 + s * 1'000'000'000 + k * 1'000'000,
                                    static_cast<std::uint64_t>(k + 1)));
       }
       store.append_events(id, batch);
@@ -78,7 +79,9 @@ std::string refusal(Read&& read) {
   return "";
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 }  // namespace
 
@@ -93,7 +96,8 @@ TEST(CheckedRanges, ADamagedRowIsRefusedByTheReadsThatSeeItOnly) {
       {"DELETE FROM events WHERE seq = 14",
        "table 'events' holds 9 rows, its spans (table 'event_spans') count 10, from seq 11 to 20"},
       // Moved to a session that does not exist: the count is right, the row is not.
-      {"UPDATE events SET session_id = 9 WHERE seq = 15", "table 'events' row seq 15: field 'session_id' holds 9"},
+      {"UPDATE events SET session_id = 9 WHERE seq = 15",
+       "table 'events' row seq 15: field 'session_id' holds 9"},
   };
   int n = 0;
   for (const auto& c : cases) {
@@ -122,23 +126,28 @@ TEST(CheckedRanges, AnEventInNoSpanIsRefusedByEveryRead) {
   // Where another tool's INSERT puts it (after the last span), and with a seq in a hole between
   // two ranges (session 1's second batch deleted with its spans: a hole, which is no damage).
   const auto appended = make_store(dir, "appended.db");
-  edit(appended, "INSERT INTO events (session_id, channel, edge, clock, t_ns, seqno, line_seqno, flags) "
-                 "VALUES (1, 'wheel', 1, 0, 9, 9, 9, 0)");
+  edit(appended,
+       "INSERT INTO events (session_id, channel, edge, clock, t_ns, seqno, line_seqno, flags) "
+       "VALUES (1, 'wheel', 1, 0, 9, 9, 9, 0)");
   const auto in_hole = make_store(dir, "hole.db");
-  edit(in_hole, "DELETE FROM events WHERE seq BETWEEN 11 AND 20; DELETE FROM event_spans WHERE first_seq >= 11 "
-                "AND last_seq <= 20");
+  edit(in_hole,
+       "DELETE FROM events WHERE seq BETWEEN 11 AND 20; DELETE FROM event_spans WHERE first_seq >= 11 "
+       "AND last_seq <= 20");
   {
     const auto store = open_read_only(in_hole);
     EXPECT_EQ(store.timestamps(kFrom, kTo, of_session(1)).seq.size(), 20u);
     EXPECT_NO_THROW(store.check_rows());
   }
-  edit(in_hole, "INSERT INTO events (seq, session_id, channel, edge, clock, t_ns, seqno, line_seqno, flags) "
-                "VALUES (15, 2, 'wheel', 1, 0, 9, 9, 9, 0)");
+  edit(in_hole,
+       "INSERT INTO events (seq, session_id, channel, edge, clock, t_ns, seqno, line_seqno, flags) "
+       "VALUES (15, 2, 'wheel', 1, 0, 9, 9, 9, 0)");
   const std::pair<std::string, std::string> cases[] = {
-      {appended, "table 'events' holds 11 rows, its spans (table 'event_spans') count 10, from seq 51 to 61 (seq 61 "
-                 "lies in no span)"},
-      {in_hole, "table 'events' holds 21 rows, its spans (table 'event_spans') count 20, from seq 1 to 30 (seq 15 "
-                "lies in no span)"},
+      {appended,
+       "table 'events' holds 11 rows, its spans (table 'event_spans') count 10, from seq 51 to 61 (seq 61 "
+       "lies in no span)"},
+      {in_hole,
+       "table 'events' holds 21 rows, its spans (table 'event_spans') count 20, from seq 1 to 30 (seq 15 "
+       "lies in no span)"},
   };
   for (const auto& [path, message] : cases) {
     const auto store = open_read_only(path);
@@ -166,7 +175,9 @@ TEST(CheckedRanges, RowsWrittenAfterTheFirstReadAreCheckedByTheNextOne) {
   EXPECT_EQ(reader.timestamps(kFrom, kTo).seq.size(), 62u);
   EXPECT_EQ(reader.timestamps(kFrom, kTo, of_session(3)).seq.size(), 2u);
   // Another tool's event without a span, after the reader's first read: refused all the same.
-  edit(path, "INSERT INTO events (session_id, channel, edge, clock, t_ns, seqno, line_seqno, flags) "
-             "VALUES (1, 'wheel', 1, 0, 9, 9, 9, 0)");
-  EXPECT_TRUE(contains(refusal([&] { reader.timestamps(kFrom, kTo, of_session(1)); }), "(seq 63 lies in no span)"));
+  edit(path,
+       "INSERT INTO events (session_id, channel, edge, clock, t_ns, seqno, line_seqno, flags) "
+       "VALUES (1, 'wheel', 1, 0, 9, 9, 9, 0)");
+  EXPECT_TRUE(
+      contains(refusal([&] { reader.timestamps(kFrom, kTo, of_session(1)); }), "(seq 63 lies in no span)"));
 }
