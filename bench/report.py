@@ -6,10 +6,13 @@ Usage: report.py WORK_DIR EVENTS_PER_SIDE BOOTSTRAP [--markdown]
 WORK_DIR holds, for each program P in cli (m2mlat stats), lean (m2mlat_lean_stats) and baseline
 (bench/baseline.py) and each bootstrap setting B in 0 and BOOTSTRAP: P-B.out (the program's JSON
 output) and P-B.measure (bench/measure.py's wall seconds and peak memory); and micro.json (Google
-Benchmark's JSON output of m2mlat_bench) and rate.json (m2mlat_rate_bench's figures, if present). One table: step, m2mlat figure, baseline figure, ratio,
+Benchmark's JSON output of m2mlat_bench), rate.json (m2mlat_rate_bench's figures, if present) and
+store.json (m2mlat_store_read_bench's, if present). One table: step, m2mlat figure, baseline figure, ratio,
 and whether each target of issue 19 is met: `m2mlat stats` at least 10x faster than the baseline
 without bootstrap and 20x with 2000 resamples (with fewer resamples the row says what it would need),
-at no more than 40 % of its peak memory; the matcher within 1.2x of a plain merge of the same arrays.
+at no more than 40 % of its peak memory; the matcher within 1.2x of a plain merge of the same arrays; a
+store of 10^8 events readable in seconds (opened, its sessions and counts, and one minute of one
+channel read, within STORE_TARGET_S).
 Exits with 1 if a micro-benchmark failed (a target not met is not a failure).
 """
 import json
@@ -21,6 +24,11 @@ BOOTSTRAP_SPEED_TARGET = 20.0  # ... and this many times with BOOTSTRAP_TARGET_R
 BOOTSTRAP_TARGET_RESAMPLES = 2000  # the command line's default
 MEMORY_TARGET = 0.4  # ... at no more than this multiple of the baseline's peak memory
 MERGE_TARGET = 1.2  # pairing::match at most this multiple of a plain merge's time (same input)
+STORE_TARGET_EVENTS = 100_000_000  # a store of this many events ...
+STORE_TARGET_S = 10.0  # ... opened and its first minute of one channel read within this many seconds (wall)
+# The steps of m2mlat_store_read_bench up to that first read.
+STORE_FIRST_READ = ("open (read-only)", "sessions", "event_count of the store", "event_count of the session",
+                    "channels of the session", "timestamps, one minute of one channel (first read)")
 
 
 def load(path):
@@ -182,6 +190,24 @@ def high_rate(table, r):
     table.row("peak memory", f"{r['peak_mib']} MiB")
 
 
+def big_store(table, r):
+    """m2mlat_store_read_bench: a store appended, reopened and read as an analysis reads it."""
+    steps = {s["what"]: s for s in r["steps"]}
+    total = r["events"]
+    table.section(f"a store of {total:,} events ({r['bytes'] / 1e9:.2f} GB), reopened and read")
+    if "append" in r:
+        a = r["append"]
+        table.row("append, batches of 512", f"{a['cpu_s'] / total * 1e6:.2f} us CPU/event ({a['cpu_s']:.0f} s CPU, "
+                  f"{a['wall_s']:.0f} s wall)")
+    for s in r["steps"]:
+        table.row(s["what"], f"{s['wall_s']:.3f} s wall, {s['cpu_s']:.3f} s CPU, peak {s['peak_mib']} MiB")
+    first = sum(steps[w]["wall_s"] for w in STORE_FIRST_READ)
+    judged = (verdict(first <= STORE_TARGET_S) if total >= STORE_TARGET_EVENTS
+              else f"judged at {STORE_TARGET_EVENTS:,} events")
+    table.row("opened to its first minute of one channel read", f"{first:.2f} s wall", "-", "-",
+              f"{judged} (<= {STORE_TARGET_S:g} s at {STORE_TARGET_EVENTS:,} events)")
+
+
 def main():
     args = [a for a in sys.argv[1:] if a != "--markdown"]
     if len(args) != 3:
@@ -192,11 +218,14 @@ def main():
     failed = micro(table, os.path.join(work, "micro.json"))
     if os.path.exists(os.path.join(work, "rate.json")):
         high_rate(table, load(os.path.join(work, "rate.json")))
+    if os.path.exists(os.path.join(work, "store.json")):
+        big_store(table, load(os.path.join(work, "store.json")))
     print(table.markdown() if "--markdown" in sys.argv else table.text())
     print("\nspeed-up = baseline's wall time / m2mlat's; memory = m2mlat's peak resident memory / the baseline's. "
           f"Targets (issue 19), for `m2mlat stats`: speed-up >= {SPEED_TARGET:g}x without bootstrap and "
           f">= {BOOTSTRAP_SPEED_TARGET:g}x with {BOOTSTRAP_TARGET_RESAMPLES} resamples, at memory <= {MEMORY_TARGET:g}x; "
-          f"pairing/match <= {MERGE_TARGET:g}x a plain merge's time.")
+          f"pairing/match <= {MERGE_TARGET:g}x a plain merge's time; a store of {STORE_TARGET_EVENTS:,} events "
+          f"opened and its first minute of one channel read in <= {STORE_TARGET_S:g} s.")
     context = load(os.path.join(work, "micro.json"))["context"]
     load_avg = ", ".join(f"{x:.2f}" for x in context.get("load_avg", []))
     print(f"\nmachine: {context['num_cpus']} CPUs at {context['mhz_per_cpu']} MHz, load average {load_avg} "

@@ -2,13 +2,15 @@
 # The performance benchmark: m2mlat against the Python + numpy/pandas baseline on the same input, and
 # the micro-benchmarks, summed up in one table (docs/benchmarks.md explains the method).
 #
-#   bench/run.sh [BUILD_DIR] [--events N] [--bootstrap B] [--markdown]
+#   bench/run.sh [BUILD_DIR] [--events N] [--bootstrap B] [--store-events M] [--markdown]
 #
 # BUILD_DIR (default: build) holds m2mlat, bench/m2mlat_bench, bench/m2mlat_lean_stats and
 # bench/m2mlat_rate_bench (built with -DCMAKE_BUILD_TYPE=Release or RelWithDebInfo; `make bench`
 # builds and runs this).
 # --events N: events per side (default 10,000,000; 100000 is the CI smoke test, well under a
 # minute). --bootstrap B: resamples of the runs with confidence intervals (default 200).
+# --store-events M: also a store of M events (in sessions of 10^7) appended, reopened and read
+# (m2mlat_store_read_bench; 10^8 takes about 10 minutes and 4 GB of disk: not run unless asked).
 # --markdown prints the table as Markdown.
 #
 # Steps: simulate two kernel logs of ~N edges each (preset static_5g, three magnets 20 degrees apart,
@@ -28,6 +30,7 @@ usage() {
 build=build
 events=10000000
 bootstrap=200
+store_events=
 markdown=
 build_given=
 while (($#)); do
@@ -36,6 +39,8 @@ while (($#)); do
     --events=*) events=${1#--events=}; shift ;;
     --bootstrap) [[ $# -ge 2 ]] || usage; bootstrap=$2; shift 2 ;;
     --bootstrap=*) bootstrap=${1#--bootstrap=}; shift ;;
+    --store-events) [[ $# -ge 2 ]] || usage; store_events=$2; shift 2 ;;
+    --store-events=*) store_events=${1#--store-events=}; shift ;;
     --markdown) markdown=--markdown; shift ;;
     -h|--help) usage ;;
     -*) echo "run.sh: unknown option $1" >&2; usage ;;
@@ -44,6 +49,8 @@ while (($#)); do
 done
 [[ $events =~ ^[0-9]+$ && $events -ge 1000 ]] || { echo "run.sh: --events must be a number >= 1000" >&2; exit 2; }
 [[ $bootstrap =~ ^[0-9]+$ && $bootstrap -ge 1 ]] || { echo "run.sh: --bootstrap must be a number >= 1" >&2; exit 2; }
+[[ -z $store_events || ($store_events =~ ^[0-9]+$ && $store_events -ge 1000) ]] ||
+  { echo "run.sh: --store-events must be a number >= 1000" >&2; exit 2; }
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 python=/usr/bin/python3  # Debian's, with python3-numpy and python3-pandas
@@ -51,7 +58,8 @@ m2mlat=$build/m2mlat
 bench=$build/bench/m2mlat_bench
 lean=$build/bench/m2mlat_lean_stats
 rate=$build/bench/m2mlat_rate_bench
-for exe in "$m2mlat" "$bench" "$lean" "$rate"; do
+store_read=$build/bench/m2mlat_store_read_bench
+for exe in "$m2mlat" "$bench" "$lean" "$rate" ${store_events:+"$store_read"}; do
   [[ -x $exe ]] || { echo "run.sh: $exe not found: build first (make build, or cmake --build $build)" >&2; exit 1; }
 done
 "$python" -c 'import numpy, pandas' 2>/dev/null ||
@@ -110,5 +118,13 @@ rate_seconds=$((events >= 10000000 ? 3600 : events * 3600 / 10000000))
 say "high-rate stream (m2mlat_rate_bench --seconds $rate_seconds)"
 TMPDIR=$work "$rate" --seconds "$rate_seconds" --json "$work/rate.json" >"$work/rate.txt" 2>&1 ||
   { cat "$work/rate.txt" >&2; say "m2mlat_rate_bench failed"; exit 1; }
+
+# A big store reopened and read as an analysis reads it (sessions of 10^7 events, as a long drive's).
+if [[ -n $store_events ]]; then
+  store_sessions=$(((store_events + 9999999) / 10000000))
+  say "a store of $store_events events (m2mlat_store_read_bench --events $store_events --sessions $store_sessions)"
+  TMPDIR=$work "$store_read" --events "$store_events" --sessions "$store_sessions" --json "$work/store.json" \
+    >"$work/store.txt" 2>&1 || { cat "$work/store.txt" >&2; say "m2mlat_store_read_bench failed"; exit 1; }
+fi
 
 "$python" "$here/report.py" "$work" "$events" "$bootstrap" $markdown

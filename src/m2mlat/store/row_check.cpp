@@ -105,50 +105,93 @@ constexpr Rule kEventSpanRules[] = {
      "1 to the span's seq range"},
 };
 
+constexpr Table kEvents = {"events", "seq", kEventRules};
+// The tables check_tables scans whole.
 constexpr Table kTables[] = {
-    {"sessions", "id", kSessionRules},
-    {"events", "seq", kEventRules},
-    {"clock_samples", "id", kClockSampleRules},
-    {"losses", "id", kLossRules},
-    {"rate_blocks", "id", kRateBlockRules},
-    {"markers", "id", kMarkerRules},
-    {"event_spans", "id", kEventSpanRules},
+    {"sessions", "id", kSessionRules}, {"clock_samples", "id", kClockSampleRules},
+    {"losses", "id", kLossRules},      {"rate_blocks", "id", kRateBlockRules},
+    {"markers", "id", kMarkerRules},   {"event_spans", "id", kEventSpanRules},
 };
+
+// The first row of `table` breaking a rule, and the rule's index: one scan (of the rows `where`
+// selects), the CASE naming the first rule a row breaks.
+std::string broken_row_sql(const Table& table, std::string_view where) {
+  std::string which = "CASE";
+  int index = 0;
+  for (const Rule& rule : table.rules) which += fmt::format(" WHEN {} THEN {}", rule.broken, index++);
+  which += " END";
+  return fmt::format("SELECT {}, {} AS rule FROM {} WHERE {} rule IS NOT NULL LIMIT 1", table.key, which,
+                     table.name, where);
+}
+
+// Throws for the row of `table` with key `key` that breaks rule `rule_index`, showing its value.
+[[noreturn]] void refuse_row(sqlite::Database& db, const Table& table, std::int64_t key,
+                             std::int64_t rule_index) {
+  const Rule& rule = table.rules[static_cast<std::size_t>(rule_index)];
+  sqlite::Statement value(
+      db, fmt::format("SELECT quote({}) FROM {} WHERE {} = ?1", rule.field, table.name, table.key));
+  value.bind(1, key);
+  const std::string shown = value.step() ? std::string(value.column_text(0)) : "?";
+  core::throw_data_error({db.path(), 0},
+                         fmt::format("table '{}' row {} {}: field '{}' holds {} (expected {}): the file "
+                                     "breaks the store's schema (written or edited by another tool?)",
+                                     table.name, table.key, key, rule.field, shown, rule.expected));
+}
 
 }  // namespace
 
-void check(sqlite::Database& db) {
+void check_tables(sqlite::Database& db) {
   for (const Table& table : kTables) {
-    // One scan per table: the CASE names the first rule a row breaks.
-    std::string which = "CASE";
-    int index = 0;
-    for (const Rule& rule : table.rules) which += fmt::format(" WHEN {} THEN {}", rule.broken, index++);
-    which += " END";
-    sqlite::Statement query(db, fmt::format("SELECT {}, {} AS rule FROM {} WHERE rule IS NOT NULL LIMIT 1",
-                                            table.key, which, table.name));
-    if (!query.step()) continue;
-    const std::int64_t key = query.column_int64(0);
-    const Rule& rule = table.rules[static_cast<std::size_t>(query.column_int64(1))];
-    sqlite::Statement value(
-        db, fmt::format("SELECT quote({}) FROM {} WHERE {} = ?1", rule.field, table.name, table.key));
-    value.bind(1, key);
-    const std::string shown = value.step() ? std::string(value.column_text(0)) : "?";
-    core::throw_data_error({db.path(), 0},
-                           fmt::format("table '{}' row {} {}: field '{}' holds {} (expected {}): the file "
-                                       "breaks the store's schema (written or edited by another tool?)",
-                                       table.name, table.key, key, rule.field, shown, rule.expected));
+    sqlite::Statement query(db, broken_row_sql(table, ""));
+    if (query.step()) refuse_row(db, table, query.column_int64(0), query.column_int64(1));
   }
-  // Every read finds events through their spans (event_spans.hpp), which m2mlat writes in the
-  // transaction of the events they count: an event another tool inserted without one, or deleted
-  // under one, would be left out of a read, or missed, without a word. (Two counts: the events'
-  // b-tree walked without decoding rows, and the spans' sum.)
-  const std::int64_t events = db.query_int("SELECT count(*) FROM events");
-  const std::int64_t spanned = db.query_int("SELECT coalesce(sum(count), 0) FROM event_spans");
-  if (events != spanned)
-    core::throw_data_error({db.path(), 0},
-                           fmt::format("table 'events' holds {} rows, its spans (table 'event_spans') count {}: "
-                                       "the file breaks the store's schema (written or edited by another tool?)",
-                                       events, spanned));
+}
+
+// Every read finds events through their spans (event_spans.hpp), which m2mlat writes in the
+// transaction of the events they count: an event another tool inserted without one, or deleted
+// under one, would be left out of a read, or missed, without a word. So a range's events are
+// counted (the rowid range's b-tree cells walked without decoding a row) against its spans' sum.
+EventCheck::EventCheck(sqlite::Database& db)
+    : db_(db),
+      rules_(db, broken_row_sql(kEvents, "seq BETWEEN ?1 AND ?2 AND")),
+      count_(db, "SELECT count(*) FROM events WHERE seq BETWEEN ?1 AND ?2"),
+      between_(db, "SELECT seq FROM events WHERE seq > ?1 AND seq < ?2 ORDER BY seq LIMIT 1") {}
+
+void EventCheck::check(std::int64_t first, std::int64_t last, std::int64_t spanned) {
+  rules_.bind(1, first);
+  rules_.bind(2, last);
+  const bool broken = rules_.step();
+  const std::int64_t key = broken ? rules_.column_int64(0) : 0, rule = broken ? rules_.column_int64(1) : 0;
+  rules_.reset();
+  if (broken) refuse_row(db_, kEvents, key, rule);
+  if (count(first, last) != spanned) refuse_count(first, last, spanned, "");
+}
+
+std::optional<std::int64_t> EventCheck::first_between(std::int64_t after, std::int64_t before) {
+  between_.bind(1, after);
+  between_.bind(2, before);
+  std::optional<std::int64_t> seq;
+  if (between_.step()) seq = between_.column_int64(0);
+  between_.reset();
+  return seq;
+}
+
+void EventCheck::refuse_count(std::int64_t first, std::int64_t last, std::int64_t spanned,
+                              std::string_view why) {
+  core::throw_data_error(
+      {db_.path(), 0}, fmt::format("table 'events' holds {} rows, its spans (table 'event_spans') count {}, "
+                                   "from seq {} to {}{}: the file breaks the store's schema (written or "
+                                   "edited by another tool?)",
+                                   count(first, last), spanned, first, last, why));
+}
+
+std::int64_t EventCheck::count(std::int64_t first, std::int64_t last) {
+  count_.bind(1, first);
+  count_.bind(2, last);
+  count_.step();
+  const std::int64_t n = count_.column_int64(0);
+  count_.reset();
+  return n;
 }
 
 }  // namespace m2mlat::store::row_check

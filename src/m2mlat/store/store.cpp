@@ -114,18 +114,31 @@ int synchronous_level(Durability durability) {
   return 1;
 }
 
+// The spans "b" an event filter selects: those on the clock (?1) that overlap from..to (?2, ?3), of
+// the session (?4) and channel (?6) if given; of the node's sessions (?5) if given.
+std::string span_where(const EventFilter& filter) {
+  std::string sql = "b.clock = ?1 AND b.last_ns >= ?2 AND b.first_ns <= ?3";
+  if (filter.session_id) sql += " AND b.session_id = ?4";
+  if (filter.channel) sql += " AND b.channel = ?6";
+  return sql;
+}
+
+// The first seqs of the spans a read of `filter` goes through: what it must check first.
+std::string span_select(const EventFilter& filter) {
+  std::string sql = "SELECT b.first_seq FROM event_spans b WHERE " + span_where(filter);
+  if (filter.node) sql += " AND b.session_id IN (SELECT id FROM sessions WHERE node = ?5)";
+  return sql;
+}
+
 // The SELECT of `columns` of "events e" (and "sessions s" if `sessions`) that an event filter
-// selects. Parameters ?1..?3 are clock, from, to; the optional ones follow in the order of
-// bind_event_filter. The spans (event_spans.hpp) on the clock that overlap the range, of the session
-// and channel if given, are the outer loop (CROSS JOIN keeps SQLite from reordering it), and each
-// span's events are read by their seq (rowid) range; an event matches only the span of its own
-// session, channel and clock, so none is read twice.
+// selects. Parameters as in span_where, then the edge (?7). The spans that span_where selects are
+// the outer loop (CROSS JOIN keeps SQLite from reordering it), and each span's events are read by
+// their seq (rowid) range; an event matches only the span of its own session, channel and clock, so
+// none is read twice.
 std::string event_select(std::string_view columns, const EventFilter& filter, bool sessions) {
   std::string sql = fmt::format("SELECT {} FROM event_spans b CROSS JOIN events e", columns);
   if (sessions || filter.node) sql += " JOIN sessions s ON s.id = e.session_id";
-  sql += " WHERE b.clock = ?1 AND b.last_ns >= ?2 AND b.first_ns <= ?3";
-  if (filter.session_id) sql += " AND b.session_id = ?4";
-  if (filter.channel) sql += " AND b.channel = ?6";
+  sql += " WHERE " + span_where(filter);
   sql += " AND e.seq BETWEEN b.first_seq AND b.last_seq AND e.session_id = b.session_id AND "
          "e.channel = b.channel AND e.clock = ?1 AND e.t_ns BETWEEN ?2 AND ?3";
   if (filter.node) sql += " AND s.node = ?5";
@@ -140,14 +153,21 @@ void order_by_time(std::vector<std::pair<std::int64_t, std::int64_t>>& keys) {
   if (!std::is_sorted(keys.begin(), keys.end())) std::sort(keys.begin(), keys.end());
 }
 
-void bind_event_filter(sqlite::Statement& query, core::TimePoint from, core::TimePoint to,
-                       const EventFilter& filter) {
+// Binds span_select's parameters (?1 to ?6).
+void bind_span_filter(sqlite::Statement& query, core::TimePoint from, core::TimePoint to,
+                      const EventFilter& filter) {
   query.bind(1, static_cast<std::int64_t>(from.clock()));
   query.bind(2, from.ns());
   query.bind(3, to.ns());
   if (filter.session_id) query.bind(4, *filter.session_id);
   if (filter.node) query.bind(5, *filter.node);
   if (filter.channel) query.bind(6, *filter.channel);
+}
+
+// Binds event_select's parameters.
+void bind_event_filter(sqlite::Statement& query, core::TimePoint from, core::TimePoint to,
+                       const EventFilter& filter) {
+  bind_span_filter(query, from, to, filter);
   if (filter.edge) query.bind(7, static_cast<std::int64_t>(*filter.edge));
 }
 
@@ -467,7 +487,8 @@ std::vector<StoredEvent> Store::events_after(std::int64_t after_seq, std::size_t
 std::vector<StoredEvent> Store::events_in_time(core::TimePoint from, core::TimePoint to,
                                                const EventFilter& filter) const {
   require_same_clock(path(), from, to);
-  if (!impl_->rows_checked) check_rows();
+  ReadTransaction snapshot(impl_->db);
+  impl_->check_read(from, to, filter);
   sqlite::Statement query(impl_->db, event_select(rows::kEventColumns, filter, true));
   bind_event_filter(query, from, to, filter);
   std::vector<StoredEvent> read;
@@ -486,7 +507,8 @@ std::vector<StoredEvent> Store::events_in_time(core::TimePoint from, core::TimeP
 
 Timestamps Store::timestamps(core::TimePoint from, core::TimePoint to, const EventFilter& filter) const {
   require_same_clock(path(), from, to);
-  if (!impl_->rows_checked) check_rows();
+  ReadTransaction snapshot(impl_->db);
+  impl_->check_read(from, to, filter);
   sqlite::Statement query(impl_->db, event_select("e.t_ns, e.seq", filter, false));
   bind_event_filter(query, from, to, filter);
   std::vector<std::pair<std::int64_t, std::int64_t>> keys;  // (t_ns, seq)
@@ -695,16 +717,29 @@ std::int64_t Store::event_count(std::optional<std::int64_t> session_id) const {
 }
 
 void Store::check_rows() const {
-  // One read transaction: the tables are checked as of one moment.
-  impl_->db.exec("BEGIN");
-  try {
-    row_check::check(impl_->db);
-  } catch (...) {
-    impl_->db.exec("ROLLBACK");
-    throw;
+  ReadTransaction snapshot(impl_->db);  // the tables as of one moment
+  row_check::check_tables(impl_->db);   // again if a read checked them: rows may have changed since
+  impl_->tables_checked = true;
+  impl_->ranges().check_all();
+}
+
+event_ranges::Checked& Store::Impl::ranges() {
+  if (!checked) checked.emplace(db);
+  checked->refresh();
+  return *checked;
+}
+
+void Store::Impl::check_read(core::TimePoint from, core::TimePoint to, const EventFilter& filter) {
+  if (!tables_checked) {
+    row_check::check_tables(db);
+    tables_checked = true;
   }
-  impl_->db.exec("COMMIT");
-  impl_->rows_checked = true;
+  auto& ranges_read = ranges();
+  sqlite::Statement spans(db, span_select(filter));
+  bind_span_filter(spans, from, to, filter);
+  std::vector<std::int64_t> first_seqs;
+  while (spans.step()) first_seqs.push_back(spans.column_int64(0));
+  ranges_read.check(first_seqs);
 }
 
 bool Store::integrity_ok() const {

@@ -128,10 +128,10 @@ class Store {
 
   std::int64_t last_seq() const;  // the largest committed seq; 0 for no events
   std::int64_t event_count(std::optional<std::int64_t> session_id = {}) const;
-  // Throws core::Error(data) naming the table, row and field of the first row that breaks the
-  // schema's rules (CHECK clauses, references): a file written or edited by another tool. One scan
-  // of every table; events_in_time and timestamps run it once per Store before their first read,
-  // since their selections would leave such rows out without a word.
+  // Throws core::Error(data) naming the table, row and field of the first row breaking the schema's rules
+  // (CHECKs, references, the spans' counts): a file edited by another tool. One scan of every table (merge).
+  // events_in_time and timestamps check what they read (they would leave such rows out without a word):
+  // other tables once per Store, events by seq range, once a range (docs/store.md "Checking rows by range").
   void check_rows() const;
 
   // PRAGMA integrity_check is "ok" and no foreign key is dangling.

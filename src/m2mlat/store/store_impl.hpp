@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/store/event_ranges.hpp"
 #include "m2mlat/store/event_spans.hpp"
 #include "m2mlat/store/rows.hpp"
 #include "m2mlat/store/sqlite.hpp"
@@ -29,6 +30,28 @@ class ResetOnExit {
 
  private:
   sqlite::Statement& statement_;
+};
+
+// One read transaction (BEGIN DEFERRED, ended by the destructor: it wrote nothing), so that the
+// checks before a read and the read see the store as of one moment. Inside a transaction already
+// it does nothing.
+class ReadTransaction {
+ public:
+  explicit ReadTransaction(sqlite::Database& db) : db_(db.in_transaction() ? nullptr : &db) {
+    if (db_) db_->exec("BEGIN");
+  }
+  ReadTransaction(const ReadTransaction&) = delete;
+  ReadTransaction& operator=(const ReadTransaction&) = delete;
+  ~ReadTransaction() {
+    if (!db_ || !db_->in_transaction()) return;
+    try {
+      db_->exec("ROLLBACK");
+    } catch (const core::Error&) {  // nothing was written; SQLite ends it when the connection closes
+    }
+  }
+
+ private:
+  sqlite::Database* db_;
 };
 
 struct Store::Impl {
@@ -75,10 +98,17 @@ struct Store::Impl {
       throw core::Error(core::ErrorKind::usage, fmt::format("{}: the store is open read-only", db.path()));
   }
 
+  event_ranges::Checked& ranges();  // refreshed with the spans written since the last call
+  // Before a read: the other tables' rules once per Store, then the events of the seq ranges the
+  // read's spans lie in that were not checked yet (docs/store.md "Checking rows by range"). Throws
+  // core::Error(data) naming the store, table, row and field.
+  void check_read(core::TimePoint from, core::TimePoint to, const EventFilter& filter);
+
   sqlite::Database db;
   Options options;
   int version;
-  bool rows_checked = false;  // row_check::check ran on this connection
+  bool tables_checked = false;                   // row_check::check_tables ran on this connection
+  std::optional<event_ranges::Checked> checked;  // made by the first read that checks rows
   sqlite::Statement insert_event;
   sqlite::Statement insert_events;  // rows::kEventsPerInsert rows
   sqlite::Statement insert_loss;
