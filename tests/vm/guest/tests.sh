@@ -577,8 +577,9 @@ t_gyro_led() {
   "$M2MLAT" export gyro-led.db --what gyro -o gl-trace.csv 2>gl-export.err || { show gl-export.err; return 1; }
   info "record: $(grep -c '^[0-9]' gl-trace.csv) samples stored"
   # LED switch-on k after onset k's write began, by at most the bound; the trace's first sample of the
-  # new rate within [write began - its bound, write ended + 5 ms] (a 1 ms read period, a read, and the
-# guest's stalls under TCG).
+  # new rate within [write began - its bound, write ended + 10 ms] (a 1 ms read period, a read, and the
+  # guest's stalls under TCG: the first rotation's took 5.4 ms once in four runs on a quiet host, the
+  # others 0.2-0.5 ms; most likely code run for the first time, which QEMU translates then).
   awk -v bound="$GYRO_LED_BOUND_US" -v n="$GYRO_LED_N" '
     FILENAME == "gl.motion" { b[$1] = $2; a[$1] = $3; next }
     FILENAME == "gl-led.csv" && /^#/ { next }
@@ -591,7 +592,7 @@ t_gyro_led() {
         d = (l[k] - b[k]) / 1000; split(t[k], s, " "); e = (s[1] - b[k]) / 1000
         printf "onset %d: LED on %d us after the write began; trace onset %d us after (bound %d us)\n", k, d, e, s[2] / 1000
         if (d <= 0 || (l[k] - a[k]) / 1000 > bound) bad = 1
-        if (s[1] + s[2] < b[k] || s[1] - s[2] > a[k] + 5000000) bad = 1
+        if (s[1] + s[2] < b[k] || s[1] - s[2] > a[k] + 10000000) bad = 1
       }
       exit bad }' FS=' ' gl.motion FS=, gl-led.csv FS=, gl-trace.csv >gl.check || rc=1
   show gl.check
