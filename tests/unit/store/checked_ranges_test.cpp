@@ -26,7 +26,7 @@ constexpr std::int64_t kBatches = 3, kPerBatch = 10;  // a session's events: seq
 
 // Two sessions one after the other, each of three batches on two channels, 1 ms apart: session 1
 // holds seqs 1..30 (t from kT0), session 2 seqs 31..60 (t from kT0 + 1 s).
-std::string make_store(const TempDir& dir, const std::string& name) {
+std::string make_batched_store(const TempDir& dir, const std::string& name) {
   const auto path = dir.file(name);
   auto store = Store::open(path);
   for (int s = 0; s < 2; ++s) {
@@ -43,13 +43,6 @@ std::string make_store(const TempDir& dir, const std::string& name) {
     }
   }
   return path;
-}
-
-// Edits the file as another tool could, around the store's rules.
-void edit(const std::string& path, const std::string& sql) {
-  auto db = sqlite::Database::open(path, sqlite::Database::Mode::read_write);
-  db.exec("PRAGMA ignore_check_constraints = ON");
-  db.exec(sql);
 }
 
 Store open_read_only(const std::string& path) {
@@ -79,9 +72,6 @@ std::string refusal(Read&& read) {
   return "";
 }
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
 
 }  // namespace
 
@@ -101,7 +91,7 @@ TEST(CheckedRanges, ADamagedRowIsRefusedByTheReadsThatSeeItOnly) {
   };
   int n = 0;
   for (const auto& c : cases) {
-    const auto path = make_store(dir, "case" + std::to_string(n++) + ".db");
+    const auto path = make_batched_store(dir, "case" + std::to_string(n++) + ".db");
     edit(path, c.sql);
     const auto store = open_read_only(path);
     // Session 2 and session 1's first batch read as before: their ranges hold no damaged row.
@@ -125,11 +115,11 @@ TEST(CheckedRanges, AnEventInNoSpanIsRefusedByEveryRead) {
   TempDir dir;
   // Where another tool's INSERT puts it (after the last span), and with a seq in a hole between
   // two ranges (session 1's second batch deleted with its spans: a hole, which is no damage).
-  const auto appended = make_store(dir, "appended.db");
+  const auto appended = make_batched_store(dir, "appended.db");
   edit(appended,
        "INSERT INTO events (session_id, channel, edge, clock, t_ns, seqno, line_seqno, flags) "
        "VALUES (1, 'wheel', 1, 0, 9, 9, 9, 0)");
-  const auto in_hole = make_store(dir, "hole.db");
+  const auto in_hole = make_batched_store(dir, "hole.db");
   edit(in_hole,
        "DELETE FROM events WHERE seq BETWEEN 11 AND 20; DELETE FROM event_spans WHERE first_seq >= 11 "
        "AND last_seq <= 20");
@@ -162,7 +152,7 @@ TEST(CheckedRanges, AnEventInNoSpanIsRefusedByEveryRead) {
 
 TEST(CheckedRanges, RowsWrittenAfterTheFirstReadAreCheckedByTheNextOne) {
   TempDir dir;
-  const auto path = make_store(dir, "live.db");
+  const auto path = make_batched_store(dir, "live.db");
   const auto reader = open_read_only(path);
   EXPECT_EQ(reader.timestamps(kFrom, kTo).seq.size(), 60u);  // every range checked
   {

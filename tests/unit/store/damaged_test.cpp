@@ -19,9 +19,6 @@ using namespace m2mlat::store::test;
 
 namespace {
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
 
 // A store of one closed session with five events (seq 1..5).
 std::string make_store(const TempDir& dir, const std::string& name) {
@@ -34,13 +31,6 @@ std::string make_store(const TempDir& dir, const std::string& name) {
   store.append_events(id, events);
   store.end_session(id, rt(1'700'000'000'000'000'100));
   return path;
-}
-
-// Edits the file as another tool could, around the store's rules.
-void edit(const std::string& path, const std::string& sql) {
-  auto db = sqlite::Database::open(path, sqlite::Database::Mode::read_write);
-  db.exec("PRAGMA ignore_check_constraints = ON");
-  db.exec(sql);
 }
 
 core::Error open_failure(const std::string& path, bool read_only) {

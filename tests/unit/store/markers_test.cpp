@@ -15,6 +15,8 @@
 #include "store_test_util.hpp"
 
 namespace m2mlat::store::markers_test {
+using m2mlat::store::test::contains;
+
 namespace {
 
 using test::make_session;
@@ -34,7 +36,6 @@ MarkerRecord mark(std::int64_t session, const std::string& name, std::int64_t of
   return m;
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 TEST(StoreMarkers, RoundTripWithAndWithoutTheOptionalFields) {
   TempDir dir;

@@ -17,6 +17,8 @@
 #include "store_test_util.hpp"
 
 namespace m2mlat::store::rate_blocks_test {
+using m2mlat::store::test::contains;
+
 namespace {
 
 using test::make_session;
@@ -47,9 +49,6 @@ void expect_same(const std::vector<core::RateSample>& got, const std::vector<cor
   }
 }
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
 
 TEST(RateBlocks, ATraceRoundTripsThroughBlocksInTimeOrder) {
   TempDir dir;

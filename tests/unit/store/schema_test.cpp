@@ -37,9 +37,6 @@ core::ErrorKind open_error_kind(const std::string& path, const Options& options 
   return core::ErrorKind::internal;
 }
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
 
 void write_file(const std::string& path, const std::string& content) {
   std::ofstream out(path, std::ios::binary);

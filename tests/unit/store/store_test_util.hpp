@@ -1,5 +1,6 @@
-// Helpers for the store tests: a temporary directory removed at the end of the test, and small
-// factories for sessions and events.
+// Helpers for the store tests: a temporary directory removed at the end of the test, small
+// factories for sessions and events, and an edit of a store file as another tool could make it.
+// (Shared here, not defined per file: the unity build compiles several test files as one.)
 #pragma once
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 #include "m2mlat/core/event.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/store/records.hpp"
+#include "m2mlat/store/sqlite.hpp"
 #include "temp_dir.hpp"
 
 namespace m2mlat::store::test {
@@ -40,6 +42,17 @@ inline core::Event make_event(const std::string& node, const std::string& channe
   e.seqno = seqno;
   e.line_seqno = seqno;
   return e;
+}
+
+inline bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// Edits the file as another tool could, around the store's rules (CHECK clauses switched off).
+inline void edit(const std::string& path, const std::string& sql) {
+  auto db = sqlite::Database::open(path, sqlite::Database::Mode::read_write);
+  db.exec("PRAGMA ignore_check_constraints = ON");
+  db.exec(sql);
 }
 
 }  // namespace m2mlat::store::test
