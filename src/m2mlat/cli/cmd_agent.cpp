@@ -42,6 +42,9 @@ int run_agent(AgentCommand& c) {
   auto& flags = c.record;
   flags.sim_paced = true;  // an agent is live: the simulated rig runs in real time
   flags.sim_set.insert(flags.sim_set.begin(), "manoeuvres=1000000000");  // years of manoeuvres
+  // First, as in `record` (cmd_record.cpp): a stop during the start is seen at the first poll, and
+  // every thread started later blocks the signals.
+  capture::StopSignal stop;
   auto setup = prepare_record(flags);
   if (!flags.quiet)
     for (const auto& line : setup.source->describe())
@@ -62,7 +65,6 @@ int run_agent(AgentCommand& c) {
   else if (!c.mark_port_file.empty())
     throw core::Error(core::ErrorKind::usage, "--mark-port-file needs --mark-port");
 
-  capture::StopSignal stop;  // before any thread starts, so that every thread blocks the signals
   // The gyroscope's sampler runs across sessions; its samples go to the session they were sampled
   // in (capture/raw_round.hpp), those between sessions to none.
   if (setup.gyro) setup.gyro->start();

@@ -39,6 +39,11 @@ nlohmann::json gyro_json(const GyroSetup& gyro) {
 }
 
 int run_record(RecordFlags& c) {
+  // First, before the line is requested and the store opened: a SIGINT or SIGTERM during a slow
+  // start (a busy board) then stops the run at its first poll, with every edge already queued read,
+  // instead of ending the process with the signal's status. Before any thread starts (the
+  // gyroscope's), so that every thread blocks the signals.
+  capture::StopSignal stop;
   auto setup = prepare_record(c);
   const auto& node = setup.node;
   const auto role = setup.role;
@@ -51,7 +56,6 @@ int run_record(RecordFlags& c) {
 
   auto store = store::Store::open(c.store_path, setup.store_options);
   apply_rt(setup, c.quiet);
-  capture::StopSignal stop;  // before the gyroscope's thread starts: it inherits the blocked signals
   if (setup.gyro) setup.gyro->start();
   capture::Recorder recorder(store, *source, options);
   const auto counters = recorder.run(stop.fd(), [&] { return stop.take(); });
