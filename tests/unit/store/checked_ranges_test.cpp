@@ -72,7 +72,6 @@ std::string refusal(Read&& read) {
   return "";
 }
 
-
 }  // namespace
 
 TEST(CheckedRanges, ADamagedRowIsRefusedByTheReadsThatSeeItOnly) {
