@@ -13,6 +13,7 @@
 #include "m2mlat/formats/input_text.hpp"
 #include "m2mlat/formats/kernel_log.hpp"
 #include "m2mlat/formats/output_text.hpp"
+#include "m2mlat/formats/pair_rows_source.hpp"
 #include "m2mlat/formats/rig_export.hpp"
 
 namespace m2mlat::formats {
@@ -142,7 +143,7 @@ void export_events(const std::string& path, Format format, std::span<const core:
   });
 }
 
-void export_pairs(const std::string& path, Format format, std::span<const PairRow> pairs,
+void export_pairs(const std::string& path, Format format, const PairSource& pairs,
                   const PairExportOptions& options) {
   if (format != Format::pairs_csv && format != Format::pairs_jsonl && format != Format::rig_paired_csv)
     throw core::Error(
@@ -157,6 +158,11 @@ void export_pairs(const std::string& path, Format format, std::span<const PairRo
     else
       write_rig_paired_csv(out, pairs);
   });
+}
+
+void export_pairs(const std::string& path, Format format, std::span<const PairRow> pairs,
+                  const PairExportOptions& options) {
+  export_pairs(path, format, PairRowsSource(pairs, options), options);
 }
 
 }  // namespace m2mlat::formats

@@ -16,6 +16,7 @@
 #include "m2mlat/formats/full_loop_csv.hpp"
 #include "m2mlat/formats/imported.hpp"
 #include "m2mlat/formats/pair_row.hpp"
+#include "m2mlat/formats/pair_source.hpp"
 #include "m2mlat/formats/pairs_export.hpp"
 #include "m2mlat/formats/rig_paired.hpp"
 #include "m2mlat/formats/rig_sync.hpp"
@@ -58,7 +59,11 @@ std::vector<TimestampSeries> read_timestamps(const std::string& path, std::optio
 void export_events(const std::string& path, Format format, std::span<const core::Event> events,
                    const EventExportOptions& options = {});
 // Writes pairs as pairs_csv, pairs_jsonl or rig_paired_csv (which has no names, uncertainty or
-// flags: options only feed the other two), atomically. Throws core::Error(usage) for another format.
+// flags: options only feed the other two), atomically, reading them a block at a time. Throws
+// core::Error(usage) for another format.
+void export_pairs(const std::string& path, Format format, const PairSource& pairs,
+                  const PairExportOptions& options = {});
+// The same for rows held whole, with options' per-pair columns (pair_rows_source.hpp).
 void export_pairs(const std::string& path, Format format, std::span<const PairRow> pairs,
                   const PairExportOptions& options = {});
 

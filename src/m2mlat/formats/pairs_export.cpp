@@ -12,22 +12,34 @@
 #include "m2mlat/formats/event_fields.hpp"
 #include "m2mlat/formats/fields.hpp"
 #include "m2mlat/formats/output_text.hpp"
+#include "m2mlat/formats/pair_rows_source.hpp"
 
 namespace m2mlat::formats {
 
 namespace {
 
-// The optional uncertainty columns, in file order, with their names; empty spans are not written.
+// The optional uncertainty columns, in file order: each one's name, whether a source has it, and its
+// value in a row.
 struct OptionalColumn {
   std::string_view name;
-  std::span<const std::optional<std::int64_t>> values;
+  bool PairColumns::*present;
+  std::optional<std::int64_t> PairRecord::*value;
 };
-std::array<OptionalColumn, 3> optional_columns(const PairExportOptions& options) {
-  return {{{"max_error_ns", options.max_error_ns}, {"u_ns", options.u_ns}, {"U95_ns", options.U95_ns}}};
+constexpr std::array<OptionalColumn, 3> kOptionalColumns{
+    {{"max_error_ns", &PairColumns::max_error_ns, &PairRecord::max_error_ns},
+     {"u_ns", &PairColumns::u_ns, &PairRecord::u_ns},
+     {"U95_ns", &PairColumns::U95_ns, &PairRecord::U95_ns}}};
+// The columns `source` has, in file order.
+std::vector<OptionalColumn> columns_of(const PairSource& source) {
+  const PairColumns has = source.columns();
+  std::vector<OptionalColumn> columns;
+  for (const OptionalColumn& column : kOptionalColumns)
+    if (has.*column.present) columns.push_back(column);
+  return columns;
 }
 
 // The groups to write: the caller's, or one group of every pair from the options' three names.
-std::vector<PairGroup> groups_of(std::span<const PairRow> pairs, const PairExportOptions& options) {
+std::vector<PairGroup> groups_of(const PairSource& pairs, const PairExportOptions& options) {
   if (!options.groups.empty()) return {options.groups.begin(), options.groups.end()};
   return {PairGroup{options.scenario, options.cause, options.effect, pairs.size()}};
 }
@@ -45,15 +57,8 @@ std::array<NameField, 4> name_fields(const PairGroup& group) {
            {"effect_channel", &group.effect.channel}}};
 }
 
-void check_options(std::span<const PairRow> pairs, const PairExportOptions& options,
+void check_options(const PairSource& pairs, const PairExportOptions& options,
                    std::span<const PairGroup> groups) {
-  auto check_size = [&](std::size_t size, std::string_view what) {
-    if (size != 0 && size != pairs.size())
-      throw core::Error(core::ErrorKind::internal,
-                        fmt::format("pair export: {} {} for {} pairs", size, what, pairs.size()));
-  };
-  for (const auto& column : optional_columns(options)) check_size(column.values.size(), column.name);
-  check_size(options.sessions.size(), "sessions");
   std::size_t total = 0;
   for (const PairGroup& group : groups) {
     total += group.count;
@@ -75,30 +80,30 @@ void check_options(std::span<const PairRow> pairs, const PairExportOptions& opti
       throw core::Error(core::ErrorKind::data, fmt::format("session {}: its label holds a line break", id));
 }
 
-// The session id and label of pair i ("" for unknown).
+// The session id and label of a row ("" for unknown).
 struct PairSession {
   std::int64_t id = 0;
   const std::string* label = nullptr;
 };
-PairSession session_of(const PairExportOptions& options, std::size_t i) {
-  if (options.sessions.empty() || options.sessions[i] == 0) return {};
-  const auto found = options.labels.find(options.sessions[i]);
-  return {options.sessions[i], found == options.labels.end() ? nullptr : &found->second};
+PairSession session_of(const PairExportOptions& options, const PairRecord& record) {
+  if (record.session == 0) return {};
+  const auto found = options.labels.find(record.session);
+  return {record.session, found == options.labels.end() ? nullptr : &found->second};
 }
 
 }  // namespace
 
-void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options) {
+void write_pairs_csv(std::ostream& out, const PairSource& pairs, const PairExportOptions& options) {
   const auto groups = groups_of(pairs, options);
   check_options(pairs, options, groups);
-  const auto columns = optional_columns(options);
+  const auto columns = columns_of(pairs);
+  PairBlockReader rows(pairs);
   const bool with_flags = options.flags;
   OutputBuffer buffer(out);
   std::string& text = buffer.text();
   buffer << "scenario,session,label,cause_node,cause_channel,effect_node,effect_channel,clock,cause_time_ns,"
             "effect_time_ns,latency_ns,latency_ms";
-  for (const auto& column : columns)
-    if (!column.values.empty()) buffer << ',' << column.name;
+  for (const auto& column : columns) buffer << ',' << column.name;
   if (with_flags) buffer << ",flag_bits";
   buffer << '\n';
   std::size_t i = 0;
@@ -113,10 +118,11 @@ void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const Pa
       names.push_back(',');
     }
     for (const std::size_t end = i + group.count; i < end; ++i) {
-      const PairRow& pair = pairs[i];
+      const PairRecord& record = rows.at(i);
+      const PairRow& pair = record.row;
       const core::Duration latency = pair.latency();
       text.append(scenario);
-      if (const PairSession session = session_of(options, i); session.id != 0) {
+      if (const PairSession session = session_of(options, record); session.id != 0) {
         buffer.integer(session.id) << ',';
         if (session.label) append_csv_field(text, *session.label);
         text.push_back(',');
@@ -130,9 +136,8 @@ void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const Pa
       buffer.integer(latency.count()) << ',';
       buffer << core::format_ms(latency);
       for (const auto& column : columns) {
-        if (column.values.empty()) continue;
         buffer << ',';
-        if (column.values[i]) buffer.integer(*column.values[i]);
+        if (const auto& value = record.*column.value) buffer.integer(*value);
       }
       if (with_flags) {
         buffer << ',';
@@ -145,10 +150,11 @@ void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const Pa
   buffer.flush();
 }
 
-void write_pairs_jsonl(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options) {
+void write_pairs_jsonl(std::ostream& out, const PairSource& pairs, const PairExportOptions& options) {
   const auto groups = groups_of(pairs, options);
   check_options(pairs, options, groups);
-  const auto columns = optional_columns(options);
+  const auto columns = columns_of(pairs);
+  PairBlockReader rows(pairs);
   OutputBuffer buffer(out);
   std::string& text = buffer.text();
   std::size_t i = 0;
@@ -166,10 +172,11 @@ void write_pairs_jsonl(std::ostream& out, std::span<const PairRow> pairs, const 
       append_json_string(names, *field.value);
     }
     for (const std::size_t end = i + group.count; i < end; ++i) {
-      const PairRow& pair = pairs[i];
+      const PairRecord& record = rows.at(i);
+      const PairRow& pair = record.row;
       const core::Duration latency = pair.latency();
       text.append(scenario);
-      if (const PairSession session = session_of(options, i); session.id != 0) {
+      if (const PairSession session = session_of(options, record); session.id != 0) {
         text.append(",\"session\":");
         buffer.integer(session.id);
         text.append(",\"label\":");
@@ -192,12 +199,11 @@ void write_pairs_jsonl(std::ostream& out, std::span<const PairRow> pairs, const 
       text.append(",\"latency_ms\":");
       text.append(core::format_ms(latency));
       for (const auto& column : columns) {
-        if (column.values.empty()) continue;
         text.append(",\"");
         text.append(column.name);
         text.append("\":");
-        if (column.values[i])
-          buffer.integer(*column.values[i]);
+        if (const auto& value = record.*column.value)
+          buffer.integer(*value);
         else
           text.append("null");
       }
@@ -210,6 +216,14 @@ void write_pairs_jsonl(std::ostream& out, std::span<const PairRow> pairs, const 
     }
   }
   buffer.flush();
+}
+
+void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options) {
+  write_pairs_csv(out, PairRowsSource(pairs, options), options);
+}
+
+void write_pairs_jsonl(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options) {
+  write_pairs_jsonl(out, PairRowsSource(pairs, options), options);
 }
 
 }  // namespace m2mlat::formats

@@ -32,6 +32,7 @@
 
 #include "m2mlat/core/event.hpp"
 #include "m2mlat/formats/pair_row.hpp"
+#include "m2mlat/formats/pair_source.hpp"
 
 namespace m2mlat::formats {
 
@@ -50,10 +51,12 @@ struct PairExportOptions {
   core::ChannelRef cause{"operator", "wheel"};  // where the cause edges were measured
   core::ChannelRef effect{"vehicle", "wheel"};  // where the effect edges were measured
   std::span<const PairGroup> groups;  // in pair order, counting every pair; empty: the three above
-  // The store session of each pair's cause event (0 = unknown), and the sessions' labels; empty: the
-  // session and label columns are empty.
-  std::span<const std::int64_t> sessions;
+  // The sessions' labels by id (a row's session is its PairRecord::session).
   std::map<std::int64_t, std::string> labels;
+  // The per-pair columns of the span entry points (a PairSource carries its own and ignores these).
+  // The store session of each pair's cause event (0 = unknown); empty: the session and label columns
+  // are empty.
+  std::span<const std::int64_t> sessions;
   // Each empty: no such column. Otherwise one entry per pair (nullopt = unknown), ns.
   std::span<const std::optional<std::int64_t>> max_error_ns;  // the worst-case bound
   std::span<const std::optional<std::int64_t>> u_ns;          // the standard uncertainty (k = 1)
@@ -62,9 +65,13 @@ struct PairExportOptions {
   bool flags = true;
 };
 
-// Both throw core::Error(internal) if a non-empty column does not have one entry per pair (or the
-// groups do not count the pairs), and core::Error(data) for an empty node or channel name, or a name
-// with a line break.
+// Both read the rows a block at a time (pair_source.hpp) and throw core::Error(internal) if the
+// groups do not count the source's rows, and core::Error(data) for an empty node or channel name, or
+// a name or label with a line break.
+void write_pairs_csv(std::ostream& out, const PairSource& pairs, const PairExportOptions& options);
+void write_pairs_jsonl(std::ostream& out, const PairSource& pairs, const PairExportOptions& options);
+// The same for rows held whole, with options' per-pair columns; also core::Error(internal) if a
+// non-empty column does not have one entry per pair.
 void write_pairs_csv(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options);
 void write_pairs_jsonl(std::ostream& out, std::span<const PairRow> pairs, const PairExportOptions& options);
 

@@ -3,6 +3,7 @@
 
 #include "m2mlat/formats/fixed_csv.hpp"
 #include "m2mlat/formats/output_text.hpp"
+#include "m2mlat/formats/pair_rows_source.hpp"
 
 namespace m2mlat::formats {
 
@@ -59,10 +60,12 @@ PairedImport import_rig_paired_csv(std::string_view text, std::string_view name,
   return result;
 }
 
-void write_rig_paired_csv(std::ostream& out, std::span<const PairRow> pairs) {
+void write_rig_paired_csv(std::ostream& out, const PairSource& pairs) {
   OutputBuffer buffer(out);
   buffer << join_columns(kRigPairedColumns) << '\n';
-  for (const PairRow& pair : pairs) {
+  PairBlockReader rows(pairs);
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const PairRow& pair = rows.at(i).row;
     std::int64_t seconds = 0;
     std::int64_t nanoseconds = 0;
     split_seconds(pair.cause_time.ns(), seconds, nanoseconds);
@@ -75,6 +78,10 @@ void write_rig_paired_csv(std::ostream& out, std::span<const PairRow> pairs) {
     buffer.end_record();
   }
   buffer.flush();
+}
+
+void write_rig_paired_csv(std::ostream& out, std::span<const PairRow> pairs) {
+  write_rig_paired_csv(out, PairRowsSource(pairs));
 }
 
 }  // namespace m2mlat::formats

@@ -21,6 +21,7 @@
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/formats/imported.hpp"
 #include "m2mlat/formats/pair_row.hpp"
+#include "m2mlat/formats/pair_source.hpp"
 
 namespace m2mlat::formats {
 
@@ -57,7 +58,9 @@ PairedImport import_rig_paired_csv(std::string_view text, std::string_view name,
 
 // Writes pairs in the rig's layout, so that its users' scripts read m2mlat's results; the latency is
 // exact with 6 decimals (core::format_ms). The cause is written as remote_station_*, the effect as
-// vehicle_*, seconds rounded down and nanoseconds in [0, 10^9).
+// vehicle_*, seconds rounded down and nanoseconds in [0, 10^9). The rows are read a block at a time
+// (pair_source.hpp); the span overload is the same for rows held whole.
+void write_rig_paired_csv(std::ostream& out, const PairSource& pairs);
 void write_rig_paired_csv(std::ostream& out, std::span<const PairRow> pairs);
 
 }  // namespace m2mlat::formats
