@@ -1,20 +1,72 @@
 // The pairs file and the unmatched-events file of analysed scenarios.
 #include "m2mlat/analysis/pairs_file.hpp"
 
+#include <algorithm>
 #include <ostream>
 
 #include "m2mlat/core/output_file.hpp"
 #include "m2mlat/formats/import_file.hpp"
+#include "m2mlat/formats/pair_source.hpp"
 
 namespace m2mlat::analysis {
 
-std::vector<formats::PairRow> pair_rows(std::span<const pairing::Pair> pairs) {
-  std::vector<formats::PairRow> rows;
-  rows.reserve(pairs.size());
-  for (const pairing::Pair& p : pairs)
-    rows.push_back({p.cause_index, p.effect_index, p.cause_time, p.effect_time, p.flags});
-  return rows;
-}
+namespace {
+
+// The pairs of every result, one scenario after another, as the rows of a pairs file: each row made
+// when the writer asks for its block, from the pair, its clock-step mark, its cause's session and its
+// uncertainty.
+class ResultPairs final : public formats::PairSource {
+ public:
+  ResultPairs(std::span<const ScenarioResult> results, const PairSessions& sessions, bool with_uncertainty)
+      : results_(results), with_uncertainty_(with_uncertainty) {
+    starts_.reserve(results.size() + 1);
+    starts_.push_back(0);
+    for (std::size_t k = 0; k < results.size(); ++k) {
+      const std::size_t n = results[k].match.pairs.size();
+      starts_.push_back(starts_.back() + n);
+      // A result's sessions count only when they are one per pair (pair_sessions.hpp).
+      const bool known = k < sessions.sessions.size() && sessions.sessions[k].size() == n;
+      sessions_.push_back(known ? std::span<const std::int64_t>(sessions.sessions[k])
+                                : std::span<const std::int64_t>());
+    }
+  }
+
+  std::size_t size() const override { return starts_.back(); }
+  formats::PairColumns columns() const override {
+    return {with_uncertainty_, with_uncertainty_, with_uncertainty_};
+  }
+
+  void fill(std::size_t first, std::span<formats::PairRecord> out) const override {
+    // The result that holds row `first`: the last one starting at or before it (empty ones skipped).
+    auto k =
+        static_cast<std::size_t>(std::upper_bound(starts_.begin(), starts_.end(), first) - starts_.begin()) -
+        1;
+    for (std::size_t j = 0; j < out.size(); ++j) {
+      const std::size_t row = first + j;
+      while (row >= starts_[k + 1]) ++k;
+      const ScenarioResult& r = results_[k];
+      const std::size_t i = row - starts_[k];
+      const pairing::Pair& p = r.match.pairs[i];
+      formats::PairRecord& record = out[j];
+      record.row = {p.cause_index, p.effect_index, p.cause_time, p.effect_time,
+                    p.flags | pair_flags(r.step_mark(p))};
+      record.session = sessions_[k].empty() ? 0 : sessions_[k][i];
+      // Unknown or unbounded uncertainty, and pairs past the end of it, are written empty.
+      const bool bounded = i < r.uncertainty.size() && r.uncertainty[i].bounded();
+      record.max_error_ns = bounded ? std::optional(r.uncertainty[i].max_error_ns) : std::nullopt;
+      record.u_ns = bounded ? std::optional(r.uncertainty[i].u_ns) : std::nullopt;
+      record.U95_ns = bounded ? std::optional(r.uncertainty[i].expanded_ns()) : std::nullopt;
+    }
+  }
+
+ private:
+  std::span<const ScenarioResult> results_;
+  bool with_uncertainty_;
+  std::vector<std::size_t> starts_;                      // the first row of each result, then the total
+  std::vector<std::span<const std::int64_t>> sessions_;  // per result: one per pair, or empty
+};
+
+}  // namespace
 
 std::vector<pairing::Pair> pairs_from_rows(std::span<const formats::PairRow> rows) {
   std::vector<pairing::Pair> pairs;
@@ -26,49 +78,24 @@ std::vector<pairing::Pair> pairs_from_rows(std::span<const formats::PairRow> row
 
 void write_pairs_file(const std::string& path, formats::Format format,
                       std::span<const ScenarioResult> results, const PairSessions& sessions) {
-  // One table of rows for every scenario, reserved to its size and filled in place: a row is as large
-  // as a pair, so a temporary table per scenario would hold the pairs a third time (at 10^7 pairs,
-  // half a gigabyte more at the peak).
-  std::vector<formats::PairRow> rows;
-  std::size_t total = 0;
-  for (const auto& r : results) total += r.match.pairs.size();
-  rows.reserve(total);
+  // The pairs are not copied: the writer takes them as rows a block at a time (ResultPairs). Per
+  // scenario only its group (names and count) is kept here.
   std::vector<formats::PairGroup> groups;
-  std::vector<std::int64_t> session_column;
-  session_column.reserve(total);
-  UncertaintyColumns columns;
   bool any_clock = false;
   bool any_session = false;
   for (std::size_t k = 0; k < results.size(); ++k) {
     const auto& r = results[k];
-    for (const pairing::Pair& p : r.match.pairs)
-      rows.push_back({p.cause_index, p.effect_index, p.cause_time, p.effect_time,
-                      p.flags | pair_flags(r.step_mark(p))});
     const std::size_t n = r.match.pairs.size();
     groups.push_back({r.input.scenario, r.input.cause_ref, r.input.effect_ref, n});
-    append_columns(columns, r.uncertainty, r.match.pairs.size());
     any_clock |= !r.uncertainty.empty();
-    if (k < sessions.sessions.size() && sessions.sessions[k].size() == n) {
-      session_column.insert(session_column.end(), sessions.sessions[k].begin(), sessions.sessions[k].end());
-      any_session = true;
-    } else {
-      session_column.insert(session_column.end(), n, 0);
-    }
+    any_session |= k < sessions.sessions.size() && sessions.sessions[k].size() == n;
   }
   formats::PairExportOptions options;
-  if (any_clock) {
-    options.max_error_ns = columns.max_error_ns;
-    options.u_ns = columns.u_ns;
-    options.U95_ns = columns.U95_ns;
-  }
   if (!results.empty())
     options.cause = results.front().input.cause_ref, options.effect = results.front().input.effect_ref;
   options.groups = groups;
-  if (any_session) {
-    options.sessions = session_column;
-    options.labels = sessions.labels;
-  }
-  formats::export_pairs(path, format, rows, options);
+  if (any_session) options.labels = sessions.labels;
+  formats::export_pairs(path, format, ResultPairs(results, sessions, any_clock), options);
 }
 
 void write_unmatched_file(const std::string& path, std::span<const ScenarioResult> results) {

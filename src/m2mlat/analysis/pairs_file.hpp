@@ -17,16 +17,15 @@
 
 namespace m2mlat::analysis {
 
-// The matcher's pairs as rows of a pairs file (indices, times and flags as they are).
-std::vector<formats::PairRow> pair_rows(std::span<const pairing::Pair> pairs);
-// A file's rows as pairs (the reverse).
+// A file's rows as pairs (indices, times and flags as they are).
 std::vector<pairing::Pair> pairs_from_rows(std::span<const formats::PairRow> rows);
 
 // Writes the pairs of every result, one scenario after another, to `path` ("-" = standard output,
 // atomically otherwise) as `format` (pairs_csv, pairs_jsonl or rig_paired_csv; another format is
 // core::Error(usage)). Each row names its scenario and that scenario's nodes and channels, and its
 // session and label from `sessions` (pair_sessions.hpp; empty: unknown); the max_error_ns, u_ns and
-// U95_ns columns are written when any result has clock samples.
+// U95_ns columns are written when any result has clock samples. The pairs become rows a block at a
+// time (formats/pair_source.hpp): no copy of them, nor any per-pair column, is built beside them.
 void write_pairs_file(const std::string& path, formats::Format format,
                       std::span<const ScenarioResult> results, const PairSessions& sessions = {});
 

@@ -234,16 +234,6 @@ UncertaintySummary summarize_uncertainty(std::span<const SampleUncertainty> samp
   return s;
 }
 
-void append_columns(UncertaintyColumns& columns, std::span<const SampleUncertainty> samples,
-                    std::size_t pairs) {
-  for (std::size_t i = 0; i < pairs; ++i) {
-    const bool bounded = i < samples.size() && samples[i].bounded();
-    columns.max_error_ns.push_back(bounded ? std::optional(samples[i].max_error_ns) : std::nullopt);
-    columns.u_ns.push_back(bounded ? std::optional(samples[i].u_ns) : std::nullopt);
-    columns.U95_ns.push_back(bounded ? std::optional(samples[i].expanded_ns()) : std::nullopt);
-  }
-}
-
 void attach_uncertainty(ScenarioResult& result, const ClockTrack& cause, const ClockTrack& effect,
                         const UncertaintyOptions& options, const stats::SummaryOptions& summary_options) {
   result.uncertainty.clear();

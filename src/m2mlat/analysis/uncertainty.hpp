@@ -165,14 +165,6 @@ struct UncertaintySummary {
 };
 UncertaintySummary summarize_uncertainty(std::span<const SampleUncertainty> samples, bool gate_refuse);
 
-// Per-pair columns for the pairs export (formats::PairExportOptions): max_error, u and U95, ns;
-// nullopt where unknown or unbounded. Pairs past the end of `samples` get nullopt.
-struct UncertaintyColumns {
-  std::vector<std::optional<std::int64_t>> max_error_ns, u_ns, U95_ns;
-};
-void append_columns(UncertaintyColumns& columns, std::span<const SampleUncertainty> samples,
-                    std::size_t pairs);
-
 // Fills result.uncertainty from the two boards' clock tracks (left empty when both are empty) and,
 // when options.gate_refuse left any sample out, recomputes result.summary with `summary_options`.
 // The tracks of a store's scenario are loaded by attach_board_record (board_record.hpp).
