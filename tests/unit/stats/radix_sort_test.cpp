@@ -1,5 +1,5 @@
 // The latency sort gives std::sort's sequence: negative, equal, wide and narrow keys, below and
-// above the size where it switches from std::sort.
+// above the size where it switches from std::sort (for all the keys, and for one bucket of them).
 #include "m2mlat/stats/radix_sort.hpp"
 
 #include <gtest/gtest.h>
@@ -16,7 +16,7 @@ namespace {
 TEST(SortNs, TheSameSequenceAsStdSort) {
   std::mt19937_64 rng(19);
   for (const std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{4095}, std::size_t{4096}, std::size_t{100'000}}) {
-    for (int kind = 0; kind < 5; ++kind) {
+    for (int kind = 0; kind < 6; ++kind) {
       std::vector<std::int64_t> v(n);
       for (auto& x : v) {
         const auto r = rng();
@@ -26,7 +26,10 @@ TEST(SortNs, TheSameSequenceAsStdSort) {
           case 2: x = 42; break;                                                          // all equal
           case 3: x = static_cast<std::int64_t>(r % 3) == 0 ? std::numeric_limits<std::int64_t>::min()
                                                             : std::numeric_limits<std::int64_t>::max(); break;
-          default: x = static_cast<std::int64_t>(r % 256) << 40; break;                    // one byte differs
+          case 4: x = static_cast<std::int64_t>(r % 256) << 40; break;                     // one byte differs
+          // A steady link: 50 ms wide, so the highest differing byte (16.7 ms) leaves buckets of
+          // thousands of keys, each sorted by its lower bytes through the shared buffer.
+          default: x = 900'000'000 + static_cast<std::int64_t>(r % 50'000'000); break;
         }
       }
       auto expected = v;
