@@ -68,8 +68,9 @@ struct SideSteps {
 // The steps among a board's clock samples (source "step"), in time order.
 std::vector<store::ClockStep> steps_of(std::span<const store::ClockSample> samples, core::Clock clock);
 
-// Applies the rule above to one side: corrects side.t_ns in place, re-sorts it by time (filling
-// side.seq with positions first when it was empty) and returns the marks. `samples` are the board's
+// Applies the rule above to one side: corrects side.t_ns in place and returns the marks. When the
+// corrected stamps are out of time order (or the side out of recording order), it re-sorts the side by
+// time, filling side.seq with positions first when it was empty. `samples` are the board's
 // other clock samples (what says the clock is good again after a step of unknown size).
 SideSteps correct_side(store::Timestamps& side, std::span<const store::ClockStep> steps,
                        std::span<const store::ClockSample> samples);
