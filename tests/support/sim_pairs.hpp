@@ -14,8 +14,8 @@ inline pairing::Pair true_pair(const sim::Simulation& run, const sim::TruePair& 
   pairing::Pair p;
   p.cause_index = t.cause_index;
   p.effect_index = t.effect_index;
-  p.cause_time = run.cause_events[static_cast<std::size_t>(t.cause_index)].time;
-  p.effect_time = run.effect_events[static_cast<std::size_t>(t.effect_index)].time;
+  p.cause_ns = run.cause_events[static_cast<std::size_t>(t.cause_index)].time.ns();
+  p.effect_ns = run.effect_events[static_cast<std::size_t>(t.effect_index)].time.ns();
   return p;
 }
 

@@ -49,8 +49,8 @@ void attach_budget(ScenarioResult& result, const ClockTrack& cause, const ClockT
   std::vector<std::int64_t> cause_bounds, effect_bounds;
   for (const auto& p : result.match.pairs) {
     if (!result.include_ambiguous && p.ambiguous()) continue;
-    const auto bc = bound_at(cause, p.cause_time.ns(), growth_ppm);
-    const auto be = bound_at(effect, p.effect_time.ns(), growth_ppm);
+    const auto bc = bound_at(cause, p.cause_ns, growth_ppm);
+    const auto be = bound_at(effect, p.effect_ns, growth_ppm);
     if (bc.synchronised) cause_bounds.push_back(bc.max_error_ns);
     if (be.synchronised) effect_bounds.push_back(be.max_error_ns);
   }

@@ -62,17 +62,18 @@ const MarkerIndex::Stamp* last_at_or_before(std::span<const MarkerIndex::Stamp> 
 
 }  // namespace
 
-EventStages event_stages(const pairing::Pair& pair, const StageRule& rule, const MarkerIndex& index) {
-  if (pair.cause_time.clock() != core::Clock::realtime || pair.effect_time.clock() != core::Clock::realtime)
+EventStages event_stages(const pairing::Pair& pair, core::Clock clock, const StageRule& rule,
+                         const MarkerIndex& index) {
+  if (clock != core::Clock::realtime)
     throw core::Error(core::ErrorKind::data,
                       fmt::format("the events are on {}, the markers on realtime: a breakdown needs the "
                                   "boards' CLOCK_REALTIME events",
-                                  core::to_string(pair.cause_time.clock())));
+                                  core::to_string(clock)));
   EventStages e;
-  e.cause_time = pair.cause_time;
-  e.effect_time = pair.effect_time;
-  const std::int64_t cause = pair.cause_time.ns();
-  const std::int64_t effect = pair.effect_time.ns();
+  const std::int64_t cause = pair.cause_ns;
+  const std::int64_t effect = pair.effect_ns;
+  e.cause_time = core::TimePoint::from_ns(clock, cause);
+  e.effect_time = core::TimePoint::from_ns(clock, effect);
   e.m2m_ns = effect - cause;
   std::int64_t previous = cause;
   const markers::Marker* previous_marker = nullptr;
@@ -142,12 +143,12 @@ EventStages event_stages(const pairing::Pair& pair, const StageRule& rule, const
   return e;  // not reached: a parsed rule ends at `effect`
 }
 
-Breakdown break_down(std::span<const pairing::Pair> pairs, std::span<const std::size_t> positions,
+Breakdown break_down(std::span<const pairing::Pair> pairs, core::Clock clock, std::span<const std::size_t> positions,
                      std::span<const std::int64_t> cause_ids, const StageRule& rule, const MarkerIndex& index) {
   std::vector<EventStages> events;
   events.reserve(pairs.size());
   for (std::size_t i = 0; i < pairs.size(); ++i) {
-    auto e = event_stages(pairs[i], rule, index);
+    auto e = event_stages(pairs[i], clock, rule, index);
     e.pair = positions[i];
     e.cause_id = cause_ids[i];
     events.push_back(std::move(e));

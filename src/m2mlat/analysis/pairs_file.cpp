@@ -48,8 +48,8 @@ class ResultPairs final : public formats::PairSource {
       const std::size_t i = row - starts_[k];
       const pairing::Pair& p = r.match.pairs[i];
       formats::PairRecord& record = out[j];
-      record.row = {p.cause_index, p.effect_index, p.cause_time, p.effect_time,
-                    p.flags | pair_flags(r.step_mark(p))};
+      record.row = {p.cause_index, p.effect_index, core::TimePoint::from_ns(r.match.clock, p.cause_ns),
+                    core::TimePoint::from_ns(r.match.clock, p.effect_ns), p.flags | pair_flags(r.step_mark(p))};
       record.session = sessions_[k].empty() ? 0 : sessions_[k][i];
       // Unknown or unbounded uncertainty, and pairs past the end of it, are written empty.
       const bool bounded = i < r.uncertainty.size() && r.uncertainty[i].bounded();
@@ -72,7 +72,7 @@ std::vector<pairing::Pair> pairs_from_rows(std::span<const formats::PairRow> row
   std::vector<pairing::Pair> pairs;
   pairs.reserve(rows.size());
   for (const formats::PairRow& r : rows)
-    pairs.push_back({r.cause_index, r.effect_index, r.cause_time, r.effect_time, r.flags});
+    pairs.push_back({r.cause_index, r.effect_index, r.cause_time.ns(), r.effect_time.ns(), r.flags});
   return pairs;
 }
 

@@ -19,7 +19,7 @@ void attach_breakdown(ScenarioResult& result, const StageRule& rule, const Marke
     ids.push_back(result.cause_seq(p));
   }
   try {
-    result.breakdown = break_down(pairs, positions, ids, rule, index);
+    result.breakdown = break_down(pairs, result.match.clock, positions, ids, rule, index);
   } catch (const core::Error& e) {
     throw core::Error(e.kind(), fmt::format("scenario {}: {}", core::printable(result.input.scenario), e.what()));
   }

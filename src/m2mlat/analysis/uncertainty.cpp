@@ -201,7 +201,7 @@ std::vector<SampleUncertainty> pair_uncertainties(const ClockTrack& cause, const
   out.reserve(pairs.size());
   for (const auto& p : pairs)
     out.push_back(
-        pair_uncertainty(cause, effect, p.cause_time.ns(), p.effect_time.ns(), options, p.bounce_span_ns));
+        pair_uncertainty(cause, effect, p.cause_ns, p.effect_ns, options, p.bounce_span_ns));
   return out;
 }
 

@@ -190,10 +190,10 @@ void LivePairing::repair(bool final) {
   const auto keep = std::min(pairs.size(), options_.recent_samples);
   s.recent.reserve(keep);
   for (auto k = pairs.size() - keep; k < pairs.size(); ++k)
-    s.recent.push_back({pairs[k].cause_time.ns(), pairs[k].latency().count(), pairs[k].ambiguous()});
+    s.recent.push_back({pairs[k].cause_ns, pairs[k].latency().count(), pairs[k].ambiguous()});
   if (!pairs.empty())
     s.last =
-        LiveSample{pairs.back().cause_time.ns(), pairs.back().latency().count(), pairs.back().ambiguous()};
+        LiveSample{pairs.back().cause_ns, pairs.back().latency().count(), pairs.back().ambiguous()};
   s.histogram = histogram(r.latencies_ns(), options_.max_histogram_bins);
   if (breakdown_) {
     if (final) {

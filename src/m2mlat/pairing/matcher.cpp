@@ -610,29 +610,34 @@ void mark_shifted_bursts(const std::vector<std::uint32_t>& matched, std::size_t 
 // chain shifted inside a burst.
 void mark_broken_patterns(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
                           const std::vector<std::uint32_t>& matched, BurstMarks& b) {
-  struct Step {
-    std::uint32_t cause, effect;  // the later pair's edges
-    double ratio;
+  // Calls `step(cause, effect, ratio)` for each pair with a pair before it in the same two bursts
+  // (the later pair's edges). Walked twice, the ratio recomputed the second time (the same
+  // operations give the same double), rather than kept with its pair: 16 bytes a pair and the
+  // vector's doubling were a third of `m2mlat stats`'s memory at this point.
+  const auto for_each_step = [&](auto&& step) {
+    std::size_t prev = kNone;
+    for (std::size_t i = 0; i < matched.size(); ++i) {
+      if (matched[i] == kNone) continue;
+      if (prev != kNone && b.cause[prev] == b.cause[i] && b.effect[matched[prev]] == b.effect[matched[i]])
+        step(i, matched[i],
+             static_cast<double>(effects[matched[i]] - effects[matched[prev]]) /
+                 static_cast<double>(causes[i] - causes[prev]));
+      prev = i;
+    }
   };
-  std::vector<Step> steps;
-  std::size_t prev = kNone;
-  for (std::size_t i = 0; i < matched.size(); ++i) {
-    if (matched[i] == kNone) continue;
-    if (prev != kNone && b.cause[prev] == b.cause[i] && b.effect[matched[prev]] == b.effect[matched[i]])
-      steps.push_back({static_cast<std::uint32_t>(i), matched[i],
-                       static_cast<double>(effects[matched[i]] - effects[matched[prev]]) /
-                           static_cast<double>(causes[i] - causes[prev])});
-    prev = i;
-  }
-  if (steps.empty()) return;
+  std::size_t count = 0;
+  for_each_step([&](std::size_t, std::uint32_t, double) { ++count; });
+  if (count == 0) return;
   std::vector<double> ratios;
-  ratios.reserve(steps.size());
-  for (const auto& s : steps) ratios.push_back(s.ratio);
+  ratios.reserve(count);
+  for_each_step([&](std::size_t, std::uint32_t, double ratio) { ratios.push_back(ratio); });
   const auto mid = ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2);
   std::nth_element(ratios.begin(), mid, ratios.end());
   const double median = *mid;
-  for (const auto& s : steps)
-    if (s.ratio > median * kPatternFactor || s.ratio < median / kPatternFactor) b.mark(s.cause, s.effect);
+  free_now(ratios);
+  for_each_step([&](std::size_t cause, std::uint32_t effect, double ratio) {
+    if (ratio > median * kPatternFactor || ratio < median / kPatternFactor) b.mark(cause, effect);
+  });
 }
 
 std::vector<bool> ambiguous_pairs(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
@@ -1032,8 +1037,7 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   causes.release();
   effects.release();
 
-  // The pairs (56 bytes each, the largest part of the result), in cause order and so in effect order.
-  static_assert(sizeof(Pair) == 56, "Pair::bounce_span_ns lives in what was padding");
+  // The pairs (40 bytes each, the largest part of the result), in cause order and so in effect order.
   result.pairs.reserve(pair_count);
   KeptIndex cause_index(causes.bounces), effect_index(effects.bounces);
   BounceSpan cause_bounce_span(cause_ns, causes.bounces), effect_bounce_span(effect_ns, effects.bounces);
@@ -1042,8 +1046,7 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
     const auto c = cause_index(i), e = effect_index(matched[i]);
     const std::int64_t cause_span = cause_bounce_span(c), effect_span = effect_bounce_span(e);
     const bool bounced = cause_span > kBounceSpanLimit.count() || effect_span > kBounceSpanLimit.count();
-    result.pairs.push_back(Pair{c, e, core::TimePoint::from_ns(clock, cause_ns[static_cast<std::size_t>(c)]),
-                                core::TimePoint::from_ns(clock, effect_ns[static_cast<std::size_t>(e)]),
+    result.pairs.push_back(Pair{c, e, cause_ns[static_cast<std::size_t>(c)], effect_ns[static_cast<std::size_t>(e)],
                                 flags[i] | (bounced ? kPairBounced : 0u),
                                 static_cast<std::int32_t>(std::min<std::int64_t>(
                                     cause_span + effect_span, std::numeric_limits<std::int32_t>::max()))});

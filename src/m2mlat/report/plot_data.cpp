@@ -31,7 +31,7 @@ std::vector<std::size_t> used_pairs(const ScenarioReport& s) {
 
 std::int64_t origin_ns(const ScenarioReport& s) {
   const auto& pairs = s.result.match.pairs;
-  if (!pairs.empty()) return pairs.front().cause_time.ns();
+  if (!pairs.empty()) return pairs.front().cause_ns;
   if (!s.result.input.cause.t_ns.empty()) return s.result.input.cause.t_ns.front();
   return 0;
 }
@@ -118,7 +118,7 @@ TimeSeries time_series(const ScenarioReport& s) {
   if (used.size() <= kSeriesPoints) {
     for (auto i : used) {
       const double lat = ms(pairs[i].latency().count()), u = unc(i);
-      ts.t_s.push_back(static_cast<double>(pairs[i].cause_time.ns() - origin) / 1e9);
+      ts.t_s.push_back(static_cast<double>(pairs[i].cause_ns - origin) / 1e9);
       ts.latency_ms.push_back(lat);
       ts.uncertainty_ms.push_back(u);
       ts.low_ms.push_back(std::isnan(u) ? lat : lat - u);
@@ -139,7 +139,7 @@ TimeSeries time_series(const ScenarioReport& s) {
       if (!std::isnan(u)) u_max = std::isnan(u_max) ? u : std::max(u_max, u);
     }
     std::sort(bin.begin(), bin.end());
-    const auto mid = pairs[used[(start + end - 1) / 2]].cause_time.ns();
+    const auto mid = pairs[used[(start + end - 1) / 2]].cause_ns;
     ts.t_s.push_back(static_cast<double>(mid - origin) / 1e9);
     ts.latency_ms.push_back(stats::quantile(std::span<const std::int64_t>(bin), 0.5) / 1e6);
     ts.low_ms.push_back(ms(bin.front()));

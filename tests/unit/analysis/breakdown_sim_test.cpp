@@ -51,7 +51,7 @@ Breakdown break_down_events(const std::vector<TrueEvent>& events, const MarkerIn
     positions.push_back(i);
     ids.push_back(events[i].pass);
   }
-  return break_down(pairs, positions, ids, sim_rule(), index);
+  return break_down(pairs, core::Clock::realtime, positions, ids, sim_rule(), index);
 }
 
 TEST(BreakdownSim, StagesAddUpToTheM2MAndMatchTheTruth) {

@@ -27,8 +27,8 @@ markers::Marker mark(std::string node, std::string name, std::int64_t ns, std::s
 
 pairing::Pair pair_at(std::int64_t cause_ns, std::int64_t effect_ns) {
   pairing::Pair p;
-  p.cause_time = core::TimePoint::from_ns(core::Clock::realtime, cause_ns);
-  p.effect_time = core::TimePoint::from_ns(core::Clock::realtime, effect_ns);
+  p.cause_ns = cause_ns;
+  p.effect_ns = effect_ns;
   return p;
 }
 
@@ -60,7 +60,7 @@ Breakdown break_down_all(const std::vector<pairing::Pair>& pairs, const StageRul
     positions.push_back(i);
     ids.push_back(static_cast<std::int64_t>(i) + 1);
   }
-  return break_down(pairs, positions, ids, rule, index);
+  return break_down(pairs, core::Clock::realtime, positions, ids, rule, index);
 }
 
 TEST(Breakdown, StagesAddUpToTheM2MExactly) {
@@ -151,12 +151,12 @@ TEST(Breakdown, LastBeforeEffectAndFirstAfterPrevious) {
       mark("vehicle", "tick", 900 * kMs, ""),  // after the effect: not the last before it
   };
   const MarkerIndex index(markers);
-  const auto e = event_stages(pair_at(0, 100 * kMs), rule, index);
+  const auto e = event_stages(pair_at(0, 100 * kMs), core::Clock::realtime, rule, index);
   ASSERT_TRUE(e.complete()) << e.detail;
   EXPECT_EQ(e.stage_ns, (std::vector<std::int64_t>{5 * kMs, 25 * kMs, 10 * kMs, 60 * kMs}));
   // No markers at all: the first stage is missing.
   const MarkerIndex empty(std::span<const markers::Marker>{});
-  const auto none = event_stages(pair_at(0, 100 * kMs), rule, empty);
+  const auto none = event_stages(pair_at(0, 100 * kMs), core::Clock::realtime, rule, empty);
   EXPECT_EQ(none.gap, StageGap::missing);
   EXPECT_EQ(none.detail, "no operator:send after the cause");
   EXPECT_TRUE(std::isnan(break_down_all({pair_at(0, 1)}, rule, empty).stages[0].median_ns));
@@ -164,10 +164,7 @@ TEST(Breakdown, LastBeforeEffectAndFirstAfterPrevious) {
 
 TEST(Breakdown, EventsOffCLOCK_REALTIMEAreRefused) {
   const MarkerIndex index(std::span<const markers::Marker>{});
-  pairing::Pair p;
-  p.cause_time = core::TimePoint::from_ns(core::Clock::monotonic, 0);
-  p.effect_time = core::TimePoint::from_ns(core::Clock::monotonic, 10);
-  EXPECT_THROW(event_stages(p, three_stage_rule(), index), core::Error);
+  EXPECT_THROW(event_stages(pair_at(0, 10), core::Clock::monotonic, three_stage_rule(), index), core::Error);
 }
 
 }  // namespace m2mlat::analysis::breakdown_test

@@ -37,8 +37,8 @@ ScenarioResult make_result(const std::string& name, std::size_t pairs, std::int6
     pairing::Pair p;
     p.cause_index = n;
     p.effect_index = n + 2;
-    p.cause_time = core::TimePoint::from_ns(core::Clock::realtime, start_ns + n * 1'000'033);
-    p.effect_time = p.cause_time + core::Duration{900'000'000 + n * 17};
+    p.cause_ns = start_ns + n * 1'000'033;
+    p.effect_ns = p.cause_ns + 900'000'000 + n * 17;
     p.flags = n % 13 == 0 ? std::uint32_t{pairing::kPairAmbiguous} : 0u;
     r.match.pairs.push_back(p);
   }
@@ -70,8 +70,8 @@ void write_whole(const std::string& path, formats::Format format, std::span<cons
     const std::size_t n = r.match.pairs.size();
     for (std::size_t i = 0; i < n; ++i) {
       const auto& p = r.match.pairs[i];
-      rows.push_back(
-          {p.cause_index, p.effect_index, p.cause_time, p.effect_time, p.flags | pair_flags(r.step_mark(p))});
+      rows.push_back({p.cause_index, p.effect_index, core::TimePoint::from_ns(r.match.clock, p.cause_ns),
+                      core::TimePoint::from_ns(r.match.clock, p.effect_ns), p.flags | pair_flags(r.step_mark(p))});
       const bool bounded = i < r.uncertainty.size() && r.uncertainty[i].bounded();
       max_error.push_back(bounded ? std::optional(r.uncertainty[i].max_error_ns) : std::nullopt);
       u.push_back(bounded ? std::optional(r.uncertainty[i].u_ns) : std::nullopt);

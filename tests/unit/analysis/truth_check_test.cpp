@@ -24,8 +24,8 @@ pairing::Pair found_pair(std::int64_t cause, std::int64_t effect, std::uint32_t 
   pairing::Pair p;
   p.cause_index = cause;
   p.effect_index = effect;
-  p.cause_time = core::TimePoint::from_ns(core::Clock::realtime, cause * 2'000'000'000);
-  p.effect_time = core::TimePoint::from_ns(core::Clock::realtime, effect * 2'000'000'000 + 800'000'000);
+  p.cause_ns = cause * 2'000'000'000;
+  p.effect_ns = effect * 2'000'000'000 + 800'000'000;
   p.flags = flags;
   return p;
 }

@@ -115,8 +115,7 @@ TEST(Uncertainty, ACorrectedEventCarriesItsStepsUncertainty) {
   o.kernel_u = o.path_u = core::Duration{0};
   ScenarioResult result;
   for (std::int64_t k = 0; k < 2; ++k)
-    result.match.pairs.push_back({k, k, core::TimePoint::from_ns(core::Clock::realtime, kT0 + k * kS),
-                                  core::TimePoint::from_ns(core::Clock::realtime, kT0 + k * kS + kS / 2), 0});
+    result.match.pairs.push_back({k, k, kT0 + k * kS, kT0 + k * kS + kS / 2, 0});
   result.steps.effect.mark = {StepMark::none, StepMark::corrected};
   result.steps.effect.bound_of = {0, 1};
   result.steps.effect.bounds = {{}, {1'200'000, 1'200'000}};
@@ -205,8 +204,8 @@ TEST(Uncertainty, GateRefuseLeavesSamplesOutOfTheStatistics) {
   for (std::int64_t i = 0; i < 3; ++i) {
     pairing::Pair p;
     p.cause_index = p.effect_index = i;
-    p.cause_time = core::TimePoint::from_ns(core::Clock::realtime, kT0 + i * 10 * kS);
-    p.effect_time = p.cause_time + core::Duration{(i + 1) * 100'000'000};
+    p.cause_ns = kT0 + i * 10 * kS;
+    p.effect_ns = p.cause_ns + (i + 1) * 100'000'000;
     r.match.pairs.push_back(p);
   }
   // The effect board loses synchronisation between the second and the third pair.
@@ -239,8 +238,8 @@ TEST(Uncertainty, TruthCheckCountsCoverageOverTheCorrectBoundedPairs) {
     pairing::Pair p;
     p.cause_index = i;
     p.effect_index = i == 4 ? 5 : i;  // pair 4 takes the wrong effect
-    p.cause_time = core::TimePoint::from_ns(core::Clock::realtime, kT0 + i * kS);
-    p.effect_time = p.cause_time + core::Duration{800'000'000};
+    p.cause_ns = kT0 + i * kS;
+    p.effect_ns = p.cause_ns + 800'000'000;
     r.match.pairs.push_back(p);
     truth.push_back(
         {i, i, i, core::Duration{800'000'000 - errors_us[i] * 1000}, core::Duration{800'000'000}});

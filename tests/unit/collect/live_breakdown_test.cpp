@@ -131,9 +131,9 @@ TEST(LiveBreakdown, PairsPastTheWindowKeepTheirJoin) {
   auto run = simulated(60, 0.0);
   const auto& pairs = run.result.match.pairs;
   ASSERT_GT(pairs.size(), 40u);
-  const auto newest = pairs.back().effect_time.ns();
+  const auto newest = pairs.back().effect_ns;
   // A window that leaves the first two thirds of the pairs behind.
-  const auto middle = pairs[pairs.size() * 2 / 3].effect_time.ns();
+  const auto middle = pairs[pairs.size() * 2 / 3].effect_ns;
   const core::Duration window(newest - middle);
   std::vector<markers::Marker> early, late;  // the first half's operator markers come late
   for (const auto& m : run.markers)

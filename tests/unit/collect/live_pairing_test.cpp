@@ -95,7 +95,7 @@ TEST(LivePairing, FinishedStoreEqualsOfflineStats) {
   // The newest pair and the strip chart's tail are the offline pairs'.
   ASSERT_TRUE(s.last.has_value());
   const auto& last = offline.match.pairs.back();
-  EXPECT_EQ(s.last->cause_ns, last.cause_time.ns());
+  EXPECT_EQ(s.last->cause_ns, last.cause_ns);
   EXPECT_EQ(s.last->latency_ns, last.latency().count());
   ASSERT_EQ(s.recent.size(), std::min<std::size_t>(offline.match.pairs.size(), 300));
   EXPECT_EQ(s.recent.back(), *s.last);

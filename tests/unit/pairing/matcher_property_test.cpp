@@ -164,8 +164,8 @@ TEST(MatcherProperty, EveryEdgeOnceWithItsInputIndexAndTime) {
     for (const auto& p : result.pairs) {
       ASSERT_LT(static_cast<std::size_t>(p.cause_index), c.size());
       ASSERT_LT(static_cast<std::size_t>(p.effect_index), e.size());
-      EXPECT_EQ(p.cause_time.ns(), c[static_cast<std::size_t>(p.cause_index)]);
-      EXPECT_EQ(p.effect_time.ns(), e[static_cast<std::size_t>(p.effect_index)]);
+      EXPECT_EQ(p.cause_ns, c[static_cast<std::size_t>(p.cause_index)]);
+      EXPECT_EQ(p.effect_ns, e[static_cast<std::size_t>(p.effect_index)]);
       ++seen_c[static_cast<std::size_t>(p.cause_index)];
       ++seen_e[static_cast<std::size_t>(p.effect_index)];
     }
