@@ -12,6 +12,11 @@ namespace m2mlat::analysis {
 
 namespace {
 
+// Whether result k's sessions are known: only when there is one per pair (pair_sessions.hpp).
+bool sessions_known(const PairSessions& sessions, std::size_t k, std::size_t pairs) {
+  return k < sessions.sessions.size() && sessions.sessions[k].size() == pairs;
+}
+
 // The pairs of every result, one scenario after another, as the rows of a pairs file: each row made
 // when the writer asks for its block, from the pair, its clock-step mark, its cause's session and its
 // uncertainty.
@@ -24,9 +29,7 @@ class ResultPairs final : public formats::PairSource {
     for (std::size_t k = 0; k < results.size(); ++k) {
       const std::size_t n = results[k].match.pairs.size();
       starts_.push_back(starts_.back() + n);
-      // A result's sessions count only when they are one per pair (pair_sessions.hpp).
-      const bool known = k < sessions.sessions.size() && sessions.sessions[k].size() == n;
-      sessions_.push_back(known ? std::span<const std::int64_t>(sessions.sessions[k])
+      sessions_.push_back(sessions_known(sessions, k, n) ? std::span<const std::int64_t>(sessions.sessions[k])
                                 : std::span<const std::int64_t>());
     }
   }
@@ -88,7 +91,7 @@ void write_pairs_file(const std::string& path, formats::Format format,
     const std::size_t n = r.match.pairs.size();
     groups.push_back({r.input.scenario, r.input.cause_ref, r.input.effect_ref, n});
     any_clock |= !r.uncertainty.empty();
-    any_session |= k < sessions.sessions.size() && sessions.sessions[k].size() == n;
+    any_session |= sessions_known(sessions, k, n);
   }
   formats::PairExportOptions options;
   if (!results.empty())
