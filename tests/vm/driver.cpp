@@ -13,19 +13,25 @@
 //   rusage OUT -- CMD ARGS...          runs CMD, passing SIGINT and SIGTERM on to it, and writes its CPU
 //                                     time and peak resident memory to OUT:
 //                                     "user_us=U sys_us=S status=X maxrss_kb=M"; exits with its status
-//   sample --file F --duration-ms D --log OUT
-//       reads a sysfs value file (an output line's sim_gpioK/value) as often as it can for D ms and
-//       logs each change of value with the CLOCK_REALTIME readings around the read that saw it
+//   sample --file F --duration-ms D --log OUT [--changes N] [--ready FILE]
+//       reads a sysfs value file (an output line's sim_gpioK/value) every 100 us for D ms, or until it
+//       has seen N changes, and logs each change of value with the CLOCK_REALTIME readings around the
+//       read that saw it
 //   verify-pulse --values LOG --events CSV --period-us P [--channel pulse]
 //       holds the commanded edges `m2mlat pulse` stored against the line changes sample saw: as many
 //       edges as changes, each edge's direction the change's, each commanded before it was seen, on
 //       consecutive multiples of the period, flagged commanded and without kernel seqno
-//   mirror --value F --sim DIR --delay-us D --duration-ms T [--log OUT]
+//   mirror --value F --sim DIR --delay-us D --duration-ms T [--log OUT] [--changes N] [--ready FILE]
 //       the camera, screen and phototransistor of a glass-to-glass test: reads an output line's
 //       sim_gpioK/value (the LED) every 100 us and, D us after it saw a change, sets line DIR's pull to
-//       the new value (an edge on the input `m2mlat record` captures). Logs each change with the
-//       CLOCK_REALTIME readings around the read that saw it and around the write that copied it, and
-//       prints the median delay the copies really had (lag_low_p50_us..lag_high_p50_us).
+//       the new value (an edge on the input `m2mlat record` captures), for T ms or until it has copied
+//       N changes. Logs each change with the CLOCK_REALTIME readings around the read that saw it and
+//       around the write that copied it, and prints the median delay the copies really had
+//       (lag_low_p50_us..lag_high_p50_us).
+//   For sample and mirror, --ready creates FILE after the first read, so that a test starts the line's
+//   driver only once it is watched, and --changes makes T a time-out rather than a window: under TCG on
+//   a slow host the watcher's own reads slow the program under test's start by seconds, more than any
+//   fixed window could allow for.
 //   toggle --sim DIR --count N [--period-us P] [--burst B --burst-gap-us G] [--log FILE] [--append]
 //          [--watch DEV:LINE --events FILE]
 //       N writes, each flipping the pull, P us apart (0: as fast as possible), optionally in bursts of
@@ -554,6 +560,21 @@ int cmd_verify(const std::map<std::string, std::string>& options) {
 
 // ---- sample and verify-pulse ----------------------------------------------------------------------
 
+// The watchers' --ready FILE: created (empty) once the first read is done.
+void say_ready(const std::map<std::string, std::string>& options) {
+  const auto ready = options.find("ready");
+  if (ready == options.end()) return;
+  std::FILE* file = std::fopen(ready->second.c_str(), "w");
+  if (file == nullptr) throw std::runtime_error("cannot write --ready file " + ready->second);
+  std::fclose(file);
+}
+
+// The watchers' --changes N: how many changes end the watch (0: only the time-out does).
+std::size_t wanted_changes(const std::map<std::string, std::string>& options) {
+  const auto changes = options.find("changes");
+  return changes == options.end() ? 0 : static_cast<std::size_t>(parse_int(changes->second, "--changes"));
+}
+
 int cmd_sample(const std::map<std::string, std::string>& options) {
   const std::string file = required(options, "file");
   const std::int64_t duration_ns = parse_int(required(options, "duration-ms"), "--duration-ms") * 1000000;
@@ -563,17 +584,18 @@ int cmd_sample(const std::map<std::string, std::string>& options) {
     std::int64_t before_ns, after_ns;
     char value;
   };
-  std::vector<Change> changes;
+  std::vector<Change> changes;  // the first row is the value found at the start
+  const std::size_t wanted = wanted_changes(options);
   char last = 0;
   std::size_t reads = 0;
   const std::int64_t end = clock_ns(CLOCK_MONOTONIC) + duration_ns;
-  while (clock_ns(CLOCK_MONOTONIC) < end) {
+  while (clock_ns(CLOCK_MONOTONIC) < end && (wanted == 0 || changes.size() <= wanted)) {
     char buffer[8] = {};
     const std::int64_t before = clock_ns(CLOCK_REALTIME);
     const ssize_t n = pread(fd, buffer, sizeof buffer - 1, 0);
     const std::int64_t after = clock_ns(CLOCK_REALTIME);
     if (n <= 0) throw std::runtime_error("read " + file + ": " + std::strerror(errno));
-    ++reads;
+    if (reads++ == 0) say_ready(options);
     if (buffer[0] != last) changes.push_back({before, after, buffer[0]});
     last = buffer[0];
     // 100 us between reads: far finer than any pulse period, and it leaves the (single) CPU to the
@@ -611,9 +633,11 @@ int cmd_mirror(const std::map<std::string, std::string>& options) {
   };
   std::vector<Copy> copies;
   std::size_t next = 0;  // the first copy not yet written
+  const std::size_t wanted = wanted_changes(options);
   char last = 0;
   const std::int64_t end = clock_ns(CLOCK_MONOTONIC) + duration_ns;
-  while (clock_ns(CLOCK_MONOTONIC) < end || next < copies.size()) {
+  const auto watching = [&] { return clock_ns(CLOCK_MONOTONIC) < end && (wanted == 0 || copies.size() < wanted); };
+  while (watching() || next < copies.size()) {
     for (; next < copies.size() && clock_ns(CLOCK_MONOTONIC) >= copies[next].due_mono; ++next) {
       auto& c = copies[next];
       const char* word = c.value == '1' ? "pull-up" : "pull-down";
@@ -622,14 +646,17 @@ int cmd_mirror(const std::map<std::string, std::string>& options) {
         throw std::runtime_error("write " + pull + ": " + std::strerror(errno));
       c.written_after = clock_ns(CLOCK_REALTIME);
     }
-    char buffer[8] = {};
-    const std::int64_t before = clock_ns(CLOCK_REALTIME);
-    const ssize_t n = pread(fd, buffer, sizeof buffer - 1, 0);
-    const std::int64_t after = clock_ns(CLOCK_REALTIME);
-    if (n <= 0) throw std::runtime_error("read " + file + ": " + std::strerror(errno));
-    if (last != 0 && buffer[0] != last)
-      copies.push_back({clock_ns(CLOCK_MONOTONIC) + delay_ns, before, after, 0, 0, buffer[0]});
-    last = buffer[0];
+    if (watching()) {  // else only the copies still due are left to write
+      char buffer[8] = {};
+      const std::int64_t before = clock_ns(CLOCK_REALTIME);
+      const ssize_t n = pread(fd, buffer, sizeof buffer - 1, 0);
+      const std::int64_t after = clock_ns(CLOCK_REALTIME);
+      if (n <= 0) throw std::runtime_error("read " + file + ": " + std::strerror(errno));
+      if (last == 0) say_ready(options);
+      if (last != 0 && buffer[0] != last)
+        copies.push_back({clock_ns(CLOCK_MONOTONIC) + delay_ns, before, after, 0, 0, buffer[0]});
+      last = buffer[0];
+    }
     const timespec pause{0, 100 * kNsPerUs};
     nanosleep(&pause, nullptr);
   }

@@ -108,10 +108,6 @@ int run_led(const LedCommand& c) {
     spec.bias = capture::parse_bias(c.bias);
     trigger = capture::edge_trigger(*devices, spec, c.node.empty() ? std::string("led") : c.node);
   }
-  const auto what = fmt::format("led: {}; {}", led.describe(),
-                                trigger ? trigger->describe() : std::string("on a schedule"));
-  if (!c.quiet) fmt::print(stderr, "m2mlat: {}\n", what);
-
   std::optional<store::Store> store;
   std::unique_ptr<store::EventWriter> writer;
   std::int64_t session_id = 0;
@@ -151,6 +147,11 @@ int run_led(const LedCommand& c) {
       fmt::print(stderr, "m2mlat: {}\n", outcome.message);
   }
 
+  // Said once the store is open and the session begun: from here on an edge or command is answered
+  // (a script may wait for this line before it triggers).
+  if (!c.quiet)
+    fmt::print(stderr, "m2mlat: led: {}; {}\n", led.describe(),
+               trigger ? trigger->describe() : std::string("on a schedule"));
   BoundTally bound;
   const auto on_edge = [&](const capture::PulseEdge& edge) {
     bound.add(edge);

@@ -54,6 +54,19 @@ make_chip() {
 # the shell waits for it, and kill -0 would still find it).
 running() { [ -r "/proc/$1/stat" ] && [ "$(cut -d' ' -f3 "/proc/$1/stat" 2>/dev/null)" != Z ]; }
 
+# wait_ready SECONDS CMD...: polls CMD every 0.05 s until it succeeds (0) or SECONDS pass (1). For what
+# a helper says once it is watching or listening: under TCG on a slow host, starting a process and
+# opening a store take longer than any fixed sleep a test could afford.
+wait_ready() {
+  local left=$(($1 * 20))
+  shift
+  until "$@"; do
+    [ $left -gt 0 ] || return 1
+    sleep 0.05
+    left=$((left - 1))
+  done
+}
+
 # wait_exit PID SECONDS: waits for a background process and returns its exit status; if it outlives
 # SECONDS it is killed (TERM, then KILL) and the status is 124, whatever it exited with.
 wait_exit() {
@@ -401,9 +414,11 @@ t_pulse() {
   "$M2MLAT" help 2>/dev/null | awk '$1 == "pulse" { found = 1 } END { exit !found }' ||
     { info "skipped: this m2mlat has no 'pulse' subcommand"; return 77; }
   local n=20 period_us=50000 rc sampler
-  "$DRIVER" sample --file "$SIM/sim_gpio2/value" --duration-ms 4000 --log pulse.values >pulse.sample &
+  rm -f pulse.ready
+  "$DRIVER" sample --file "$SIM/sim_gpio2/value" --changes $n --duration-ms 30000 --log pulse.values \
+    --ready pulse.ready >pulse.sample &
   sampler=$!
-  sleep 0.2
+  wait_ready 10 test -e pulse.ready || { info "the sampler did not start"; kill $sampler; return 1; }
   "$M2MLAT" pulse --chip "$CHIP" --line 2 --period 50ms --count $n --store pulse.db --node guest \
     --json --quiet >pulse.json 2>pulse.err
   rc=$?
@@ -441,9 +456,11 @@ t_g2g() {
   rec=$!
   "$DRIVER" wait-used "/dev/$CHIP" 4 20000 >/dev/null || { show g2g-record.err; return 1; }
   sleep 0.3
+  rm -f g2g.mirror.ready
   "$DRIVER" mirror --value "$SIM/sim_gpio3/value" --sim "$SIM/sim_gpio4" --delay-us "$G2G_DELAY_US" \
-    --duration-ms 3000 --log g2g.mirror >g2g.mirror.out 2>&1 &
+    --changes $((2 * n)) --duration-ms 30000 --log g2g.mirror --ready g2g.mirror.ready >g2g.mirror.out 2>&1 &
   mirror=$!
+  wait_ready 10 test -e g2g.mirror.ready || { info "the mirror did not start"; rc=1; }
   "$M2MLAT" led --chip "$CHIP" --line 3 --period 100ms --on-for 40ms --count $n --store g2g.db \
     --events g2g-led.csv --node guest --scenario g2g --json --quiet >g2g-led.json 2>g2g-led.err ||
     { info "led failed"; rc=1; }
@@ -494,15 +511,17 @@ t_g2g_onset() {
     --edges both --json --quiet >onset-record.json 2>onset-record.err &
   rec=$!
   "$DRIVER" wait-used "/dev/$CHIP" 4 20000 >/dev/null || { show onset-record.err; return 1; }
+  # Without --quiet: its "m2mlat: led:" line on stderr says it answers edges (store open, session begun).
   "$M2MLAT" led --chip "$CHIP" --line 3 --on-edge "wheel=$CHIP:0" --on-for 30ms --store onset.db \
-    --node guest --scenario g2g --json --quiet >onset-led.json 2>onset-led.err &
+    --node guest --scenario g2g --json >onset-led.json 2>onset-led.err &
   led=$!
-  "$DRIVER" wait-used "/dev/$CHIP" 0 20000 >/dev/null || { show onset-led.err; kill -INT $rec; return 1; }
-  sleep 0.3
+  wait_ready 20 grep -q '^m2mlat: led:' onset-led.err || { show onset-led.err; kill -INT $led $rec; return 1; }
+  rm -f onset.mirror.ready
   "$DRIVER" mirror --value "$SIM/sim_gpio3/value" --sim "$SIM/sim_gpio4" --delay-us "$G2G_DELAY_US" \
-    --duration-ms 2200 --log onset.mirror >onset.mirror.out 2>&1 &
+    --changes $((2 * n)) --duration-ms 30000 --log onset.mirror --ready onset.mirror.ready \
+    >onset.mirror.out 2>&1 &
   mirror=$!
-  sleep 0.2
+  wait_ready 10 test -e onset.mirror.ready || { info "the mirror did not start"; rc=1; }
   # 2n flips of line 0's pull, 100 ms apart, from pull-down: n rising and n falling edges.
   "$DRIVER" toggle --sim "$SIM/sim_gpio0" --count $((2 * n)) --period-us 100000 >onset.toggle || rc=1
   wait $mirror || { info "mirror failed"; rc=1; }
