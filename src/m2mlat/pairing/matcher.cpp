@@ -357,12 +357,20 @@ class SweepStretch {
 
   // The band from the consecutive pairs of an alignment (matched effect per cause, or kNone).
   void fit(const std::vector<std::uint32_t>& matched) {
+    // Walked twice, to count and to collect: grown by doubling, the list was up to 16 bytes a pair at
+    // a peak of `m2mlat stats`.
+    const auto for_each_stretch = [&](auto&& take) {
+      for (std::size_t i = 1; i < matched.size(); ++i)
+        if (matched[i] != kNone && matched[i - 1] != kNone && matched[i - 1] + 1 == matched[i]) {
+          const std::int64_t s = stretch(i, matched[i]);
+          if (s >= kQueueDrainStretch) take(s);
+        }
+    };
+    std::size_t count = 0;
+    for_each_stretch([&](std::int64_t) { ++count; });
     std::vector<std::int64_t> stretches;
-    for (std::size_t i = 1; i < matched.size(); ++i)
-      if (matched[i] != kNone && matched[i - 1] != kNone && matched[i - 1] + 1 == matched[i]) {
-        const std::int64_t s = stretch(i, matched[i]);
-        if (s >= kQueueDrainStretch) stretches.push_back(s);
-      }
+    stretches.reserve(count);
+    for_each_stretch([&](std::int64_t s) { stretches.push_back(s); });
     low_ = 1, high_ = 0;  // no band
     low_reach_ = reach(low_), high_reach_ = reach(high_ + 1);
     if (stretches.size() < 2) return;
@@ -711,6 +719,12 @@ std::vector<std::uint32_t> uncertain_pairs(const Sides& sides, const std::vector
   const std::int64_t min_ns = sides.min_ns, max_ns = sides.max_ns;
   std::vector<std::uint32_t> flags(matched.size(), 0);
   std::vector<std::uint32_t> pc, pe;  // the pairs in order: cause and effect indices
+  // Reserved to the pair count: grown by doubling, the two were up to 8 bytes a pair more at a peak of
+  // `m2mlat stats`.
+  const auto pair_count = static_cast<std::size_t>(
+      std::count_if(matched.begin(), matched.end(), [](std::uint32_t j) { return j != kNone; }));
+  pc.reserve(pair_count);
+  pe.reserve(pair_count);
   for (std::size_t i = 0; i < matched.size(); ++i)
     if (matched[i] != kNone) pc.push_back(static_cast<std::uint32_t>(i)), pe.push_back(matched[i]);
   const std::size_t n = pc.size();
@@ -955,16 +969,21 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
     return PassRow{reference.median[i], reference.acceptance[i], tolerance, 2, 1, sweep.link(i)};
   });
   sweep.fit(matched);
+  // Pass 1's reference goes before pass 2's is built: the two at once (16 bytes a cause each) made
+  // one of the plateaus of `m2mlat stats` as high as its peak.
+  reference = LocalReference();
   reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
   // Pass 3: a pair far from the typical latency that an unmatched edge could replace counts nothing
   // (only its worth), so that such pairs never displace a typical one: a lost edge and a spurious one
   // must not push a true pair out.
   {
-    const auto doubtful = uncertain_pairs(sides, matched, reference, tolerance);
     std::vector<bool> demoted(matched.size(), false);
-    for (std::size_t i = 0; i < matched.size(); ++i)
-      demoted[i] = matched[i] != kNone && (doubtful[i] & kPairCompeting) != 0 &&
-                   beyond_acceptance(reference, i, effects.ns[matched[i]] - causes.ns[i]);
+    {  // the flags (4 bytes a cause) go before the pass
+      const auto doubtful = uncertain_pairs(sides, matched, reference, tolerance);
+      for (std::size_t i = 0; i < matched.size(); ++i)
+        demoted[i] = matched[i] != kNone && (doubtful[i] & kPairCompeting) != 0 &&
+                     beyond_acceptance(reference, i, effects.ns[matched[i]] - causes.ns[i]);
+    }
     matched = align_pass(sides, counted, chains, [&](std::size_t i) {
       return PassRow{reference.median[i], reference.acceptance[i], tolerance, 2, demoted[i] ? 0u : 1u,
                      sweep.link(i)};
@@ -1004,8 +1023,8 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
     };
     for (; bounce < bounces.size() && bounces[bounce] < below; ++bounce)
       result.unmatched.push_back(
-          Unmatched{side, bounces[bounce], time_of(bounces[bounce]), UnmatchedReason::bounce});
-    if (below != kAllBounces) result.unmatched.push_back(Unmatched{side, below, time_of(below), reason});
+          Unmatched{bounces[bounce], time_of(bounces[bounce]), side, UnmatchedReason::bounce});
+    if (below != kAllBounces) result.unmatched.push_back(Unmatched{below, time_of(below), side, reason});
   };
   {
     KeptIndex cause_index(causes.bounces);
