@@ -691,10 +691,12 @@ t_packets_netem() {
   "$M2MLAT" packets snd.pcap --peer rcv.pcap --filter "$filter" --key json:id --sender-ms stamp --csv -o oneway.csv \
     2>oneway.err || { info "m2mlat packets on the two files failed"; show oneway.err; return 1; }
   # awk holds numbers as doubles, exact to 2^53 only: CLOCK_REALTIME in ns (about 1.8e18) is
-  # subtracted on its last 13 digits (10^4 s), with the wrap of that window undone.
+  # subtracted on its last 13 digits (10^4 s), with the wrap of that window undone. Each behind a
+  # "1": busybox awk reads a number with a leading 0 as octal, so in the first 1000 s of every 10^4
+  # ("0552...") the digits were misread and the test failed.
   awk -v expected=$((NETEM_DELAY_MS * 1000000)) '
     function diff(a, b,  d) {
-      d = substr(a, length(a) - 12) - substr(b, length(b) - 12)
+      d = ("1" substr(a, length(a) - 12)) - ("1" substr(b, length(b) - 12))
       return d < -5e12 ? d + 1e13 : d > 5e12 ? d - 1e13 : d
     }
     function note(p, name, x) {
