@@ -663,13 +663,13 @@ t_packets_netem() {
     pids="$pids $!"
   done
   for side in snd rcv; do
-    for m in $(seq 200); do grep -q "capturing on" "$side.err" 2>/dev/null && break; sleep 0.05; done
+    wait_ready 10 grep -q "capturing on" "$side.err" 2>/dev/null  # judged on the next line
     grep -q "capturing on .* (timestamps: host)" "$side.err" || { info "$side capture did not start"; show "$side.err"; rc=1; }
   done
   [ $rc = 0 ] || { kill $pids; return 1; }
   $ip netns exec $rcv "$TRAFFIC" recv 10.201.2.2 7000 7001 >recv.log 2>recv.err &
   local receiver=$!
-  for m in $(seq 200); do grep -q ready recv.err 2>/dev/null && break; sleep 0.05; done
+  wait_ready 10 grep -q ready recv.err 2>/dev/null  # a receiver that never got ready fails the sender
   $ip netns exec $snd "$TRAFFIC" send 10.201.2.2 7000 7001 100 >send.log 2>send.err ||
     { info "the sender failed"; show send.err; rc=1; }
   wait_exit $receiver 20 || { info "the receiver failed"; show recv.err; rc=1; }
