@@ -136,12 +136,23 @@ KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::
     const std::size_t lo = std::max({segment, last_step, i >= w ? i - w : std::size_t{0}});
     std::size_t hi = i;
     while (hi < n && hi - i < w && (hi == i || mono(hi) >= mono(hi - 1))) ++hi;
+    // Kept by the lines on both sides: most lines after the jump lie on the far side of the midpoint
+    // between the two lines, and most lines before it on the near side. One late printk (one low d)
+    // is kept by one side only. The jump itself already exceeds what slewing can do between its two
+    // lines, so this only tells a level that stays from one that comes back. (The rule before: the
+    // windows' medians had to differ by more than the slewing over both windows, 500 ppm over ~8
+    // gaps: where the lines are seconds apart that hid steps of up to ~10 ms.)
+    const std::int64_t way = d_at(i) > d_at(i - 1) ? 1 : -1;
+    const std::int64_t mid2 = d_at(i - 1) + d_at(i);  // twice the midpoint, ns
+    std::size_t after_kept = 0, before_kept = 0;
+    for (std::size_t k = i; k < hi; ++k) after_kept += way * (2 * d_at(k) - mid2) > 0;
+    for (std::size_t k = lo; k < i; ++k) before_kept += way * (mid2 - 2 * d_at(k)) > 0;
+    if (2 * after_kept <= hi - i || 2 * before_kept <= i - lo) continue;  // one late printk
     std::vector<std::int64_t> before, after;
     for (std::size_t k = lo; k < i; ++k) before.push_back(d_at(k));
     for (std::size_t k = i; k < hi; ++k) after.push_back(d_at(k));
     const std::int64_t size = log_median(after) - log_median(before);
     const std::int64_t span = mono(hi - 1) - mono(lo);
-    if (std::llabs(size) <= threshold + log_slew(options.slew_ppm, span)) continue;  // one late printk
     const auto [bmin, bmax] = std::minmax_element(before.begin(), before.end());
     const auto [amin, amax] = std::minmax_element(after.begin(), after.end());
     // A jump within `window` lines of the last step, the same way, continues it: a clock slewed

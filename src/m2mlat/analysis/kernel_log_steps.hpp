@@ -9,9 +9,11 @@
 //
 // The jitter J is measured from the lines themselves: the median of |d[i] - d[i-1]| over the log.
 // A step is a jump of more than max(threshold, 8 J) + slew_ppm * (time between the lines), confirmed
-// by the medians of up to `window` lines on each side. Its size is the difference of those two
-// medians; the size's bound is the spread (max - min of d) of both windows plus slew_ppm over the
-// time between the windows' first and last lines, its standard uncertainty 1.5 J (one line's d has a
+// by up to `window` lines on each side: most lines after it on the far side of the midpoint between
+// its two lines, most lines before it on the near side (a late printk's single low d comes back).
+// Its size is the difference of the two windows' medians; the size's bound is the
+// spread (max - min of d) of both windows plus slew_ppm over the time between the windows' first and
+// last lines, its standard uncertainty 1.5 J (one line's d has a
 // standard deviation of about J / 0.95 for a normal jitter; a difference of two is sqrt(2) that).
 // The step lies between the two lines: the first line after it is the first stamp surely after it.
 // Jumps the same way within `window` lines of each other are one step (a clock slewed faster than

@@ -53,6 +53,19 @@ TEST(KernelLogSteps, AStepBackIsFoundToo) {
   EXPECT_LT(std::llabs(*steps[0].size_ns + 40 * kMs), 200'000);
 }
 
+// Steps of a few ms where the lines are seconds apart: the two windows span ~9 s, over which the
+// kernel may slew 4.5 ms, but no single line pair can move 3 ms (once hidden below that allowance).
+TEST(KernelLogSteps, AStepOfAFewMsBetweenLinesSecondsApartIsFound) {
+  for (const std::int64_t size : {3 * kMs, -3 * kMs, 8 * kMs, -8 * kMs}) {
+    const auto log = make_log(40, size, 20);
+    const auto steps = kernel_log_steps(log.realtime_ns, log.log_time_us);
+    ASSERT_EQ(steps.size(), 1u) << size;
+    EXPECT_EQ(steps[0].at_ns, log.realtime_ns[20]);
+    EXPECT_LE(std::llabs(*steps[0].size_ns - size), steps[0].size_max_ns);
+    EXPECT_LT(std::llabs(*steps[0].size_ns - size), 200'000);
+  }
+}
+
 TEST(KernelLogSteps, SlewingAndOneLatePrintkAreNoStep) {
   // 450 ppm is within the kernel's slewing: 0.6 ms between lines 1.3 s apart, 23 ms over the log.
   EXPECT_TRUE(kernel_log_steps(make_log(40, 0, 0, 450).realtime_ns, make_log(40, 0, 0, 450).log_time_us).empty());
