@@ -43,6 +43,10 @@ for r in rows:
     if t not in truth and t + cause_step in truth:
         t += cause_step
     if t not in truth:
+        # A step measured from a kernel log's stamps is known to ~0.1 ms: its corrected stamps lie that near.
+        near = [k for k in truth if min(abs(k - t), abs(k - t - cause_step)) < 1_000_000]
+        t = near[0] if near else t
+    if t not in truth:
         sys.exit(f"unflagged pair with no true partner: cause {t}")
     err = int(r['latency_ns']) - truth[t]
     if abs(err) > 5_000_000:
@@ -98,6 +102,13 @@ for step in 40ms -40ms; do
     counts=$(check_pairs pairs.csv "op$step/operator.csv" "op$step/truth.csv" 40 "$step_ns") ||
       fail "operator stepped $step ($input): $counts"
   done
+  # The same rig's kernel logs carry no daemon offsets: the vehicle's log shows it slewing onto the
+  # operator's step (its realtime - printk stamps move by the step over 80 s) and takes it over.
+  "$M2MLAT" simulate "${SIM[@]}" --set sync=co_referenced --set cause_clock.step_at=97s \
+    --set cause_clock.step=$step --format kernel-log --out-dir "opk$step" >/dev/null
+  "$M2MLAT" pair --cause-file "opk$step/operator.log" --effect-file "opk$step/vehicle.log" --out pairs.csv >/dev/null
+  counts=$(check_pairs pairs.csv "opk$step/operator.log" "opk$step/truth.csv" 20 "$step_ns") ||
+    fail "operator stepped $step (kernel logs): $counts"
 done
 
 # Imported into a store: a kernel log's steps and an events file's clock records go with the

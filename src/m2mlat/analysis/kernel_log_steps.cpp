@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
+
+#include "m2mlat/core/saturating.hpp"
 
 namespace m2mlat::analysis {
 
@@ -21,6 +24,26 @@ std::int64_t log_median(std::vector<std::int64_t> v) {
 
 std::int64_t log_slew(double ppm, std::int64_t span_ns) {
   return static_cast<std::int64_t>(std::ceil(ppm * 1e-6 * static_cast<double>(std::llabs(span_ns))));
+}
+
+// |d[i] - d[i-1]| at most 2^16 line pairs spread over the log (a median needs no more), the later
+// line of each, and their median: the jitter J.
+struct Jumps {
+  std::vector<std::int64_t> jumps;
+  std::vector<std::size_t> lines;
+  std::int64_t jitter = 0;
+};
+Jumps sample_jumps(std::span<const std::int64_t> realtime_ns, std::span<const std::int64_t> log_time_us,
+                   std::size_t n) {
+  Jumps out;
+  const std::size_t stride = std::max<std::size_t>(1, (n - 1) >> 16);
+  for (std::size_t i = 1; i < n; i += stride)
+    if (log_time_us[i] >= log_time_us[i - 1]) {
+      out.jumps.push_back(std::llabs((realtime_ns[i] - log_time_us[i] * 1000) - (realtime_ns[i - 1] - log_time_us[i - 1] * 1000)));
+      out.lines.push_back(i);
+    }
+  if (!out.jumps.empty()) out.jitter = log_median(out.jumps);
+  return out;
 }
 
 // The slewing among `steps` (rules in kernel_log_steps.hpp); step_mono: each step's last line's
@@ -90,21 +113,11 @@ KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::
   // Computed per line, not stored: a log of 10^7 lines costs no further columns.
   const auto mono = [&](std::size_t i) { return log_time_us[i] * 1000; };
   const auto d_at = [&](std::size_t i) { return realtime_ns[i] - mono(i); };
-  // The jitter from at most 2^16 line pairs spread over the log (a median needs no more).
-  const std::size_t stride = std::max<std::size_t>(1, (n - 1) >> 16);
-  std::vector<std::int64_t> jumps;
-  std::vector<std::size_t> lines;  // the later line of each jump
-  for (std::size_t i = 1; i < n; i += stride)
-    if (mono(i) >= mono(i - 1)) {
-      jumps.push_back(std::llabs(d_at(i) - d_at(i - 1)));
-      lines.push_back(i);
-    }
+  const auto sampled = sample_jumps(realtime_ns, log_time_us, n);
+  const auto& jumps = sampled.jumps;
+  const auto& lines = sampled.lines;
+  const std::int64_t jitter = sampled.jitter;
   if (jumps.empty()) return out;
-  std::int64_t jitter = 0;
-  {
-    auto copy = jumps;
-    jitter = log_median(std::move(copy));
-  }
   // Stamps that do not follow the realtime ones (written by a script, lines of another clock) are no
   // clock to compare with: a typical jump beyond the smallest step, or jumps beyond what slewing
   // allows at more than one line pair in 4, and nothing is said.
@@ -189,6 +202,82 @@ KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::
     last_step = i;
   }
   drop_fast_slewing(out, step_mono, options);
+  return out;
+}
+
+std::vector<store::ClockStep> kernel_log_followed(std::span<const store::ClockStep> other_steps,
+                                                  std::span<const store::ClockStep> own_steps,
+                                                  std::span<const std::int64_t> realtime_ns,
+                                                  std::span<const std::int64_t> log_time_us,
+                                                  const KernelLogStepOptions& options) {
+  std::vector<store::ClockStep> out;
+  const std::size_t n = std::min(realtime_ns.size(), log_time_us.size());
+  if (n < 2 || other_steps.empty()) return out;
+  const auto mono = [&](std::size_t i) { return log_time_us[i] * 1000; };
+  const auto d_at = [&](std::size_t i) { return realtime_ns[i] - mono(i); };
+  const std::int64_t jitter = sample_jumps(realtime_ns, log_time_us, n).jitter;
+  if (jitter > options.threshold_ns) return out;  // no clock to compare with (kernel_log_clock)
+  const std::int64_t threshold = std::max(options.threshold_ns, 8 * jitter);
+  const std::size_t w = 2 * std::max<std::size_t>(options.window, 1);
+  for (const auto& step : other_steps) {
+    if (!step.size_ns || std::llabs(*step.size_ns) <= threshold) continue;
+    const std::int64_t size = *step.size_ns;
+    const std::int64_t magnitude = std::llabs(size);
+    const std::int64_t way = size > 0 ? 1 : -1;
+    // The first line stamped at or after the step (the log is in time order but where this board
+    // stepped itself: a binary search may land a line off there, which only shifts the window).
+    const auto first = static_cast<std::size_t>(
+        std::lower_bound(realtime_ns.begin(), realtime_ns.begin() + static_cast<std::ptrdiff_t>(n), step.earliest_ns) -
+        realtime_ns.begin());
+    if (first < 2 || first >= n) continue;
+    std::vector<std::int64_t> before;
+    for (std::size_t k = first >= w ? first - w : 0; k < first; ++k)
+      if (k == 0 || mono(k) >= mono(k - 1)) before.push_back(d_at(k));
+    const std::int64_t d0 = log_median(before);
+    // Followed: d moved its way, by slewing only, beyond half the step or beyond the threshold plus
+    // half the slewing bound over the time since (a daemon slewing the step away runs at the bound; a
+    // crystal's drift, tens of ppm, never gets there), at two lines in a row (not one late printk).
+    const std::int64_t horizon_ns = 64'000'000'000 + 2 * static_cast<std::int64_t>(std::ceil(
+                                                              static_cast<double>(magnitude) * 1e6 / options.slew_ppm));
+    const auto beyond = [&](std::size_t k) {
+      const std::int64_t needed = std::min(magnitude / 2, threshold + log_slew(options.slew_ppm / 2, mono(k) - mono(first)));
+      return way * (d_at(k) - d0) > needed;
+    };
+    // This board's own step in that time: its own correction says what it did (a step, not a slew).
+    const bool stepped_too = std::any_of(own_steps.begin(), own_steps.end(), [&](const store::ClockStep& own) {
+      return own.at_ns >= realtime_ns[first - 1] && own.earliest_ns <= realtime_ns[first] + horizon_ns;
+    });
+    if (stepped_too) continue;
+    std::size_t moved = n;
+    for (std::size_t k = first; k < n && mono(k) - mono(first) <= horizon_ns; ++k) {
+      if (mono(k) < mono(k - 1)) break;  // a reboot
+      if (k > first && beyond(k) && beyond(k - 1)) {
+        moved = k;
+        break;
+      }
+    }
+    if (moved == n) continue;
+    store::ClockStep follow;
+    follow.origin = "followed";
+    follow.size_ns = size;
+    follow.earliest_ns = step.earliest_ns;
+    // Back in step: two lines in a row (or the last) within `close` of the old level plus the step.
+    const std::int64_t close = std::max({magnitude / 16, 4 * jitter, options.threshold_ns});
+    const auto left = [&](std::size_t k) { return k == n ? 0 : std::llabs(d_at(k) - d0 - size); };
+    std::size_t back = moved;
+    while (back < n && !(left(back) <= close && left(back + 1) <= close)) ++back;
+    if (back == n) {
+      follow.at_ns = std::numeric_limits<std::int64_t>::max() / 2;  // never back in step: flagged to the end
+    } else {
+      // As followed_steps: stamps in [earliest, at - size) are mid-slew (flagged), the rest corrected.
+      follow.at_ns = realtime_ns[back] + size;
+      const std::int64_t rest = std::max(left(back), left(back + 1));
+      follow.size_max_ns = core::saturating_add(step.size_max_ns, 2 * rest);
+      const auto est = static_cast<double>(step.size_est_ns == store::kUnknownSize ? 0 : step.size_est_ns);
+      follow.size_est_ns = std::llround(std::sqrt(est * est + static_cast<double>(rest) * static_cast<double>(rest)));
+    }
+    out.push_back(follow);
+  }
   return out;
 }
 

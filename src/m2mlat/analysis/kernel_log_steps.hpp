@@ -70,4 +70,25 @@ std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> rea
                                                std::span<const std::int64_t> log_time_us,
                                                const KernelLogStepOptions& options = {});
 
+// The other board's steps this board took over, seen in this board's kernel log (the kernel-log
+// counterpart of clock_steps.hpp's followed_steps, which reads a daemon's offsets). In a co-referenced
+// rig the vehicle's daemon follows the operator's clock: after the operator's step of size S it
+// slews onto the new timescale, which this log shows as d = realtime - printk moving by S over
+// |S| / 500 ppm (80 s for 40 ms) with no jump beyond the slewing bound. Left alone, the operator's
+// events were corrected by S and the vehicle's not: every later latency off by S, unflagged.
+// A step of the other board of known size S (|S| above this log's step threshold) is followed when,
+// within 64 s (a daemon's poll) plus twice |S| / slew_ppm after it, d has moved its way from its
+// median over the `2 * window` lines before by more than |S| / 2, or than the threshold plus
+// slew_ppm / 2 over the time since the step (the follower slews at the bound; a crystal's drift stays
+// far below it), at two lines in a row (one late printk is no follow), and this board has no step of
+// its own (`own_steps`, kernel_log_clock's) in that time.
+// Its stamps from the step until d is back within max(|S| / 16, 4 J, threshold) of that median plus S
+// (two lines in a row, or the last) are flagged; from there on they are corrected by S, the bound
+// the step's plus twice what was left. Never back: flagged to the end. origin "followed".
+std::vector<store::ClockStep> kernel_log_followed(std::span<const store::ClockStep> other_steps,
+                                                  std::span<const store::ClockStep> own_steps,
+                                                  std::span<const std::int64_t> realtime_ns,
+                                                  std::span<const std::int64_t> log_time_us,
+                                                  const KernelLogStepOptions& options = {});
+
 }  // namespace m2mlat::analysis

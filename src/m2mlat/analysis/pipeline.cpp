@@ -25,22 +25,42 @@ namespace m2mlat::analysis {
 
 namespace {
 
+// A board's kernel log: its two stamps per line and the steps they show, kept until the other
+// board's steps are known (kernel_log_followed).
+struct LogClock {
+  std::vector<std::int64_t> realtime_ns, log_time_us;
+  std::vector<store::ClockStep> steps;
+};
+
 // The clock state a data file carries: its clock records (m2mlat's events files) and the steps its
-// kernel-log lines show (kernel_log_steps.hpp), the latter on `node` (the node its events are on).
-void add_file_clock(BoardRecord& record, const formats::ImportedFile& file, const std::string& node) {
+// kernel-log lines show (kernel_log_steps.hpp), the latter on `node` (the node its events are on);
+// returns the kernel log's stamps (empty without).
+LogClock add_file_clock(BoardRecord& record, const formats::ImportedFile& file, const std::string& node) {
+  LogClock log;
   const auto* events = std::get_if<formats::EventImport>(&file.content);
-  if (events == nullptr) return;
+  if (events == nullptr) return log;
   for (const auto& r : events->clock_records) record.samples[r.node].push_back(to_clock_sample(r));
-  if (events->kernel_records.empty()) return;
-  std::vector<std::int64_t> realtime, monotonic;
   for (const auto& k : events->kernel_records) {
-    if (!k.log_time_us) return;  // lines without the log's own stamp: nothing to compare
-    realtime.push_back(k.time_ns);
-    monotonic.push_back(*k.log_time_us);
+    if (!k.log_time_us) return {};  // lines without the log's own stamp: nothing to compare
+    log.realtime_ns.push_back(k.time_ns);
+    log.log_time_us.push_back(*k.log_time_us);
   }
-  const auto clock = kernel_log_clock(realtime, monotonic);
+  if (log.realtime_ns.empty()) return log;
+  const auto clock = kernel_log_clock(log.realtime_ns, log.log_time_us);
   for (const auto& step : clock.steps) record.samples[node].push_back(store::step_clock_sample(step));
   if (clock.fast_slew_places != 0) record.fast_slewing[node] = {clock.fast_slew_places, clock.hidden_below_ns};
+  log.steps = clock.steps;
+  return log;
+}
+
+// Each board's kernel log against the other board's steps: a board that took the other's step over
+// (a co-referenced rig's follower, kernel_log_followed) gets it as a step of its own.
+void add_followed(BoardRecord& record, const std::string& cause_node, const LogClock& cause,
+                  const std::string& effect_node, const LogClock& effect) {
+  for (const auto& f : kernel_log_followed(effect.steps, cause.steps, cause.realtime_ns, cause.log_time_us))
+    record.samples[cause_node].push_back(store::step_clock_sample(f));
+  for (const auto& f : kernel_log_followed(cause.steps, effect.steps, effect.realtime_ns, effect.log_time_us))
+    record.samples[effect_node].push_back(store::step_clock_sample(f));
 }
 
 // Pairs and summarises `input` after its boards' clock steps (clock_steps.hpp), then attaches what
@@ -104,6 +124,7 @@ struct LeanSide {
   SideInput side;
   std::vector<store::ClockSample> steps;  // the kernel log's clock steps (kernel_log_steps.hpp)
   std::pair<std::size_t, std::int64_t> fast_slewing{0, 0};  // KernelLogClock's places, hidden_below_ns
+  LogClock log;  // the log's printk stamps and its steps (its realtime stamps are side.t_ns)
 };
 std::optional<LeanSide> lean_side(const std::string& path, std::optional<formats::Format> format,
                                   const std::string& node, const std::optional<core::ChannelRef>& want) {
@@ -119,6 +140,8 @@ std::optional<LeanSide> lean_side(const std::string& path, std::optional<formats
   const auto clock = kernel_log_clock(only.ns, only.log_time_us);
   for (const auto& step : clock.steps) lean.steps.push_back(store::step_clock_sample(step));
   lean.fast_slewing = {clock.fast_slew_places, clock.hidden_below_ns};
+  lean.log.steps = clock.steps;
+  lean.log.log_time_us = std::move(only.log_time_us);
   lean.side = SideInput{{node, numeric ? "gpio" + only.label : only.label}, std::move(only.ns)};
   if (want && (want->node != lean.side.ref.node ||
                (!want->channel.empty() && want->channel != lean.side.ref.channel)))
@@ -183,6 +206,15 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
     if (cause && effect) {
       record.samples[names.cause] = std::move(cause->steps);
       record.samples[names.effect] = std::move(effect->steps);
+      // The logs' realtime stamps are the sides' own: lent and moved back (no copy of 10^7 stamps),
+      // and the printk stamps freed before the pairing.
+      cause->log.realtime_ns = std::move(cause->side.t_ns);
+      effect->log.realtime_ns = std::move(effect->side.t_ns);
+      add_followed(record, names.cause, cause->log, names.effect, effect->log);
+      cause->side.t_ns = std::move(cause->log.realtime_ns);
+      effect->side.t_ns = std::move(effect->log.realtime_ns);
+      cause->log = {};
+      effect->log = {};
       if (record.samples[names.cause].empty() && record.samples[names.effect].empty()) record.samples.clear();
       for (const auto& [node, lean] : {std::pair{&names.cause, &*cause}, std::pair{&names.effect, &*effect}})
         if (lean->fast_slewing.first != 0) record.fast_slewing[*node] = lean->fast_slewing;
@@ -191,12 +223,15 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
     } else {
       import_options.node = names.cause;
       auto cause_file = formats::import_file(inputs.cause_file, format, import_options);
-      add_file_clock(record, cause_file, import_options.node);
+      auto cause_log = add_file_clock(record, cause_file, import_options.node);
       const auto causes = events_of(std::move(cause_file), inputs.cause_file);
       import_options.node = names.effect;
       auto effect_file = formats::import_file(inputs.effect_file, format, import_options);
-      add_file_clock(record, effect_file, import_options.node);
+      auto effect_log = add_file_clock(record, effect_file, import_options.node);
       const auto effects = events_of(std::move(effect_file), inputs.effect_file);
+      add_followed(record, names.cause, cause_log, names.effect, effect_log);
+      cause_log = {};
+      effect_log = {};
       results.push_back(analyse_with_record(from_events(scenario, causes, effects, selection), record, options));
     }
   }

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <string>
@@ -104,8 +105,7 @@ TEST(KernelLogSteps, NothingIsSeenAcrossAReboot) {
 
 // A daemon that slews far faster than 500 ppm (chrony without maxslewrate): d moves 8 ms ahead and
 // back 6.5 s later at four places, then 9 ms ahead 45 s after the last move back (which that move
-// then undoes by the rule: the running sum from it comes back to 1 ms, within half of it) (with
-// lines 1.3 s apart a smaller move is within the windows' 500 ppm allowance: no step either way).
+// then undoes by the rule: the running sum from it comes back to 1 ms, within half of it).
 Log fast_slewing_log(std::int64_t step_ns, int step_line) {
   auto log = make_log(200, step_ns, step_line);
   const auto shift = [&](int from, std::int64_t by) {
@@ -141,6 +141,82 @@ TEST(KernelLogSteps, AGenuineStepStandsOutOfFastSlewing) {
   KernelLogStepOptions trusting;
   trusting.fast_places_min = 1000;
   EXPECT_EQ(kernel_log_steps(log.realtime_ns, log.log_time_us, trusting).size(), 10u);
+}
+
+// The other board stepped by `size` before line 20 of a log of `lines` lines (1.3 s apart): its step
+// as kernel_log_clock gives it, stamped on this board's timescale.
+store::ClockStep other_step(const Log& log, std::int64_t size) {
+  store::ClockStep step;
+  step.size_ns = size;
+  step.earliest_ns = step.at_ns = log.realtime_ns[20] + size;
+  step.size_max_ns = 300'000;
+  step.size_est_ns = 130'000;
+  step.origin = "kernel_log";
+  return step;
+}
+
+// This board's daemon slews at 500 ppm onto the other's new timescale from 4 s after line 20.
+Log follower_log(int lines, std::int64_t size) {
+  auto log = make_log(lines, 0, 0);
+  const std::int64_t from = log.realtime_ns[20] + 4'000 * kMs;
+  for (auto& t : log.realtime_ns) {
+    const std::int64_t slewed = t > from ? (t - from) / 2000 : 0;  // 500 ppm
+    t += size > 0 ? std::min(slewed, size) : std::max(-slewed, size);
+  }
+  return log;
+}
+
+TEST(KernelLogFollowed, AFollowerSlewingOntoTheOthersStepTakesItOver) {
+  for (const std::int64_t size : {40 * kMs, -40 * kMs, 6 * kMs}) {
+    const auto log = follower_log(160, size);
+    const auto step = other_step(log, size);
+    const auto follows = kernel_log_followed(std::vector{step}, {}, log.realtime_ns, log.log_time_us);
+    ASSERT_EQ(follows.size(), 1u) << size;
+    EXPECT_EQ(follows[0].origin, "followed");
+    EXPECT_EQ(follows[0].size_ns, size);
+    EXPECT_EQ(follows[0].earliest_ns, step.earliest_ns);
+    // Back in step (within |S| / 16, at least 1 ms) at a line after the slew's 4 s + |S| / 500 ppm:
+    // the lines before it are flagged, the rest corrected by S.
+    const std::int64_t back_at = follows[0].at_ns - size;
+    const auto back = std::find(log.realtime_ns.begin(), log.realtime_ns.end(), back_at);
+    ASSERT_NE(back, log.realtime_ns.end());
+    const std::int64_t done = log.realtime_ns[20] + 4'000 * kMs + std::llabs(size) * 2000;
+    EXPECT_GE(back_at, done - std::max<std::int64_t>(std::llabs(size) / 16, kMs) * 2000 - 1'300 * kMs);
+    EXPECT_LE(back_at, done + 1'300 * kMs);
+    EXPECT_LE(follows[0].size_max_ns, step.size_max_ns + 2 * std::max<std::int64_t>(std::llabs(size) / 16, kMs) + 400'000);
+  }
+}
+
+TEST(KernelLogFollowed, ABoardThatStaysOrStepsItselfTakesNothingOver) {
+  // Autonomous: its own daemon keeps it where it was.
+  const auto still = make_log(160, 0, 0);
+  EXPECT_TRUE(kernel_log_followed(std::vector{other_step(still, 40 * kMs)}, {}, still.realtime_ns, still.log_time_us).empty());
+  // Its own step (found by kernel_log_clock) is its own correction, no follow.
+  const auto stepped = make_log(160, 40 * kMs, 22);
+  const auto own = kernel_log_steps(stepped.realtime_ns, stepped.log_time_us);
+  ASSERT_EQ(own.size(), 1u);
+  EXPECT_TRUE(kernel_log_followed(std::vector{other_step(stepped, 40 * kMs)}, own, stepped.realtime_ns,
+                                  stepped.log_time_us)
+                  .empty());
+  // One late printk after the step moves one line's d by 30 ms: no follow either.
+  auto late = make_log(160, 0, 0);
+  late.log_time_us[23] += 30'000;
+  EXPECT_TRUE(
+      kernel_log_followed(std::vector{other_step(late, -40 * kMs)}, {}, late.realtime_ns, late.log_time_us).empty());
+}
+
+TEST(KernelLogFollowed, ALatePrintkDuringTheSlewHidesNoFollow) {
+  auto log = follower_log(160, -40 * kMs);
+  log.log_time_us[23] += 30'000;
+  EXPECT_EQ(kernel_log_followed(std::vector{other_step(log, -40 * kMs)}, {}, log.realtime_ns, log.log_time_us).size(), 1u);
+}
+
+TEST(KernelLogFollowed, ALogEndingMidSlewIsFlaggedToItsEnd) {
+  // 300 ms at 500 ppm takes 10 minutes; the log ends 3 minutes after the step.
+  const auto log = follower_log(160, 300 * kMs);
+  const auto follows = kernel_log_followed(std::vector{other_step(log, 300 * kMs)}, {}, log.realtime_ns, log.log_time_us);
+  ASSERT_EQ(follows.size(), 1u);
+  EXPECT_GT(follows[0].at_ns, log.realtime_ns.back() + 300 * kMs);
 }
 
 }  // namespace m2mlat::analysis::kernel_log_steps_test
