@@ -233,6 +233,7 @@ std::vector<store::ClockStep> kernel_log_followed(std::span<const store::ClockSt
     std::vector<std::int64_t> before;
     for (std::size_t k = first >= w ? first - w : 0; k < first; ++k)
       if (k == 0 || mono(k) >= mono(k - 1)) before.push_back(d_at(k));
+    if (before.empty()) continue;  // a reboot just before: no level to follow from
     const std::int64_t d0 = log_median(before);
     // Followed: d moved its way, by slewing only, beyond half the step or beyond the threshold plus
     // half the slewing bound over the time since (a daemon slewing the step away runs at the bound; a
