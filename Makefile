@@ -83,8 +83,8 @@ build: deps
 
 # The Clang and arm64 trees are unity builds (eight source files of a target compiled as one: each
 # header is parsed and each template instantiated once per batch): 6.6 and 4.7 min from scratch on two
-# cores (docs/testing.md). The GCC tree in $(BUILD) compiles every file alone, so each file still
-# includes what it uses.
+# cores (docs/testing.md). The GCC tree in $(BUILD) compiles every library file alone, so each file
+# still includes what it uses; make check batches its tests and benchmarks (M2MLAT_UNITY_TESTS).
 UNITY := -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=8
 
 # Clang, warnings as errors, AddressSanitizer and UndefinedBehaviorSanitizer (any report fails), with
