@@ -46,6 +46,24 @@ Jumps sample_jumps(std::span<const std::int64_t> realtime_ns, std::span<const st
   return out;
 }
 
+// The printk jitter of a log whose clock may be slewing for most of it (a follower taking over a
+// large step slews at 500 ppm for minutes: every |d[i] - d[i-1]| then holds the slew too): the median
+// distance of d[i] from the line between its two neighbours (time-weighted), over at most 2^16 lines.
+std::int64_t slew_free_jitter(std::span<const std::int64_t> realtime_ns, std::span<const std::int64_t> log_time_us,
+                              std::size_t n) {
+  std::vector<std::int64_t> off;
+  const std::size_t stride = std::max<std::size_t>(1, (n - 1) >> 16);
+  const auto d_at = [&](std::size_t i) { return realtime_ns[i] - log_time_us[i] * 1000; };
+  for (std::size_t i = 1; i + 1 < n; i += stride) {
+    const std::int64_t span = log_time_us[i + 1] - log_time_us[i - 1];
+    if (log_time_us[i] < log_time_us[i - 1] || log_time_us[i + 1] < log_time_us[i] || span <= 0) continue;
+    const double f = static_cast<double>(log_time_us[i] - log_time_us[i - 1]) / static_cast<double>(span);
+    const double line = static_cast<double>(d_at(i - 1)) + f * static_cast<double>(d_at(i + 1) - d_at(i - 1));
+    off.push_back(std::llround(std::fabs(static_cast<double>(d_at(i)) - line)));
+  }
+  return off.empty() ? 0 : log_median(std::move(off));
+}
+
 // The slewing among `steps` (rules in kernel_log_steps.hpp); step_mono: each step's last line's
 // monotonic stamp, ns.
 void drop_fast_slewing(KernelLogClock& out, std::span<const std::int64_t> step_mono,
@@ -215,8 +233,10 @@ std::vector<store::ClockStep> kernel_log_followed(std::span<const store::ClockSt
   if (n < 2 || other_steps.empty()) return out;
   const auto mono = [&](std::size_t i) { return log_time_us[i] * 1000; };
   const auto d_at = [&](std::size_t i) { return realtime_ns[i] - mono(i); };
-  const std::int64_t jitter = sample_jumps(realtime_ns, log_time_us, n).jitter;
-  if (jitter > options.threshold_ns) return out;  // no clock to compare with (kernel_log_clock)
+  // Not kernel_log_clock's J: a follower slewing a large step away for most of its log would read as
+  // stamps that follow no clock (its median jump is the slew's ~1 ms a line).
+  const std::int64_t jitter = slew_free_jitter(realtime_ns, log_time_us, n);
+  if (jitter > options.threshold_ns) return out;  // no clock to compare with
   const std::int64_t threshold = std::max(options.threshold_ns, 8 * jitter);
   const std::size_t w = 2 * std::max<std::size_t>(options.window, 1);
   for (const auto& step : other_steps) {

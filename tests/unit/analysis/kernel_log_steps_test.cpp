@@ -19,10 +19,10 @@ constexpr std::int64_t kMs = 1'000'000;
 struct Log {
   std::vector<std::int64_t> realtime_ns, log_time_us;
 };
-Log make_log(int lines, std::int64_t step_ns, int step_line, double slew_ppm = 0) {
+Log make_log(int lines, std::int64_t step_ns, int step_line, double slew_ppm = 0, std::int64_t apart_ms = 1'300) {
   Log log;
   for (int i = 0; i < lines; ++i) {
-    const std::int64_t mono_ns = 1000'000 * kMs + i * 1'300 * kMs;  // uptime of the edge
+    const std::int64_t mono_ns = 1000'000 * kMs + i * apart_ms * kMs;  // uptime of the edge
     const auto slewed = static_cast<std::int64_t>(static_cast<double>(mono_ns) * slew_ppm * 1e-6);
     const std::int64_t delay_ns = 20'000 + (i * 7919 % 180) * 1000;
     log.realtime_ns.push_back(kRealtimeAtBoot + mono_ns + slewed + (i >= step_line ? step_ns : 0));
@@ -156,8 +156,8 @@ store::ClockStep other_step(const Log& log, std::int64_t size) {
 }
 
 // This board's daemon slews at 500 ppm onto the other's new timescale from 4 s after line 20.
-Log follower_log(int lines, std::int64_t size) {
-  auto log = make_log(lines, 0, 0);
+Log follower_log(int lines, std::int64_t size, std::int64_t apart_ms = 1'300) {
+  auto log = make_log(lines, 0, 0, 0, apart_ms);
   const std::int64_t from = log.realtime_ns[20] + 4'000 * kMs;
   for (auto& t : log.realtime_ns) {
     const std::int64_t slewed = t > from ? (t - from) / 2000 : 0;  // 500 ppm
@@ -217,6 +217,13 @@ TEST(KernelLogFollowed, ALogEndingMidSlewIsFlaggedToItsEnd) {
   const auto follows = kernel_log_followed(std::vector{other_step(log, 300 * kMs)}, {}, log.realtime_ns, log.log_time_us);
   ASSERT_EQ(follows.size(), 1u);
   EXPECT_GT(follows[0].at_ns, log.realtime_ns.back() + 300 * kMs);
+  // Lines 2.6 s apart: slewing 1.3 ms a line for most of the log, more than the printk jitter's 1 ms
+  // limit in every jump (once read as stamps that follow no clock, and the follow went unseen).
+  const auto sparse = follower_log(160, -250 * kMs, 2'600);
+  const auto sparse_follows =
+      kernel_log_followed(std::vector{other_step(sparse, -250 * kMs)}, {}, sparse.realtime_ns, sparse.log_time_us);
+  ASSERT_EQ(sparse_follows.size(), 1u);
+  EXPECT_GT(sparse_follows[0].at_ns, sparse.realtime_ns.back());
 }
 
 }  // namespace m2mlat::analysis::kernel_log_steps_test
