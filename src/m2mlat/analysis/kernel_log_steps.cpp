@@ -26,26 +26,6 @@ std::int64_t log_slew(double ppm, std::int64_t span_ns) {
   return static_cast<std::int64_t>(std::ceil(ppm * 1e-6 * static_cast<double>(std::llabs(span_ns))));
 }
 
-// |d[i] - d[i-1]| at most 2^16 line pairs spread over the log (a median needs no more), the later
-// line of each, and their median: the jitter J.
-struct Jumps {
-  std::vector<std::int64_t> jumps;
-  std::vector<std::size_t> lines;
-  std::int64_t jitter = 0;
-};
-Jumps sample_jumps(std::span<const std::int64_t> realtime_ns, std::span<const std::int64_t> log_time_us,
-                   std::size_t n) {
-  Jumps out;
-  const std::size_t stride = std::max<std::size_t>(1, (n - 1) >> 16);
-  for (std::size_t i = 1; i < n; i += stride)
-    if (log_time_us[i] >= log_time_us[i - 1]) {
-      out.jumps.push_back(std::llabs((realtime_ns[i] - log_time_us[i] * 1000) - (realtime_ns[i - 1] - log_time_us[i - 1] * 1000)));
-      out.lines.push_back(i);
-    }
-  if (!out.jumps.empty()) out.jitter = log_median(out.jumps);
-  return out;
-}
-
 // The printk jitter of a log whose clock may be slewing for most of it (a follower taking over a
 // large step slews at 500 ppm for minutes: every |d[i] - d[i-1]| then holds the slew too): the median
 // distance of d[i] from the line between its two neighbours (time-weighted), over at most 2^16 lines.
@@ -131,11 +111,17 @@ KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::
   // Computed per line, not stored: a log of 10^7 lines costs no further columns.
   const auto mono = [&](std::size_t i) { return log_time_us[i] * 1000; };
   const auto d_at = [&](std::size_t i) { return realtime_ns[i] - mono(i); };
-  const auto sampled = sample_jumps(realtime_ns, log_time_us, n);
-  const auto& jumps = sampled.jumps;
-  const auto& lines = sampled.lines;
-  const std::int64_t jitter = sampled.jitter;
+  // The jitter from at most 2^16 line pairs spread over the log (a median needs no more).
+  const std::size_t stride = std::max<std::size_t>(1, (n - 1) >> 16);
+  std::vector<std::int64_t> jumps;
+  std::vector<std::size_t> lines;  // the later line of each jump
+  for (std::size_t i = 1; i < n; i += stride)
+    if (mono(i) >= mono(i - 1)) {
+      jumps.push_back(std::llabs(d_at(i) - d_at(i - 1)));
+      lines.push_back(i);
+    }
   if (jumps.empty()) return out;
+  const std::int64_t jitter = log_median(jumps);
   // Stamps that do not follow the realtime ones (written by a script, lines of another clock) are no
   // clock to compare with: a typical jump beyond the smallest step, or jumps beyond what slewing
   // allows at more than one line pair in 4, and nothing is said.
