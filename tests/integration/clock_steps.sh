@@ -109,7 +109,29 @@ for step in 40ms -40ms; do
   "$M2MLAT" pair --cause-file "opk$step/operator.log" --effect-file "opk$step/vehicle.log" --out pairs.csv >/dev/null
   counts=$(check_pairs pairs.csv "opk$step/operator.log" "opk$step/truth.csv" 20 "$step_ns") ||
     fail "operator stepped $step (kernel logs): $counts"
+  # Imported one board at a time, in either order: the store keeps no printk stamps, so import reads
+  # the follow while it holds them (the vehicle's log against the stored step, or read again).
+  for order in "operator vehicle" "vehicle operator"; do
+    rm -f follow.db
+    for node in $order; do
+      "$M2MLAT" import "opk$step/$node.log" --node "$node" --scenario k --store follow.db >out.txt
+    done
+    grep -q "vehicle: 1 clock step of another board taken over (seen in its kernel log)" out.txt ||
+      { cat out.txt >&2; fail "import ($order), operator stepped $step: no follow said"; }
+    "$M2MLAT" pair follow.db --out pairs.csv >/dev/null
+    counts=$(check_pairs pairs.csv "opk$step/operator.log" "opk$step/truth.csv" 20 "$step_ns") ||
+      fail "import ($order), operator stepped $step: $counts"
+  done
 done
+# The vehicle's log gone before the operator's is imported: its stamps after the step are left out.
+rm -f follow.db && cp opk40ms/vehicle.log gone.log
+"$M2MLAT" import gone.log --node vehicle --scenario k --store follow.db >/dev/null
+rm gone.log
+"$M2MLAT" import opk40ms/operator.log --node operator --scenario k --store follow.db >/dev/null 2>err.txt
+grep -q "gone.log: cannot be read again" err.txt || { cat err.txt >&2; fail "import: no note for a log gone"; }
+"$M2MLAT" pair follow.db --out pairs.csv >/dev/null
+counts=$(check_pairs pairs.csv opk40ms/operator.log opk40ms/truth.csv 0 40000000) || fail "import, log gone: $counts"
+[ "${counts#* }" -ge 20 ] || fail "import, log gone: only ${counts#* } pairs left out"
 
 # Imported into a store: a kernel log's steps and an events file's clock records go with the
 # sessions, and the first event after the step is flagged.

@@ -14,6 +14,7 @@
 
 #include "m2mlat/analysis/clock_records.hpp"
 #include "m2mlat/analysis/clock_steps.hpp"
+#include "m2mlat/analysis/import_follow.hpp"
 #include "m2mlat/analysis/kernel_log_steps.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
@@ -99,22 +100,27 @@ PendingSession gyro_session(const ImportCommand& c, const std::string& path) {
 
 // The clock samples a file carries, by node: an events file's clock records, a kernel log's steps
 // (kernel_log_steps.hpp, on the node of its events; a clock slewing faster than the steps' bound is
-// said on stderr, not stored).
+// said on stderr, not stored). A kernel log's two stamps per line go to `log` (its steps too), for the
+// steps another board took over (import_follow.hpp).
 std::map<std::string, std::vector<store::ClockSample>> clock_of(const formats::EventImport& file,
-                                                                const std::string& path) {
+                                                                const std::string& path,
+                                                                std::optional<analysis::ImportedLog>& log) {
   std::map<std::string, std::vector<store::ClockSample>> out;
   for (const auto& r : file.clock_records) out[r.node].push_back(analysis::to_clock_sample(r));
   if (file.kernel_records.empty() || file.events.empty()) return out;
-  std::vector<std::int64_t> realtime, monotonic;
+  analysis::ImportedLog stamps;
+  stamps.node = file.events.front().node;
   for (const auto& k : file.kernel_records) {
     if (!k.log_time_us) return out;
-    realtime.push_back(k.time_ns);
-    monotonic.push_back(*k.log_time_us);
+    stamps.realtime_ns.push_back(k.time_ns);
+    stamps.log_time_us.push_back(*k.log_time_us);
   }
-  const auto clock = analysis::kernel_log_clock(realtime, monotonic);
-  for (const auto& step : clock.steps) out[file.events.front().node].push_back(store::step_clock_sample(step));
+  const auto clock = analysis::kernel_log_clock(stamps.realtime_ns, stamps.log_time_us);
+  for (const auto& step : clock.steps) out[stamps.node].push_back(store::step_clock_sample(step));
   if (clock.fast_slew_places != 0)
     warn(fmt::format("{}: {}", path, analysis::fast_slewing_note(clock.fast_slew_places, clock.hidden_below_ns)));
+  stamps.steps = clock.steps;
+  log = std::move(stamps);
   return out;
 }
 
@@ -160,9 +166,12 @@ std::vector<PendingSession> sessions_of(const ImportCommand& c, const std::strin
       p.session.role = role_for(c, e.node);
       p.session.label = c.label;
       p.session.scenario = c.scenario.empty() ? std::filesystem::path(path).stem().string() : c.scenario;
+      nlohmann::json config{{"source", "import"}, {"file", path}, {"format", formats::to_string(format)}};
+      // A kernel log is read again when the other board's is imported later (import_follow.hpp).
+      if (format == formats::Format::kernel_log && path != "-")
+        config["path"] = std::filesystem::absolute(path).lexically_normal().string();
       p.session.config_json =
-          nlohmann::json{{"source", "import"}, {"file", path}, {"format", formats::to_string(format)}}.dump(
-              -1, ' ', false, nlohmann::json::error_handler_t::replace);  // a file name need not be UTF-8
+          config.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);  // a file name need not be UTF-8
       out.push_back(std::move(p));
     }
     out[it->second].events.push_back(std::move(e));
@@ -190,6 +199,8 @@ int run_import(const ImportCommand& c) {
   // Read and check everything first, before the store is opened: the files are read raw, and a
   // process must not open and close a file it holds SQLite connections to (docs/store.md).
   std::vector<PendingSession> pending;
+  std::vector<analysis::ImportedLog> logs;
+  std::vector<std::size_t> log_session;  // per log: its session in `pending`
   nlohmann::json report = nlohmann::json::array();
   nlohmann::json clock_logs = nlohmann::json::array();
   for (const auto& path : c.files) {
@@ -209,7 +220,9 @@ int run_import(const ImportCommand& c) {
     auto file = formats::import_file(path, format, options);
     nlohmann::json entry{{"file", path}, {"format", formats::to_string(file.format)}};
     const auto* imported = std::get_if<formats::EventImport>(&file.content);
-    const auto clock = imported ? clock_of(*imported, path) : std::map<std::string, std::vector<store::ClockSample>>{};
+    std::optional<analysis::ImportedLog> log;
+    const auto clock =
+        imported ? clock_of(*imported, path, log) : std::map<std::string, std::vector<store::ClockSample>>{};
     std::vector<core::Event> events;
     if (auto* e = std::get_if<formats::EventImport>(&file.content)) {
       entry["records"] = e->records;
@@ -248,6 +261,14 @@ int run_import(const ImportCommand& c) {
                                    {"scenario", s.session.scenario},
                                    {"events", s.events.size()}});
     report.push_back(entry);
+    if (log)
+      for (std::size_t k = 0; k < sessions.size(); ++k)
+        if (sessions[k].session.node == log->node) {
+          log->scenario = sessions[k].session.scenario;
+          log_session.push_back(pending.size() + k);
+          logs.push_back(std::move(*log));
+          break;
+        }
     std::move(sessions.begin(), sessions.end(), std::back_inserter(pending));
   }
 
@@ -280,8 +301,39 @@ int run_import(const ImportCommand& c) {
     clock_logs.push_back(entry);
   }
 
-  // Then write: one transaction per session.
+  // The steps one board took over from another's, by the kernel logs' stamps (import_follow.hpp):
+  // read from the store before anything is written.
   auto store = store::Store::open(c.store_path);
+  nlohmann::json followed = nlohmann::json::array();
+  if (!logs.empty()) {
+    auto follow = analysis::follow_across_import(logs, store);
+    for (std::size_t i = 0; i < logs.size(); ++i) {
+      if (follow.of_log[i].empty()) continue;
+      auto& p = pending[log_session[i]];
+      for (const auto& step : follow.of_log[i]) p.clock.push_back(store::step_clock_sample(step));
+      analysis::flag_events_after_steps(p.events, p.session.node, p.clock);
+      followed.push_back({{"node", p.session.node}, {"scenario", p.session.scenario},
+                            {"steps", follow.of_log[i].size()}, {"checked", true}});
+    }
+    for (auto& e : follow.earlier) {
+      PendingSession p;
+      p.session.node = e.earlier.node;
+      p.session.role = e.earlier.role;
+      p.session.label = c.label;
+      p.session.scenario = e.earlier.scenario;
+      p.session.config_json =
+          nlohmann::json{{"source", "import"}, {"followed_from", e.earlier.id}, {"checked", e.checked}}.dump();
+      p.session.start = core::TimePoint::from_ns(e.earlier.start.clock(), e.steps.front().earliest_ns);
+      p.session.end = p.session.start;
+      for (const auto& step : e.steps) p.clock.push_back(store::step_clock_sample(step));
+      followed.push_back({{"node", e.earlier.node}, {"scenario", e.earlier.scenario}, {"steps", e.steps.size()},
+                          {"checked", e.checked}, {"earlier_session", e.earlier.id}});
+      pending.push_back(std::move(p));
+    }
+    for (const auto& note : follow.notes) warn(note);
+  }
+
+  // Then write: one transaction per session.
   for (auto& p : pending) {
     const auto end = *p.session.end;
     p.session.end.reset();
@@ -297,6 +349,7 @@ int run_import(const ImportCommand& c) {
   if (c.json) {
     nlohmann::json doc{{"store", c.store_path}, {"files", report}};
     if (!clock_logs.empty()) doc["clock_logs"] = clock_logs;
+    if (!followed.empty()) doc["followed_steps"] = followed;
     print_json(doc);
   } else {
     for (const auto& f : clock_logs)
@@ -315,6 +368,12 @@ int run_import(const ImportCommand& c) {
                    core::printable(f["file"].get<std::string>()), f["format"].get<std::string>(),
                    s["events"].get<std::size_t>(), core::printable(s["node"].get<std::string>()),
                    s["role"].get<std::string>(), core::printable(s["scenario"].get<std::string>()));
+    for (const auto& f : followed)
+      fmt::print("{}: {} clock step{} of another board taken over ({}) -> scenario '{}'\n",
+                 core::printable(f["node"].get<std::string>()), f["steps"].get<std::size_t>(),
+                 f["steps"].get<std::size_t>() == 1 ? "" : "s",
+                 f["checked"].get<bool>() ? "seen in its kernel log" : "its kernel log gone: size unknown",
+                 core::printable(f["scenario"].get<std::string>()));
   }
   return 0;
 }

@@ -37,7 +37,9 @@ struct ClockStep {
   std::optional<std::int64_t> size_ns;  // new - old reading, ns; unset: a step of unknown size
   std::int64_t size_max_ns = kUnknownSize;  // bound on the error of size_ns, ns
   std::int64_t size_est_ns = kUnknownSize;  // its standard uncertainty (k = 1), ns
-  std::string origin;  // "monitor", "kernel_log", "adjtimex", "chrony", "sim"
+  // "monitor", "kernel_log", "adjtimex", "chrony", "sim"; a step taken over from the other board's:
+  // "followed", "follow_unchecked" (analysis/import_follow.hpp)
+  std::string origin;
   friend bool operator==(const ClockStep&, const ClockStep&) = default;
 };
 
