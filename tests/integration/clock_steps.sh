@@ -123,6 +123,19 @@ for step in 40ms -40ms; do
       fail "import ($order), operator stepped $step: $counts"
   done
 done
+# Each board's log imported into a store of its own: the boards meet when the stores are merged. A
+# second merge adds nothing (the step is taken over once).
+rm -f follow.db op.db veh.db
+"$M2MLAT" import opk40ms/operator.log --node operator --scenario k --store op.db >/dev/null
+"$M2MLAT" import opk40ms/vehicle.log --node vehicle --scenario k --store veh.db >/dev/null
+"$M2MLAT" merge follow.db op.db veh.db >out.txt
+grep -q "vehicle: 1 clock step of another board taken over (seen in its kernel log)" out.txt ||
+  { cat out.txt >&2; fail "merge: no follow said"; }
+"$M2MLAT" merge follow.db op.db veh.db >out.txt
+! grep -q "taken over" out.txt || { cat out.txt >&2; fail "merge again: the step taken over twice"; }
+"$M2MLAT" pair follow.db --out pairs.csv >/dev/null
+counts=$(check_pairs pairs.csv opk40ms/operator.log opk40ms/truth.csv 20 40000000) || fail "merged stores: $counts"
+
 # The vehicle's log gone before the operator's is imported: its stamps after the step are left out.
 rm -f follow.db && cp opk40ms/vehicle.log gone.log
 "$M2MLAT" import gone.log --node vehicle --scenario k --store follow.db >/dev/null

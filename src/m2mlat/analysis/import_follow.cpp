@@ -17,15 +17,8 @@ namespace m2mlat::analysis {
 
 namespace {
 
-// Steps that are a board's own (not one it took over, which is no step of the other's to follow).
+// A board's own step, not one it took over from the other (which is no step of the other's to follow).
 bool own(const store::ClockStep& s) { return s.origin != "followed" && s.origin != "follow_unchecked"; }
-
-void add_unique(std::vector<store::ClockStep>& to, const store::ClockStep& step) {
-  const auto same = [&](const store::ClockStep& s) {
-    return std::tie(s.at_ns, s.earliest_ns, s.size_ns) == std::tie(step.at_ns, step.earliest_ns, step.size_ns);
-  };
-  if (own(step) && std::none_of(to.begin(), to.end(), same)) to.push_back(step);
-}
 
 std::vector<store::ClockStep> stored_steps(const store::Store& store, std::int64_t session_id) {
   std::vector<store::ClockStep> out;
@@ -44,9 +37,9 @@ std::optional<std::string> kernel_log_file(const store::Session& s) {
   return std::nullopt;
 }
 
-// The earlier session's kernel log read again: its lines' two stamps, if the file still holds every
-// event stored from it (a line filter of that import only left lines out); nullopt if not.
-std::optional<ImportedLog> reread(const store::Store& store, const store::Session& s, const std::string& file) {
+// The session's kernel log read again: its lines' two stamps, if the file still holds every event
+// stored from it (a line filter of that import only left lines out); nullopt if not.
+std::optional<LogStamps> reread(const store::Store& store, const store::Session& s, const std::string& file) {
   // Never the store itself: a process must not open and close a file it holds SQLite connections to
   // (docs/store.md), and a store is no kernel log anyway.
   std::error_code error;
@@ -59,7 +52,7 @@ std::optional<ImportedLog> reread(const store::Store& store, const store::Sessio
   }
   const auto* events = std::get_if<formats::EventImport>(&content.content);
   if (events == nullptr) return std::nullopt;
-  ImportedLog log;
+  LogStamps log;
   std::vector<std::int64_t> lines;
   for (const auto& k : events->kernel_records) {
     lines.push_back(k.time_ns);
@@ -80,39 +73,52 @@ std::optional<ImportedLog> reread(const store::Store& store, const store::Sessio
 
 }  // namespace
 
-ImportFollow follow_across_import(std::span<const ImportedLog> logs, const store::Store& store) {
-  ImportFollow out;
+StoreFollow follow_in_store(const store::Store& store, const std::set<std::string>& scenarios,
+                            const std::map<std::int64_t, LogStamps>& in_memory) {
+  StoreFollow out;
   const auto sessions = store.sessions();
-  std::vector<std::vector<store::ClockStep>> stored(sessions.size());
-  for (std::size_t k = 0; k < sessions.size(); ++k) stored[k] = stored_steps(store, sessions[k].id);
+  std::vector<std::vector<store::ClockStep>> steps(sessions.size());
+  for (std::size_t k = 0; k < sessions.size(); ++k)
+    if (scenarios.contains(sessions[k].scenario)) steps[k] = stored_steps(store, sessions[k].id);
 
-  // Each log of this import against the steps the store holds for the scenario's other boards.
-  for (const auto& log : logs) {
-    std::vector<store::ClockStep> others;
-    for (std::size_t k = 0; k < sessions.size(); ++k)
-      if (sessions[k].node != log.node && sessions[k].scenario == log.scenario)
-        for (const auto& s : stored[k]) add_unique(others, s);
-    out.of_log.push_back(kernel_log_followed(others, log.steps, log.realtime_ns, log.log_time_us));
-  }
-
-  // Kernel logs imported earlier against this import's steps, from their files.
   for (std::size_t k = 0; k < sessions.size(); ++k) {
     const auto& s = sessions[k];
     const auto file = kernel_log_file(s);
-    if (!file || !s.end) continue;
-    std::vector<store::ClockStep> steps;
-    for (const auto& log : logs)
-      if (log.node != s.node && log.scenario == s.scenario)
-        for (const auto& step : log.steps)
-          if (step.earliest_ns <= s.end->ns() && step.at_ns >= s.start.ns()) add_unique(steps, step);
-    if (steps.empty()) continue;
-    if (const auto log = reread(store, s, *file)) {
-      auto followed = kernel_log_followed(steps, stored[k], log->realtime_ns, log->log_time_us);
-      if (!followed.empty()) out.earlier.push_back({s, std::move(followed), true});
+    if (!scenarios.contains(s.scenario) || !file || !s.end) continue;
+    // The other boards' own steps within this log's time that its board has not yet taken over (or
+    // been left out after), and the steps of its own (a step of its own is no follow).
+    std::vector<store::ClockStep> others, taken, mine;
+    for (std::size_t j = 0; j < sessions.size(); ++j) {
+      if (sessions[j].scenario != s.scenario) continue;
+      for (const auto& step : steps[j]) {
+        if (sessions[j].node == s.node) (own(step) ? mine : taken).push_back(step);
+        else if (own(step) && step.earliest_ns <= s.end->ns() && step.at_ns >= s.start.ns()) others.push_back(step);
+      }
+    }
+    std::erase_if(others, [&](const store::ClockStep& step) {
+      return std::any_of(taken.begin(), taken.end(), [&](const auto& t) { return t.earliest_ns == step.earliest_ns; });
+    });
+    std::sort(others.begin(), others.end(), [](const auto& a, const auto& b) {
+      return std::tie(a.earliest_ns, a.at_ns, a.size_ns) < std::tie(b.earliest_ns, b.at_ns, b.size_ns);
+    });
+    others.erase(std::unique(others.begin(), others.end(),  // one board's log imported twice
+                             [](const auto& a, const auto& b) {
+                               return std::tie(a.earliest_ns, a.at_ns, a.size_ns) ==
+                                      std::tie(b.earliest_ns, b.at_ns, b.size_ns);
+                             }),
+                 others.end());
+    if (others.empty()) continue;
+
+    std::optional<LogStamps> stamps;
+    if (const auto it = in_memory.find(s.id); it != in_memory.end()) stamps = it->second;
+    else stamps = reread(store, s, *file);
+    if (stamps) {
+      auto followed = kernel_log_followed(others, mine, stamps->realtime_ns, stamps->log_time_us);
+      if (!followed.empty()) out.followed.push_back({s, std::move(followed), true});
       continue;
     }
-    EarlierFollow unchecked{s, {}, false};
-    for (const auto& step : steps) {
+    FollowedSteps unchecked{s, {}, false};
+    for (const auto& step : others) {
       store::ClockStep u;
       u.at_ns = step.at_ns;
       u.earliest_ns = step.earliest_ns;
@@ -120,13 +126,40 @@ ImportFollow follow_across_import(std::span<const ImportedLog> logs, const store
       unchecked.steps.push_back(u);
     }
     out.notes.push_back(fmt::format(
-        "{}: cannot be read again to see whether {} took over this import's clock step{} (the file no longer "
-        "holds the events stored from it): {}'s events after {} are left out as after a step of unknown size; "
-        "keep each board's kernel log in place until the other board's is imported",
-        *file, s.node, steps.size() == 1 ? "" : "s", s.node, steps.size() == 1 ? "it" : "them"));
-    out.earlier.push_back(std::move(unchecked));
+        "{}: cannot be read again to see whether {} took over {} clock step{} of another board (the file no "
+        "longer holds the events stored from it): {}'s events after {} are left out as after a step of unknown "
+        "size; keep each board's kernel log in place until the other board's is imported",
+        *file, s.node, others.size(), others.size() == 1 ? "" : "s", s.node, others.size() == 1 ? "it" : "them"));
+    out.followed.push_back(std::move(unchecked));
   }
   return out;
+}
+
+std::int64_t store_followed(store::Store& store, const FollowedSteps& f, const std::string& label,
+                            const std::string& source) {
+  store::Session session;
+  session.node = f.follower.node;
+  session.role = f.follower.role;
+  session.label = label;
+  session.scenario = f.follower.scenario;
+  session.config_json =
+      nlohmann::json{{"source", source}, {"followed_from", f.follower.id}, {"checked", f.checked}}.dump();
+  session.start = core::TimePoint::from_ns(f.follower.start.clock(), f.steps.front().earliest_ns);
+  const auto id = store.begin_session(session);
+  std::vector<store::ClockSample> samples;
+  for (const auto& step : f.steps) {
+    samples.push_back(store::step_clock_sample(step));
+    samples.back().session_id = id;
+  }
+  store.append_clock_samples(samples);
+  store.end_session(id, session.start);
+  return id;
+}
+
+std::string followed_line(const FollowedSteps& f) {
+  return fmt::format("{}: {} clock step{} of another board taken over ({}) -> scenario '{}'", f.follower.node,
+                     f.steps.size(), f.steps.size() == 1 ? "" : "s",
+                     f.checked ? "seen in its kernel log" : "its kernel log gone: size unknown", f.follower.scenario);
 }
 
 }  // namespace m2mlat::analysis

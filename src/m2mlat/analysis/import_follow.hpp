@@ -1,48 +1,55 @@
-// A board that followed the other's clock step, seen across `m2mlat import`s. kernel_log_followed
-// reads a board's own printk stamps against the other board's steps, and the store keeps no printk
-// stamps: so `import` reads the follow while it holds a kernel log's stamps, both ways:
-//   - a kernel log against the steps the store already holds for the scenario's other nodes;
-//   - a kernel log imported earlier (its session's "file", re-read) against this import's steps.
-//     The earlier file must still hold every event stored from it; if it does not (moved, changed),
-//     its board's stamps after each such step are left out as after a step of unknown size (origin
-//     "follow_unchecked"), and a note says how to avoid it: a wrong latency is never left unflagged.
+// A board that followed the other's clock step, seen in a store built from kernel logs.
+// kernel_log_followed reads a board's own printk stamps against the other board's steps; the store
+// keeps no printk stamps, and `import` reads one board's log at a time. So after an import or a
+// merge, each kernel-log session of the scenarios it touched is read against the steps the store
+// holds for the scenario's other boards: from the stamps in memory (the log just imported), or
+// from its file again (the session's configuration names it; the file must still hold every event
+// stored from it). A file gone or changed cannot show whether its board followed: its stamps from
+// each such step on are left out as after a step of unknown size (origin "follow_unchecked"), and a
+// note says so. A step a board has taken over (or left out) once is not looked at again.
 // Without it a store built from a co-referenced rig's kernel logs corrected the stepped board's
 // events and not the follower's: every later latency off by the step.
 #pragma once
 
 #include <cstdint>
-#include <span>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
-#include "m2mlat/core/event.hpp"
 #include "m2mlat/store/clock_step.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::analysis {
 
-// One board's kernel log as an import reads it (lines with the log's own stamp only).
-struct ImportedLog {
-  std::string node, scenario;
-  std::vector<std::int64_t> realtime_ns, log_time_us;  // per line, in file order
-  std::vector<store::ClockStep> steps;                  // kernel_log_clock's
+// One board's kernel log: its two stamps per line, in file order (lines with the log's own stamp).
+struct LogStamps {
+  std::vector<std::int64_t> realtime_ns, log_time_us;
 };
 
-// Steps taken over by a board whose kernel log was imported before: to be stored as a session of
-// its own (no events) of that node and scenario.
-struct EarlierFollow {
-  store::Session earlier;  // the stored session whose board took the steps over
+// Steps a board took over: to be stored as a session of their own (no events) beside `follower`.
+struct FollowedSteps {
+  store::Session follower;  // the stored kernel-log session whose board took them over
   std::vector<store::ClockStep> steps;
-  bool checked = true;  // false: the file could not be re-read, the steps are of unknown size
+  bool checked = true;  // false: its file could not be read again, the steps are of unknown size
 };
 
-struct ImportFollow {
-  std::vector<std::vector<store::ClockStep>> of_log;  // per ImportedLog, in order
-  std::vector<EarlierFollow> earlier;
-  std::vector<std::string> notes;  // for stderr: an earlier file that could not be re-read
+struct StoreFollow {
+  std::vector<FollowedSteps> followed;
+  std::vector<std::string> notes;  // for stderr: a file that could not be read again
 };
 
-// `store` is only read.
-ImportFollow follow_across_import(std::span<const ImportedLog> logs, const store::Store& store);
+// The kernel-log sessions of `scenarios` in `store` (only read) against the other boards' steps;
+// `in_memory`: stamps already read, by session id (the others are read from their files).
+StoreFollow follow_in_store(const store::Store& store, const std::set<std::string>& scenarios,
+                            const std::map<std::int64_t, LogStamps>& in_memory = {});
+
+// Stores `f` as a session of its own: no events, configuration {"source": <source>, "followed_from":
+// <follower id>, "checked": ...}, from its first step to its first step; returns its id.
+std::int64_t store_followed(store::Store& store, const FollowedSteps& f, const std::string& label,
+                            const std::string& source);
+
+// "vehicle: 1 clock step of another board taken over (seen in its kernel log) -> scenario 'k'"
+std::string followed_line(const FollowedSteps& f);
 
 }  // namespace m2mlat::analysis

@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <set>
 
 #include "m2mlat/analysis/clock_records.hpp"
 #include "m2mlat/analysis/clock_steps.hpp"
@@ -100,26 +101,25 @@ PendingSession gyro_session(const ImportCommand& c, const std::string& path) {
 
 // The clock samples a file carries, by node: an events file's clock records, a kernel log's steps
 // (kernel_log_steps.hpp, on the node of its events; a clock slewing faster than the steps' bound is
-// said on stderr, not stored). A kernel log's two stamps per line go to `log` (its steps too), for the
-// steps another board took over (import_follow.hpp).
+// said on stderr, not stored). A kernel log's two stamps per line go to `log`, for the steps another
+// board took over (import_follow.hpp).
 std::map<std::string, std::vector<store::ClockSample>> clock_of(const formats::EventImport& file,
                                                                 const std::string& path,
-                                                                std::optional<analysis::ImportedLog>& log) {
+                                                                std::optional<analysis::LogStamps>& log) {
   std::map<std::string, std::vector<store::ClockSample>> out;
   for (const auto& r : file.clock_records) out[r.node].push_back(analysis::to_clock_sample(r));
   if (file.kernel_records.empty() || file.events.empty()) return out;
-  analysis::ImportedLog stamps;
-  stamps.node = file.events.front().node;
+  const auto& node = file.events.front().node;
+  analysis::LogStamps stamps;
   for (const auto& k : file.kernel_records) {
     if (!k.log_time_us) return out;
     stamps.realtime_ns.push_back(k.time_ns);
     stamps.log_time_us.push_back(*k.log_time_us);
   }
   const auto clock = analysis::kernel_log_clock(stamps.realtime_ns, stamps.log_time_us);
-  for (const auto& step : clock.steps) out[stamps.node].push_back(store::step_clock_sample(step));
+  for (const auto& step : clock.steps) out[node].push_back(store::step_clock_sample(step));
   if (clock.fast_slew_places != 0)
     warn(fmt::format("{}: {}", path, analysis::fast_slewing_note(clock.fast_slew_places, clock.hidden_below_ns)));
-  stamps.steps = clock.steps;
   log = std::move(stamps);
   return out;
 }
@@ -199,8 +199,7 @@ int run_import(const ImportCommand& c) {
   // Read and check everything first, before the store is opened: the files are read raw, and a
   // process must not open and close a file it holds SQLite connections to (docs/store.md).
   std::vector<PendingSession> pending;
-  std::vector<analysis::ImportedLog> logs;
-  std::vector<std::size_t> log_session;  // per log: its session in `pending`
+  std::map<std::size_t, analysis::LogStamps> logs;  // a kernel log's stamps, by its session in `pending`
   nlohmann::json report = nlohmann::json::array();
   nlohmann::json clock_logs = nlohmann::json::array();
   for (const auto& path : c.files) {
@@ -220,7 +219,7 @@ int run_import(const ImportCommand& c) {
     auto file = formats::import_file(path, format, options);
     nlohmann::json entry{{"file", path}, {"format", formats::to_string(file.format)}};
     const auto* imported = std::get_if<formats::EventImport>(&file.content);
-    std::optional<analysis::ImportedLog> log;
+    std::optional<analysis::LogStamps> log;
     const auto clock =
         imported ? clock_of(*imported, path, log) : std::map<std::string, std::vector<store::ClockSample>>{};
     std::vector<core::Event> events;
@@ -261,14 +260,7 @@ int run_import(const ImportCommand& c) {
                                    {"scenario", s.session.scenario},
                                    {"events", s.events.size()}});
     report.push_back(entry);
-    if (log)
-      for (std::size_t k = 0; k < sessions.size(); ++k)
-        if (sessions[k].session.node == log->node) {
-          log->scenario = sessions[k].session.scenario;
-          log_session.push_back(pending.size() + k);
-          logs.push_back(std::move(*log));
-          break;
-        }
+    if (log && sessions.size() == 1) logs.emplace(pending.size(), std::move(*log));  // a kernel log has one node
     std::move(sessions.begin(), sessions.end(), std::back_inserter(pending));
   }
 
@@ -301,43 +293,17 @@ int run_import(const ImportCommand& c) {
     clock_logs.push_back(entry);
   }
 
-  // The steps one board took over from another's, by the kernel logs' stamps (import_follow.hpp):
-  // read from the store before anything is written.
-  auto store = store::Store::open(c.store_path);
-  nlohmann::json followed = nlohmann::json::array();
-  if (!logs.empty()) {
-    auto follow = analysis::follow_across_import(logs, store);
-    for (std::size_t i = 0; i < logs.size(); ++i) {
-      if (follow.of_log[i].empty()) continue;
-      auto& p = pending[log_session[i]];
-      for (const auto& step : follow.of_log[i]) p.clock.push_back(store::step_clock_sample(step));
-      analysis::flag_events_after_steps(p.events, p.session.node, p.clock);
-      followed.push_back({{"node", p.session.node}, {"scenario", p.session.scenario},
-                            {"steps", follow.of_log[i].size()}, {"checked", true}});
-    }
-    for (auto& e : follow.earlier) {
-      PendingSession p;
-      p.session.node = e.earlier.node;
-      p.session.role = e.earlier.role;
-      p.session.label = c.label;
-      p.session.scenario = e.earlier.scenario;
-      p.session.config_json =
-          nlohmann::json{{"source", "import"}, {"followed_from", e.earlier.id}, {"checked", e.checked}}.dump();
-      p.session.start = core::TimePoint::from_ns(e.earlier.start.clock(), e.steps.front().earliest_ns);
-      p.session.end = p.session.start;
-      for (const auto& step : e.steps) p.clock.push_back(store::step_clock_sample(step));
-      followed.push_back({{"node", e.earlier.node}, {"scenario", e.earlier.scenario}, {"steps", e.steps.size()},
-                          {"checked", e.checked}, {"earlier_session", e.earlier.id}});
-      pending.push_back(std::move(p));
-    }
-    for (const auto& note : follow.notes) warn(note);
-  }
-
   // Then write: one transaction per session.
-  for (auto& p : pending) {
+  auto store = store::Store::open(c.store_path);
+  std::set<std::string> scenarios;
+  std::map<std::int64_t, analysis::LogStamps> stamps;  // the kernel logs', by session id
+  for (std::size_t k = 0; k < pending.size(); ++k) {
+    auto& p = pending[k];
     const auto end = *p.session.end;
     p.session.end.reset();
     const auto id = store.begin_session(p.session);
+    scenarios.insert(p.session.scenario);
+    if (const auto it = logs.find(k); it != logs.end()) stamps.emplace(id, std::move(it->second));
     store.append_events(id, p.events);
     for (auto& s : p.clock) s.session_id = id;
     if (!p.clock.empty()) store.append_clock_samples(p.clock);
@@ -345,6 +311,18 @@ int run_import(const ImportCommand& c) {
       store.append_rate_blocks(store::rate_block::split(id, p.gyro_channel, p.trace->clock,
                                                         p.trace->counts_per_deg_s, p.trace->samples));
     store.end_session(id, end);
+  }
+  // And the steps one board took over from another's (import_follow.hpp), each as a session.
+  nlohmann::json followed = nlohmann::json::array();
+  const auto follow = analysis::follow_in_store(store, scenarios, stamps);
+  for (const auto& note : follow.notes) warn(note);
+  for (const auto& f : follow.followed) {
+    analysis::store_followed(store, f, c.label, "import");
+    followed.push_back({{"node", f.follower.node},
+                        {"scenario", f.follower.scenario},
+                        {"steps", f.steps.size()},
+                        {"checked", f.checked},
+                        {"follower_session", f.follower.id}});
   }
   if (c.json) {
     nlohmann::json doc{{"store", c.store_path}, {"files", report}};
@@ -368,12 +346,7 @@ int run_import(const ImportCommand& c) {
                    core::printable(f["file"].get<std::string>()), f["format"].get<std::string>(),
                    s["events"].get<std::size_t>(), core::printable(s["node"].get<std::string>()),
                    s["role"].get<std::string>(), core::printable(s["scenario"].get<std::string>()));
-    for (const auto& f : followed)
-      fmt::print("{}: {} clock step{} of another board taken over ({}) -> scenario '{}'\n",
-                 core::printable(f["node"].get<std::string>()), f["steps"].get<std::size_t>(),
-                 f["steps"].get<std::size_t>() == 1 ? "" : "s",
-                 f["checked"].get<bool>() ? "seen in its kernel log" : "its kernel log gone: size unknown",
-                 core::printable(f["scenario"].get<std::string>()));
+    for (const auto& f : follow.followed) fmt::print("{}\n", core::printable(analysis::followed_line(f)));
   }
   return 0;
 }

@@ -1,10 +1,15 @@
 // `m2mlat merge`: join per-board store files into a campaign store (offline path; the live path is
-// `m2mlat collect`). Idempotent: a store merged again adds only what it gained since.
+// `m2mlat collect`). Idempotent: a store merged again adds only what it gained since. Boards whose
+// kernel logs were imported into stores of their own meet here first: a board that followed the
+// other's clock step is read then (analysis/import_follow.hpp).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <set>
 
+#include "m2mlat/analysis/import_follow.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/printable.hpp"
@@ -23,6 +28,8 @@ struct MergeCommand {
 
 int run_merge(const MergeCommand& c) {
   auto campaign = store::Store::open(c.campaign);
+  std::int64_t before = 0;  // the largest session id before the merge
+  for (const auto& s : campaign.sessions()) before = std::max(before, s.id);
   nlohmann::json report = nlohmann::json::array();
   for (const auto& board : c.boards) {
     const auto r = store::merge_store(campaign, board);
@@ -39,7 +46,26 @@ int run_merge(const MergeCommand& c) {
                  core::printable(r.path), core::printable(fmt::format("{}", fmt::join(r.nodes, ", "))),
                  r.events, r.clock_samples, r.losses, r.rate_blocks, r.markers);
   }
-  if (c.json) print_json({{"campaign", c.campaign}, {"merged", report}});
+  std::set<std::string> scenarios;
+  for (const auto& s : campaign.sessions())
+    if (s.id > before) scenarios.insert(s.scenario);
+  nlohmann::json followed = nlohmann::json::array();
+  const auto follow = analysis::follow_in_store(campaign, scenarios);
+  for (const auto& note : follow.notes) warn(note);
+  for (const auto& f : follow.followed) {
+    analysis::store_followed(campaign, f, f.follower.label, "merge");
+    followed.push_back({{"node", f.follower.node},
+                        {"scenario", f.follower.scenario},
+                        {"steps", f.steps.size()},
+                        {"checked", f.checked},
+                        {"follower_session", f.follower.id}});
+    if (!c.json) fmt::print("{}\n", core::printable(analysis::followed_line(f)));
+  }
+  if (c.json) {
+    nlohmann::json doc{{"campaign", c.campaign}, {"merged", report}};
+    if (!followed.empty()) doc["followed_steps"] = followed;
+    print_json(doc);
+  }
   return 0;
 }
 
