@@ -135,25 +135,37 @@ StoreFollow follow_in_store(const store::Store& store, const std::set<std::strin
   return out;
 }
 
-std::int64_t store_followed(store::Store& store, const FollowedSteps& f, const std::string& label,
-                            const std::string& source) {
-  store::Session session;
-  session.node = f.follower.node;
-  session.role = f.follower.role;
-  session.label = label;
-  session.scenario = f.follower.scenario;
-  session.config_json =
-      nlohmann::json{{"source", source}, {"followed_from", f.follower.id}, {"checked", f.checked}}.dump();
-  session.start = core::TimePoint::from_ns(f.follower.start.clock(), f.steps.front().earliest_ns);
-  const auto id = store.begin_session(session);
-  std::vector<store::ClockSample> samples;
-  for (const auto& step : f.steps) {
-    samples.push_back(store::step_clock_sample(step));
-    samples.back().session_id = id;
+StoreFollow take_over_steps(store::Store& store, const std::set<std::string>& scenarios,
+                            const std::map<std::int64_t, LogStamps>& in_memory, const std::string& source,
+                            const std::string& label) {
+  auto follow = follow_in_store(store, scenarios, in_memory);
+  for (const auto& f : follow.followed) {
+    store::Session session;
+    session.node = f.follower.node;
+    session.role = f.follower.role;
+    session.label = label.empty() ? f.follower.label : label;
+    session.scenario = f.follower.scenario;
+    session.config_json =
+        nlohmann::json{{"source", source}, {"followed_from", f.follower.id}, {"checked", f.checked}}.dump();
+    session.start = core::TimePoint::from_ns(f.follower.start.clock(), f.steps.front().earliest_ns);
+    const auto id = store.begin_session(session);
+    std::vector<store::ClockSample> samples;
+    for (const auto& step : f.steps) {
+      samples.push_back(store::step_clock_sample(step));
+      samples.back().session_id = id;
+    }
+    store.append_clock_samples(samples);
+    store.end_session(id, session.start);
   }
-  store.append_clock_samples(samples);
-  store.end_session(id, session.start);
-  return id;
+  return follow;
+}
+
+nlohmann::json to_json(const FollowedSteps& f) {
+  return {{"node", f.follower.node},
+          {"scenario", f.follower.scenario},
+          {"steps", f.steps.size()},
+          {"checked", f.checked},
+          {"follower_session", f.follower.id}};
 }
 
 std::string followed_line(const FollowedSteps& f) {

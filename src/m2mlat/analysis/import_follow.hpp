@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <vector>
@@ -44,11 +45,15 @@ struct StoreFollow {
 StoreFollow follow_in_store(const store::Store& store, const std::set<std::string>& scenarios,
                             const std::map<std::int64_t, LogStamps>& in_memory = {});
 
-// Stores `f` as a session of its own: no events, configuration {"source": <source>, "followed_from":
-// <follower id>, "checked": ...}, from its first step to its first step; returns its id.
-std::int64_t store_followed(store::Store& store, const FollowedSteps& f, const std::string& label,
-                            const std::string& source);
+// follow_in_store, and what it found stored: each FollowedSteps as a session of its own (no events,
+// configuration {"source": <source>, "followed_from": <follower id>, "checked": ...}, at its first
+// step; labelled `label`, or the follower's label when empty). Returns what it found.
+StoreFollow take_over_steps(store::Store& store, const std::set<std::string>& scenarios,
+                            const std::map<std::int64_t, LogStamps>& in_memory, const std::string& source,
+                            const std::string& label = "");
 
+// {"node", "scenario", "steps", "checked", "follower_session"}: the commands' --json.
+nlohmann::json to_json(const FollowedSteps& f);
 // "vehicle: 1 clock step of another board taken over (seen in its kernel log) -> scenario 'k'"
 std::string followed_line(const FollowedSteps& f);
 

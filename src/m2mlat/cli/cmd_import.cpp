@@ -313,17 +313,10 @@ int run_import(const ImportCommand& c) {
     store.end_session(id, end);
   }
   // And the steps one board took over from another's (import_follow.hpp), each as a session.
-  nlohmann::json followed = nlohmann::json::array();
-  const auto follow = analysis::follow_in_store(store, scenarios, stamps);
+  const auto follow = analysis::take_over_steps(store, scenarios, stamps, "import", c.label);
   for (const auto& note : follow.notes) warn(note);
-  for (const auto& f : follow.followed) {
-    analysis::store_followed(store, f, c.label, "import");
-    followed.push_back({{"node", f.follower.node},
-                        {"scenario", f.follower.scenario},
-                        {"steps", f.steps.size()},
-                        {"checked", f.checked},
-                        {"follower_session", f.follower.id}});
-  }
+  nlohmann::json followed = nlohmann::json::array();
+  for (const auto& f : follow.followed) followed.push_back(analysis::to_json(f));
   if (c.json) {
     nlohmann::json doc{{"store", c.store_path}, {"files", report}};
     if (!clock_logs.empty()) doc["clock_logs"] = clock_logs;

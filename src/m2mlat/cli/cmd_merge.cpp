@@ -49,16 +49,11 @@ int run_merge(const MergeCommand& c) {
   std::set<std::string> scenarios;
   for (const auto& s : campaign.sessions())
     if (s.id > before) scenarios.insert(s.scenario);
-  nlohmann::json followed = nlohmann::json::array();
-  const auto follow = analysis::follow_in_store(campaign, scenarios);
+  const auto follow = analysis::take_over_steps(campaign, scenarios, {}, "merge");
   for (const auto& note : follow.notes) warn(note);
+  nlohmann::json followed = nlohmann::json::array();
   for (const auto& f : follow.followed) {
-    analysis::store_followed(campaign, f, f.follower.label, "merge");
-    followed.push_back({{"node", f.follower.node},
-                        {"scenario", f.follower.scenario},
-                        {"steps", f.steps.size()},
-                        {"checked", f.checked},
-                        {"follower_session", f.follower.id}});
+    followed.push_back(analysis::to_json(f));
     if (!c.json) fmt::print("{}\n", core::printable(analysis::followed_line(f)));
   }
   if (c.json) {

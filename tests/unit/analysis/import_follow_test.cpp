@@ -88,8 +88,12 @@ TEST_F(ImportFollowTest, AFollowersLogInMemoryTakesOverTheStoredStepOnce) {
 
   // Other scenarios are not looked at; once stored, the step is not taken over again.
   EXPECT_TRUE(follow_in_store(s, {"other"}, {{vehicle, log}}).followed.empty());
-  store_followed(s, follow.followed[0], "run", "import");
+  EXPECT_EQ(take_over_steps(s, {"k"}, {{vehicle, log}}, "import", "run").followed.size(), 1u);
   EXPECT_TRUE(follow_in_store(s, {"k"}, {{vehicle, log}}).followed.empty());
+  const auto stored = s.sessions().back();
+  EXPECT_EQ(stored.node, "vehicle");
+  EXPECT_EQ(stored.label, "run");
+  EXPECT_EQ(s.event_count(stored.id), 0);
 }
 
 TEST_F(ImportFollowTest, AnEarlierLogIsReadAgainFromItsFileOrItsBoardLeftOut) {
