@@ -52,15 +52,8 @@ std::optional<LogStamps> reread(const store::Store& store, const store::Session&
   }
   const auto* events = std::get_if<formats::EventImport>(&content.content);
   if (events == nullptr) return std::nullopt;
-  LogStamps log;
   std::vector<std::int64_t> lines;
-  for (const auto& k : events->kernel_records) {
-    lines.push_back(k.time_ns);
-    if (!k.log_time_us) continue;
-    log.realtime_ns.push_back(k.time_ns);
-    log.log_time_us.push_back(*k.log_time_us);
-  }
-  if (log.realtime_ns.size() != lines.size()) log = {};  // lines without the log's stamp: nothing to read
+  for (const auto& k : events->kernel_records) lines.push_back(k.time_ns);
   std::sort(lines.begin(), lines.end());
   store::EventFilter filter;
   filter.session_id = s.id;
@@ -68,7 +61,7 @@ std::optional<LogStamps> reread(const store::Store& store, const store::Session&
   const auto stored = store.timestamps(s.start, end, filter);
   if (stored.t_ns.empty() || !std::includes(lines.begin(), lines.end(), stored.t_ns.begin(), stored.t_ns.end()))
     return std::nullopt;
-  return log;
+  return log_stamps(events->kernel_records);
 }
 
 }  // namespace
@@ -98,14 +91,10 @@ StoreFollow follow_in_store(const store::Store& store, const std::set<std::strin
     std::erase_if(others, [&](const store::ClockStep& step) {
       return std::any_of(taken.begin(), taken.end(), [&](const auto& t) { return t.earliest_ns == step.earliest_ns; });
     });
-    std::sort(others.begin(), others.end(), [](const auto& a, const auto& b) {
-      return std::tie(a.earliest_ns, a.at_ns, a.size_ns) < std::tie(b.earliest_ns, b.at_ns, b.size_ns);
-    });
-    others.erase(std::unique(others.begin(), others.end(),  // one board's log imported twice
-                             [](const auto& a, const auto& b) {
-                               return std::tie(a.earliest_ns, a.at_ns, a.size_ns) ==
-                                      std::tie(b.earliest_ns, b.at_ns, b.size_ns);
-                             }),
+    // One board's log imported twice holds its steps twice: each is followed once.
+    const auto key = [](const store::ClockStep& s) { return std::tie(s.earliest_ns, s.at_ns, s.size_ns); };
+    std::sort(others.begin(), others.end(), [&](const auto& a, const auto& b) { return key(a) < key(b); });
+    others.erase(std::unique(others.begin(), others.end(), [&](const auto& a, const auto& b) { return key(a) == key(b); }),
                  others.end());
     if (others.empty()) continue;
 

@@ -18,15 +18,11 @@
 #include <string>
 #include <vector>
 
+#include "m2mlat/analysis/kernel_log_steps.hpp"
 #include "m2mlat/store/clock_step.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::analysis {
-
-// One board's kernel log: its two stamps per line, in file order (lines with the log's own stamp).
-struct LogStamps {
-  std::vector<std::int64_t> realtime_ns, log_time_us;
-};
 
 // Steps a board took over: to be stored as a session of their own (no events) beside `follower`.
 struct FollowedSteps {

@@ -209,6 +209,16 @@ KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::
   return out;
 }
 
+LogStamps log_stamps(std::span<const formats::KernelLogRecord> records) {
+  LogStamps out;
+  for (const auto& k : records) {
+    if (!k.log_time_us) return {};
+    out.realtime_ns.push_back(k.time_ns);
+    out.log_time_us.push_back(*k.log_time_us);
+  }
+  return out;
+}
+
 std::vector<store::ClockStep> kernel_log_followed(std::span<const store::ClockStep> other_steps,
                                                   std::span<const store::ClockStep> own_steps,
                                                   std::span<const std::int64_t> realtime_ns,

@@ -39,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "m2mlat/formats/imported.hpp"
 #include "m2mlat/store/clock_step.hpp"
 
 namespace m2mlat::analysis {
@@ -50,6 +51,14 @@ struct KernelLogStepOptions {
   std::int64_t undone_within_ns = 60'000'000'000;  // a "step" undone within this is slewing, ns (monotonic)
   std::size_t fast_places_min = 4;                 // slewing "steps" that show the bound broken
 };
+
+// A kernel log's two stamps per GPIO line, in file order.
+struct LogStamps {
+  std::vector<std::int64_t> realtime_ns, log_time_us;
+};
+// The stamps of an imported kernel log's lines; empty without lines, or when a line lacks the log's
+// own stamp (then nothing to compare the realtime stamps with).
+LogStamps log_stamps(std::span<const formats::KernelLogRecord> records);
 
 // What a kernel log's stamps say about its realtime clock.
 struct KernelLogClock {

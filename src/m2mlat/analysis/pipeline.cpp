@@ -28,7 +28,7 @@ namespace {
 // A board's kernel log: its two stamps per line and the steps they show, kept until the other
 // board's steps are known (kernel_log_followed).
 struct LogClock {
-  std::vector<std::int64_t> realtime_ns, log_time_us;
+  LogStamps stamps;
   std::vector<store::ClockStep> steps;
 };
 
@@ -40,13 +40,9 @@ LogClock add_file_clock(BoardRecord& record, const formats::ImportedFile& file, 
   const auto* events = std::get_if<formats::EventImport>(&file.content);
   if (events == nullptr) return log;
   for (const auto& r : events->clock_records) record.samples[r.node].push_back(to_clock_sample(r));
-  for (const auto& k : events->kernel_records) {
-    if (!k.log_time_us) return {};  // lines without the log's own stamp: nothing to compare
-    log.realtime_ns.push_back(k.time_ns);
-    log.log_time_us.push_back(*k.log_time_us);
-  }
-  if (log.realtime_ns.empty()) return log;
-  const auto clock = kernel_log_clock(log.realtime_ns, log.log_time_us);
+  log.stamps = log_stamps(events->kernel_records);
+  if (log.stamps.realtime_ns.empty()) return log;
+  const auto clock = kernel_log_clock(log.stamps.realtime_ns, log.stamps.log_time_us);
   for (const auto& step : clock.steps) record.samples[node].push_back(store::step_clock_sample(step));
   if (clock.fast_slew_places != 0) record.fast_slewing[node] = {clock.fast_slew_places, clock.hidden_below_ns};
   log.steps = clock.steps;
@@ -57,9 +53,11 @@ LogClock add_file_clock(BoardRecord& record, const formats::ImportedFile& file, 
 // (a co-referenced rig's follower, kernel_log_followed) gets it as a step of its own.
 void add_followed(BoardRecord& record, const std::string& cause_node, const LogClock& cause,
                   const std::string& effect_node, const LogClock& effect) {
-  for (const auto& f : kernel_log_followed(effect.steps, cause.steps, cause.realtime_ns, cause.log_time_us))
+  for (const auto& f :
+       kernel_log_followed(effect.steps, cause.steps, cause.stamps.realtime_ns, cause.stamps.log_time_us))
     record.samples[cause_node].push_back(store::step_clock_sample(f));
-  for (const auto& f : kernel_log_followed(cause.steps, effect.steps, effect.realtime_ns, effect.log_time_us))
+  for (const auto& f :
+       kernel_log_followed(cause.steps, effect.steps, effect.stamps.realtime_ns, effect.stamps.log_time_us))
     record.samples[effect_node].push_back(store::step_clock_sample(f));
 }
 
@@ -141,7 +139,7 @@ std::optional<LeanSide> lean_side(const std::string& path, std::optional<formats
   for (const auto& step : clock.steps) lean.steps.push_back(store::step_clock_sample(step));
   lean.fast_slewing = {clock.fast_slew_places, clock.hidden_below_ns};
   lean.log.steps = clock.steps;
-  lean.log.log_time_us = std::move(only.log_time_us);
+  lean.log.stamps.log_time_us = std::move(only.log_time_us);
   lean.side = SideInput{{node, numeric ? "gpio" + only.label : only.label}, std::move(only.ns)};
   if (want && (want->node != lean.side.ref.node ||
                (!want->channel.empty() && want->channel != lean.side.ref.channel)))
@@ -208,11 +206,11 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
       record.samples[names.effect] = std::move(effect->steps);
       // The logs' realtime stamps are the sides' own: lent and moved back (no copy of 10^7 stamps),
       // and the printk stamps freed before the pairing.
-      cause->log.realtime_ns = std::move(cause->side.t_ns);
-      effect->log.realtime_ns = std::move(effect->side.t_ns);
+      cause->log.stamps.realtime_ns = std::move(cause->side.t_ns);
+      effect->log.stamps.realtime_ns = std::move(effect->side.t_ns);
       add_followed(record, names.cause, cause->log, names.effect, effect->log);
-      cause->side.t_ns = std::move(cause->log.realtime_ns);
-      effect->side.t_ns = std::move(effect->log.realtime_ns);
+      cause->side.t_ns = std::move(cause->log.stamps.realtime_ns);
+      effect->side.t_ns = std::move(effect->log.stamps.realtime_ns);
       cause->log = {};
       effect->log = {};
       if (record.samples[names.cause].empty() && record.samples[names.effect].empty()) record.samples.clear();

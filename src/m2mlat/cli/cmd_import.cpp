@@ -110,12 +110,8 @@ std::map<std::string, std::vector<store::ClockSample>> clock_of(const formats::E
   for (const auto& r : file.clock_records) out[r.node].push_back(analysis::to_clock_sample(r));
   if (file.kernel_records.empty() || file.events.empty()) return out;
   const auto& node = file.events.front().node;
-  analysis::LogStamps stamps;
-  for (const auto& k : file.kernel_records) {
-    if (!k.log_time_us) return out;
-    stamps.realtime_ns.push_back(k.time_ns);
-    stamps.log_time_us.push_back(*k.log_time_us);
-  }
+  auto stamps = analysis::log_stamps(file.kernel_records);
+  if (stamps.realtime_ns.empty()) return out;
   const auto clock = analysis::kernel_log_clock(stamps.realtime_ns, stamps.log_time_us);
   for (const auto& step : clock.steps) out[node].push_back(store::step_clock_sample(step));
   if (clock.fast_slew_places != 0)

@@ -16,9 +16,7 @@ constexpr std::int64_t kMs = 1'000'000;
 
 // A log of `lines` edges 1.3 s apart with printk delays of 20..200 us; the realtime clock slews at
 // `slew_ppm` and is stepped by `step_ns` before line `step_line`.
-struct Log {
-  std::vector<std::int64_t> realtime_ns, log_time_us;
-};
+using Log = LogStamps;
 Log make_log(int lines, std::int64_t step_ns, int step_line, double slew_ppm = 0, std::int64_t apart_ms = 1'300) {
   Log log;
   for (int i = 0; i < lines; ++i) {
