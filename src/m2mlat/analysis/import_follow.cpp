@@ -92,7 +92,7 @@ StoreFollow follow_in_store(const store::Store& store, const std::set<std::strin
       return std::any_of(taken.begin(), taken.end(), [&](const auto& t) { return t.earliest_ns == step.earliest_ns; });
     });
     // One board's log imported twice holds its steps twice: each is followed once.
-    const auto key = [](const store::ClockStep& s) { return std::tie(s.earliest_ns, s.at_ns, s.size_ns); };
+    const auto key = [](const store::ClockStep& c) { return std::tie(c.earliest_ns, c.at_ns, c.size_ns); };
     std::sort(others.begin(), others.end(), [&](const auto& a, const auto& b) { return key(a) < key(b); });
     others.erase(std::unique(others.begin(), others.end(), [&](const auto& a, const auto& b) { return key(a) == key(b); }),
                  others.end());
