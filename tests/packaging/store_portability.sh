@@ -4,7 +4,7 @@
 # exports (events, pairs) and the statistics must equal the amd64 ones byte for byte; and the other
 # way round. SQLite's file format is endian-neutral and the schema holds only integers and text (no
 # blobs, no floating point: timestamps are int64 ns), so any difference is a bug in m2mlat. The
-# simulator itself is meant to be portable (sim/portable_math), so both architectures' runs with one
+# simulator itself is meant to be portable (core/portable_math), so both architectures' runs with one
 # seed must give the same events too.
 #
 #   tests/packaging/store_portability.sh AMD64_M2MLAT ARM64_M2MLAT

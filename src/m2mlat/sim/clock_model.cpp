@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "m2mlat/core/error.hpp"
-#include "m2mlat/sim/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
+#include "m2mlat/core/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
 
 namespace m2mlat::sim {
 

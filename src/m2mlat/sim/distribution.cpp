@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "m2mlat/core/error.hpp"
-#include "m2mlat/sim/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
-#include "m2mlat/sim/portable_math.hpp"
+#include "m2mlat/core/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
+#include "m2mlat/core/portable_math.hpp"
 #include "m2mlat/sim/random.hpp"
 
 namespace m2mlat::sim {
@@ -65,7 +65,7 @@ core::Duration sample(const DurationDist& dist, Rng& rng) {
     case Shape::uniform: x = scale * rng.uniform(); break;
     case Shape::normal: x = scale * rng.normal(); break;
     case Shape::exponential: x = scale * rng.exponential(); break;
-    case Shape::lognormal: x = scale * portable_exp(dist.log_sigma * rng.normal()); break;
+    case Shape::lognormal: x = scale * core::portable_exp(dist.log_sigma * rng.normal()); break;
   }
   const std::int64_t ns = dist.offset.count() + to_ns(x);
   if (ns < dist.min.count()) return dist.min;

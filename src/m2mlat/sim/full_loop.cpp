@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "m2mlat/core/error.hpp"
-#include "m2mlat/sim/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
+#include "m2mlat/core/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
 #include "m2mlat/sim/random.hpp"
 
 namespace m2mlat::sim {

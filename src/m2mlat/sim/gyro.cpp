@@ -9,8 +9,8 @@
 #include <limits>
 
 #include "m2mlat/core/error.hpp"
-#include "m2mlat/sim/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
-#include "m2mlat/sim/portable_math.hpp"
+#include "m2mlat/core/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
+#include "m2mlat/core/portable_math.hpp"
 #include "m2mlat/sim/random.hpp"
 
 namespace m2mlat::sim {
@@ -68,7 +68,7 @@ core::RateTrace simulate_gyro(const GyroConfig& config, std::span<const RateMoti
   // cut-off: neighbouring samples at 8 kHz are correlated, as on the chip. The white noise's sd is
   // chosen so the filtered noise has noise_sd_deg_s().
   const double cutoff_hz = config.noise_bandwidth_hz / 1.5707963267948966;
-  const double pole = portable_exp(-2 * 3.141592653589793 * cutoff_hz * period * 1e-9);
+  const double pole = core::portable_exp(-2 * 3.141592653589793 * cutoff_hz * period * 1e-9);
   const double gain = 1 - pole;
   const double sd = config.noise_sd_deg_s() * std::sqrt((2 - gain) / gain);
   std::array<double, 3> coloured{};

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "m2mlat/core/error.hpp"
-#include "m2mlat/sim/portable_math.hpp"
-#include "m2mlat/sim/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
+#include "m2mlat/core/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
+#include "m2mlat/core/portable_math.hpp"
 
 namespace m2mlat::sim {
 
@@ -28,7 +28,8 @@ double rate_deg_s(const RateMotion& m, std::int64_t t_ns) {
     const double q = s * (1 - s);
     return m.amplitude_deg / T * 30 * q * q;
   }
-  if (m.shape == RateMotion::Shape::raised_cosine) return m.amplitude_deg / T * (1 - portable_cos(kTwoPi * tau / T));
+  if (m.shape == RateMotion::Shape::raised_cosine)
+    return m.amplitude_deg / T * (1 - core::portable_cos(kTwoPi * tau / T));
   const double ramp = m.peak_deg_s / m.accel_deg_s2;  // s accelerating (and decelerating)
   if (tau < ramp) return sign * m.accel_deg_s2 * tau;
   if (tau > T - ramp) return sign * m.accel_deg_s2 * (T - tau);

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>  // llround: exact
 
-#include "m2mlat/sim/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
+#include "m2mlat/core/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
 
 namespace m2mlat::sim {
 

@@ -4,8 +4,8 @@
 #include <array>
 #include <cmath>  // sqrt: correctly rounded by IEEE-754, identical everywhere
 
-#include "m2mlat/sim/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
-#include "m2mlat/sim/portable_math.hpp"
+#include "m2mlat/core/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
+#include "m2mlat/core/portable_math.hpp"
 
 namespace m2mlat::sim {
 
@@ -54,12 +54,13 @@ const Ziggurat<128>& normal_ziggurat() {
     constexpr double r = 3.442619855899;
     constexpr double v = 9.91256303526217e-3;
     Ziggurat<128> t;
-    t.x[0] = v / portable_exp(-0.5 * r * r);
+    t.x[0] = v / core::portable_exp(-0.5 * r * r);
     t.x[1] = r;
     for (std::size_t i = 1; i < 127; ++i)
-      t.x[i + 1] = std::sqrt(-2.0 * portable_log(v / t.x[i] + portable_exp(-0.5 * t.x[i] * t.x[i])));
+      t.x[i + 1] =
+          std::sqrt(-2.0 * core::portable_log(v / t.x[i] + core::portable_exp(-0.5 * t.x[i] * t.x[i])));
     t.x[128] = 0;
-    for (std::size_t i = 0; i <= 128; ++i) t.f[i] = portable_exp(-0.5 * t.x[i] * t.x[i]);
+    for (std::size_t i = 0; i <= 128; ++i) t.f[i] = core::portable_exp(-0.5 * t.x[i] * t.x[i]);
     return t;
   }();
   return z;
@@ -71,11 +72,12 @@ const Ziggurat<256>& exponential_ziggurat() {
     constexpr double r = 7.69711747013104972;
     constexpr double v = 3.949659822581572e-3;
     Ziggurat<256> t;
-    t.x[0] = v / portable_exp(-r);
+    t.x[0] = v / core::portable_exp(-r);
     t.x[1] = r;
-    for (std::size_t i = 1; i < 255; ++i) t.x[i + 1] = -portable_log(v / t.x[i] + portable_exp(-t.x[i]));
+    for (std::size_t i = 1; i < 255; ++i)
+      t.x[i + 1] = -core::portable_log(v / t.x[i] + core::portable_exp(-t.x[i]));
     t.x[256] = 0;
-    for (std::size_t i = 0; i <= 256; ++i) t.f[i] = portable_exp(-t.x[i]);
+    for (std::size_t i = 0; i <= 256; ++i) t.f[i] = core::portable_exp(-t.x[i]);
     return t;
   }();
   return z;
@@ -94,13 +96,13 @@ double Rng::normal() {
     if (i == 0) {
       // The tail beyond r (Marsaglia, 1964): r + a with a ~ exp(r) restricted by a rejection test.
       for (;;) {
-        const double a = -portable_log(1.0 - uniform()) / z.x[1];
-        const double b = -portable_log(1.0 - uniform());
+        const double a = -core::portable_log(1.0 - uniform()) / z.x[1];
+        const double b = -core::portable_log(1.0 - uniform());
         if (2 * b > a * a) return sign * (z.x[1] + a);
       }
     }
     // The wedge: accept if a uniform height in the layer lies under the curve.
-    if (z.f[i] + uniform() * (z.f[i + 1] - z.f[i]) < portable_exp(-0.5 * x * x)) return sign * x;
+    if (z.f[i] + uniform() * (z.f[i + 1] - z.f[i]) < core::portable_exp(-0.5 * x * x)) return sign * x;
   }
 }
 
@@ -117,7 +119,7 @@ double Rng::exponential() {
       shift += z.x[1];
       continue;
     }
-    if (z.f[i] + uniform() * (z.f[i + 1] - z.f[i]) < portable_exp(-x)) return shift + x;
+    if (z.f[i] + uniform() * (z.f[i + 1] - z.f[i]) < core::portable_exp(-x)) return shift + x;
   }
 }
 

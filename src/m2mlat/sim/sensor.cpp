@@ -5,7 +5,7 @@
 #include <cmath>  // llround: exact
 #include <limits>
 
-#include "m2mlat/sim/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
+#include "m2mlat/core/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
 
 namespace m2mlat::sim {
 

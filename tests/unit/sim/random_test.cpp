@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "m2mlat/sim/distribution.hpp"
-#include "m2mlat/sim/portable_math.hpp"
 
 using namespace m2mlat::sim;
 using namespace std::chrono_literals;
@@ -86,20 +85,6 @@ TEST(Random, ExponentialHasUnitMeanAndTail) {
   EXPECT_NEAR(sum / n, 1.0, 0.005);
   EXPECT_NEAR(beyond5 / static_cast<double>(n), std::exp(-5.0), 0.0003);
   EXPECT_NEAR(beyond9 / static_cast<double>(n), std::exp(-9.0), 0.00004);
-}
-
-TEST(PortableMath, AgreesWithTheLibrary) {
-  for (double x = 1e-300; x < 1e300; x *= 1.37)
-    EXPECT_NEAR(portable_log(x), std::log(x), 1e-15 * std::abs(std::log(x)) + 1e-15);
-  for (double x = -700; x < 700; x += 0.731)
-    EXPECT_NEAR(portable_exp(x), std::exp(x), 4e-16 * std::exp(x)) << x;
-  EXPECT_EQ(portable_log(1.0), 0.0);
-  EXPECT_EQ(portable_exp(0.0), 1.0);
-  EXPECT_NEAR(portable_log(5e-324), std::log(5e-324), 1e-12);  // subnormal input
-  EXPECT_TRUE(std::isinf(portable_log(0.0)));
-  for (double x = -100; x < 100; x += 0.0137) EXPECT_NEAR(portable_cos(x), std::cos(x), 2e-16 * 100) << x;
-  EXPECT_EQ(portable_cos(0.0), 1.0);
-  EXPECT_NEAR(portable_cos(3.141592653589793), -1.0, 1e-15);
 }
 
 TEST(Distribution, ShapesHaveTheirMedians) {

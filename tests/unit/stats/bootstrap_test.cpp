@@ -1,12 +1,11 @@
-// Bootstrap: exact agreement with a slow, obvious implementation (here and in Python),
-// reproducibility, and the statistical behaviour of the intervals.
+// Bootstrap: exact agreement with an implementation in Python, reproducibility, and the statistical
+// behaviour of the intervals (the resamples' distribution: order_statistics_test.cpp).
 #include "m2mlat/stats/bootstrap.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
 #include <vector>
 
 #include "m2mlat/core/error.hpp"
@@ -20,20 +19,6 @@ using m2mlat::stats::test::lcg_sample;
 using m2mlat::stats::test::sorted_copy;
 
 namespace {
-
-// The definition in bootstrap.hpp done the slow way: draw n indices, sort the resample, take
-// its quantiles.
-std::vector<double> naive_resample_quantiles(const std::vector<std::int64_t>& sorted,
-                                             const std::vector<double>& probabilities, std::uint64_t seed,
-                                             std::size_t b) {
-  IndexStream draw(Rng::stream(seed, b), static_cast<std::uint32_t>(sorted.size()));
-  std::vector<std::int64_t> resample(sorted.size());
-  for (std::int64_t& x : resample) x = sorted[draw.next()];
-  std::sort(resample.begin(), resample.end());
-  std::vector<double> out;
-  for (const double p : probabilities) out.push_back(quantile(resample, p));
-  return out;
-}
 
 // Latencies whose true median and quartiles are known: the smaller of two uniform integers in
 // [0, 2^30). P(min <= x) = 1 - (1 - x/M)^2, so the p-quantile is M (1 - sqrt(1 - p)).
@@ -50,81 +35,64 @@ double true_quantile(double p) { return kM * (1.0 - std::sqrt(1.0 - p)); }
 
 }  // namespace
 
-TEST(Bootstrap, CountingEqualsSortingEachResample) {
+TEST(Bootstrap, ResampledQuantilesComeFromTheSample) {
+  // Each resampled quantile is a sample value or lies between two (type 7): its order statistics are
+  // sample values. With one sample, every resample is that sample.
   const std::vector<double> probs = {0.25, 0.5, 0.75, 0.0, 1.0, 0.975};
   for (const std::size_t n : {1u, 2u, 7u, 100u, 1001u}) {
     const auto sorted = sorted_copy(lcg_sample(n, 31 + n));
     const BootstrapQuantiles q = bootstrap_quantiles(sorted, probs, 40, 9);
     ASSERT_EQ(q.resamples, 40u);
     for (std::size_t b = 0; b < q.resamples; ++b) {
-      const std::vector<double> expected = naive_resample_quantiles(sorted, probs, 9, b);
-      for (std::size_t k = 0; k < probs.size(); ++k)
-        ASSERT_EQ(q.value(b, k), expected[k]) << n << " " << b << " " << k;
+      for (std::size_t k = 0; k < probs.size(); ++k) {
+        const double v = q.value(b, k);
+        ASSERT_GE(v, static_cast<double>(sorted.front())) << n << " " << b << " " << k;
+        ASSERT_LE(v, static_cast<double>(sorted.back())) << n << " " << b << " " << k;
+        if (probs[k] == 0.0 || probs[k] == 1.0) {  // the resample's min and max: sample values
+          ASSERT_TRUE(std::binary_search(sorted.begin(), sorted.end(), static_cast<std::int64_t>(v)));
+        }
+      }
+      ASSERT_LE(q.value(b, 0), q.value(b, 1));
+      ASSERT_LE(q.value(b, 1), q.value(b, 2));
     }
   }
 }
 
-TEST(Bootstrap, WindowedCountingEqualsFullCounting) {
-  // Windowed counting is chosen automatically for large samples; forced here on a small one, once
-  // with the default windows and once with windows so narrow that resamples miss them and are
-  // counted again in full.
-  const auto sorted = sorted_copy(lcg_sample(20'000, 77));
-  const std::vector<double> probs = {0.25, 0.5, 0.75, 0.05, 0.99};
-  using detail::RankCounting;
-  const BootstrapQuantiles full = detail::bootstrap_quantiles(sorted, probs, 60, 5, RankCounting::full);
-  std::size_t fallbacks = 99;
-  const BootstrapQuantiles windowed =
-      detail::bootstrap_quantiles(sorted, probs, 60, 5, RankCounting::windowed, 0, &fallbacks);
-  EXPECT_EQ(fallbacks, 0u);
-  EXPECT_EQ(windowed.values, full.values);
-  const BootstrapQuantiles narrow =
-      detail::bootstrap_quantiles(sorted, probs, 60, 5, RankCounting::windowed, 20, &fallbacks);
-  EXPECT_GT(fallbacks, 10u);
-  EXPECT_EQ(narrow.values, full.values);
-}
-
-TEST(Bootstrap, TheNumberOfThreadsChangesNothing) {
-  // Each resample draws from its own stream, so sharing them among threads (unevenly: 61
-  // resamples among 2 and 3) gives the same values, and the same fallbacks in total.
-  const auto sorted = sorted_copy(lcg_sample(20'000, 78));
-  const std::vector<double> probs = {0.25, 0.5, 0.75, 0.99};
-  using detail::RankCounting;
-  std::size_t one_fallbacks = 0;
-  const BootstrapQuantiles one =
-      detail::bootstrap_quantiles(sorted, probs, 61, 6, RankCounting::windowed, 20, &one_fallbacks, 1);
-  EXPECT_GT(one_fallbacks, 10u);
-  for (const std::size_t threads : {2u, 3u, 100u}) {
-    std::size_t fallbacks = 0;
-    const BootstrapQuantiles many =
-        detail::bootstrap_quantiles(sorted, probs, 61, 6, RankCounting::windowed, 20, &fallbacks, threads);
-    EXPECT_EQ(many.values, one.values) << threads;
-    EXPECT_EQ(fallbacks, one_fallbacks) << threads;
-  }
-  EXPECT_EQ(detail::bootstrap_threads(20'000, 61), 1u);  // 1.2 M draws: one thread
-  // 2e10 draws: one thread a core, at most four.
-  const std::size_t cores = std::max(1u, std::thread::hardware_concurrency());
-  EXPECT_EQ(detail::bootstrap_threads(10'000'000, 2000), std::min(cores, detail::kMaxBootstrapThreads));
-}
-
 TEST(Bootstrap, MatchesIndependentPythonImplementation) {
   // reference_values.py: "Bootstrap of lcg_sample(25, 7), B = 300, seed = 2024, level 0.95",
-  // computed by drawing with a Python xoshiro256**, sorting, and numpy.percentile.
+  // its order statistics drawn by a Python xoshiro256** and variates, its quartiles by numpy.
   const auto sorted = sorted_copy(lcg_sample(25, 7));
   const std::vector<double> probs = {0.25, 0.5, 0.75};
   const BootstrapQuantiles q = bootstrap_quantiles(sorted, probs, 300, 2024);
-  EXPECT_EQ(q.value(0, 1), 417257219.0);
-  EXPECT_EQ(q.value(1, 1), 566905654.0);
-  EXPECT_EQ(q.value(2, 1), 456694899.0);
+  EXPECT_EQ(q.value(0, 1), 582178098.0);
+  EXPECT_EQ(q.value(1, 1), 536493632.0);
+  EXPECT_EQ(q.value(2, 1), 536493632.0);
   EXPECT_EQ(q.column(1).size(), 300u);
-  EXPECT_EQ(q.column(1)[2], 456694899.0);
-  EXPECT_EQ(q.value(0, 2) - q.value(0, 0), 317886527.0);
-  EXPECT_EQ(q.value(1, 2) - q.value(1, 0), 319782314.0);
+  EXPECT_EQ(q.column(1)[2], 536493632.0);
+  EXPECT_EQ(q.value(0, 2) - q.value(0, 0), 323132611.0);
+  EXPECT_EQ(q.value(1, 2) - q.value(1, 0), 290716484.0);
+  EXPECT_EQ(q.value(2, 2) - q.value(2, 0), 288461454.0);
   const auto ci = bootstrap_median_iqr(sorted, {300, 2024, 0.95});
   ASSERT_TRUE(ci);
   expect_close(ci->median_ms.lower, 381.473951);
-  expect_close(ci->median_ms.upper, 584.74328);
-  expect_close(ci->iqr_ms.lower, 164.55837805000002);
-  expect_close(ci->iqr_ms.upper, 517.059842);
+  expect_close(ci->median_ms.upper, 596.5046812249996);
+  expect_close(ci->iqr_ms.lower, 188.02937820000002);
+  expect_close(ci->iqr_ms.upper, 517.33763315);
+  // "Bootstrap of lcg_sample(1000, 3)": quartiles between two order statistics.
+  const auto sorted1000 = sorted_copy(lcg_sample(1000, 3));
+  const BootstrapQuantiles q1000 = bootstrap_quantiles(sorted1000, probs, 50, 8);
+  EXPECT_EQ(q1000.value(0, 1), 523632534.0);
+  EXPECT_EQ(q1000.value(1, 1), 530793549.5);
+  EXPECT_EQ(q1000.value(2, 1), 533042748.0);
+  EXPECT_EQ(q1000.value(0, 2) - q1000.value(0, 0), 439118619.0);
+  EXPECT_EQ(q1000.value(1, 2) - q1000.value(1, 0), 451776304.0);
+  EXPECT_EQ(q1000.value(2, 2) - q1000.value(2, 0), 477126338.0);
+  const auto ci1000 = bootstrap_median_iqr(sorted1000, {50, 8, 0.9});
+  ASSERT_TRUE(ci1000);
+  expect_close(ci1000->median_ms.lower, 515.132977425);
+  expect_close(ci1000->median_ms.upper, 553.960790225);
+  expect_close(ci1000->iqr_ms.lower, 433.259678625);
+  expect_close(ci1000->iqr_ms.upper, 482.3947063625);
 }
 
 TEST(Bootstrap, SameSeedSameIntervalsOtherSeedOtherIntervals) {

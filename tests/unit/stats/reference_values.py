@@ -6,12 +6,15 @@ Run with Debian's interpreter (it has numpy):  /usr/bin/python3 tests/unit/stats
 Descriptive statistics come from numpy (np.percentile's default method is Hyndman-Fan type 7;
 np.std with ddof=1) and from Python's statistics module (exact rational arithmetic for mean and
 stdev). The pseudo-random generator (splitmix64, xoshiro256**, the two-per-word bounded draws)
-and the bootstrap are re-implemented here from their definitions in Python integers, so the
-C++ tests can check the exact resamples. Every constant in the tests is printed by this script,
+is re-implemented here from its definition in Python integers, and the bootstrap's draws of a
+resample's order statistics (normal, gamma, Beta variates and the portable logarithm) operation by
+operation in Python floats (IEEE doubles), so the C++ tests can check the exact resamples. Every constant in the tests is printed by this script,
 with the name the test uses.
 """
 
+import math
 import statistics
+import struct
 
 import numpy as np
 
@@ -143,15 +146,103 @@ class IndexStream:
                 return m >> 32
 
 
+# --- a resample's order statistics (order_statistics.hpp) ---------------------------------------
+
+
+def uniform01(rng):
+    return float(rng.next() >> 11) * (1.0 / 9007199254740992.0)
+
+
+LN2_HIGH = float.fromhex("0x1.62e42fee00000p-1")
+LN2_LOW = float.fromhex("0x1.a39ef35793c76p-33")
+SQRT_TWO = 1.41421356237309504880168872420969808
+ODD_INVERSE = [1.0 / float(2 * k + 1) for k in range(11)]
+
+
+def portable_log(x):
+    """core::portable_log, operation by operation (Python floats are IEEE doubles, no fused ops)."""
+    if not x > 0:
+        return float("-inf")
+    bits = struct.unpack("<Q", struct.pack("<d", x))[0]
+    exponent = 0
+    if (bits >> 52) == 0:
+        bits = struct.unpack("<Q", struct.pack("<d", x * float.fromhex("0x1.0p54")))[0]
+        exponent = -54
+    exponent += (bits >> 52) - 1023
+    m = struct.unpack("<d", struct.pack("<Q", (bits & 0x000FFFFFFFFFFFFF) | 0x3FF0000000000000))[0]
+    if m >= SQRT_TWO:
+        m *= 0.5
+        exponent += 1
+    s = (m - 1) / (m + 1)
+    s2 = s * s
+    series = ODD_INVERSE[10]
+    for k in range(9, -1, -1):
+        series = ODD_INVERSE[k] + s2 * series
+    e = float(exponent)
+    return e * LN2_HIGH + (e * LN2_LOW + 2 * s * series)
+
+
+def normal_variate(rng):
+    while True:
+        x = 2.0 * uniform01(rng) - 1.0
+        y = 2.0 * uniform01(rng) - 1.0
+        s = x * x + y * y
+        if s < 1.0 and s > 0.0:
+            return x * math.sqrt(-2.0 * portable_log(s) / s)
+
+
+def gamma_variate(rng, shape):
+    d = shape - 1.0 / 3.0
+    c = 1.0 / math.sqrt(9.0 * d)
+    while True:
+        while True:
+            x = normal_variate(rng)
+            v = 1.0 + c * x
+            if v > 0.0:
+                break
+        v = v * v * v
+        u = uniform01(rng)
+        x2 = x * x
+        if u < 1.0 - 0.0331 * x2 * x2:
+            return d * v
+        if portable_log(u) < 0.5 * x2 + d * (1.0 - v + portable_log(v)):
+            return d * v
+
+
+def resample_order_statistics(rng, n, wanted):
+    """The wanted-th smallest (0-based, ascending) of n ranks drawn from 0..n-1: U_(k) of n uniforms
+    is Beta(k, n - k + 1), and the next one is Beta-distributed above it."""
+    below, placed, ranks = 0.0, 0, []
+    for j in wanted:
+        k = j + 1
+        x = gamma_variate(rng, float(k - placed))
+        y = gamma_variate(rng, float(n - k + 1))
+        below = below + (1.0 - below) * (x / (x + y))
+        placed = k
+        ranks.append(min(n - 1, int(below * float(n))))
+    return ranks
+
+
 def bootstrap_median_iqr(values_ns, resamples, seed, level):
-    """The bootstrap as defined in bootstrap.hpp, done the slow, obvious way: draw, sort, numpy."""
+    """The bootstrap as defined in bootstrap.hpp: each resample's order statistics drawn, placed in a
+    sorted stand-in resample (each filled up to the next), and its quartiles by numpy."""
     x = np.sort(np.array(values_ns, dtype=np.int64))
     n = len(x)
+    wanted = set()
+    for p in (0.25, 0.5, 0.75):
+        h = (n - 1) * p
+        wanted.add(int(math.floor(h)))
+        if h != math.floor(h):
+            wanted.add(int(math.floor(h)) + 1)
+    wanted = sorted(wanted)
     medians, iqrs = [], []
     for b in range(resamples):
-        draw = IndexStream(Xoshiro256ss.stream(seed, b), n)
-        resample = np.sort(x[[draw.next() for _ in range(n)]])
-        q1, med, q3 = np.percentile(resample, [25, 50, 75])
+        ranks = resample_order_statistics(Xoshiro256ss.stream(seed, b), n, wanted)
+        stand_in = np.empty(n, dtype=np.int64)
+        for i, j in enumerate(wanted):
+            end = wanted[i + 1] if i + 1 < len(wanted) else n
+            stand_in[(0 if i == 0 else j):end] = x[ranks[i]]
+        q1, med, q3 = np.percentile(stand_in, [25, 50, 75])
         medians.append(float(med))
         iqrs.append(float(q3) - float(q1))
     probs = [(1.0 - level) / 2.0, (1.0 + level) / 2.0]
@@ -195,12 +286,26 @@ def main():
     draw = IndexStream(Xoshiro256ss.stream(5, 0), 3_000_000_000)
     show("IndexStream(Rng(5), 3e9)", [draw.next() for _ in range(12)])
 
+    print("\n# Order statistics of a resample")
+    show("normal_variate(Rng(9))", normal_variate(Xoshiro256ss.stream(9, 0)))
+    rng = Xoshiro256ss.stream(9, 1)
+    show("gamma_variate(Rng::stream(9, 1), 1 then 1e6)", [gamma_variate(rng, 1.0), gamma_variate(rng, 1e6)])
+    show("ranks(Rng::stream(2024, 0), 10007, [2501, 2502, 5003])",
+         resample_order_statistics(Xoshiro256ss.stream(2024, 0), 10007, [2501, 2502, 5003]))
+
     print("\n# Bootstrap of lcg_sample(25, 7), B = 300, seed = 2024, level 0.95")
     medians, iqrs, med_ci, iqr_ci = bootstrap_median_iqr(lcg_sample(25, 7), 300, 2024, 0.95)
     show("boot.median_ns[0..2]", medians[:3])
     show("boot.iqr_ns[0..2]", iqrs[:3])
     show("boot.median_ci_ms", med_ci)
     show("boot.iqr_ci_ms", iqr_ci)
+
+    print("\n# Bootstrap of lcg_sample(1000, 3) (interpolated quartiles), B = 50, seed = 8, level 0.9")
+    medians, iqrs, med_ci, iqr_ci = bootstrap_median_iqr(lcg_sample(1000, 3), 50, 8, 0.9)
+    show("boot1000.median_ns[0..2]", medians[:3])
+    show("boot1000.iqr_ns[0..2]", iqrs[:3])
+    show("boot1000.median_ci_ms", med_ci)
+    show("boot1000.iqr_ci_ms", iqr_ci)
 
 
 if __name__ == "__main__":

@@ -1,14 +1,14 @@
 // Logarithm, exponential and cosine from basic IEEE operations (see portable_math.hpp for why).
-#include "m2mlat/sim/portable_math.hpp"
+#include "m2mlat/core/portable_math.hpp"
 
 #include <array>
 #include <bit>
 #include <cmath>  // ldexp and floor only: exact operations, identical everywhere
 #include <cstdint>
 
-#include "m2mlat/sim/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
+#include "m2mlat/core/fp_determinism.hpp"  // before any code: doubles follow IEEE rules exactly
 
-namespace m2mlat::sim {
+namespace m2mlat::core {
 
 namespace {
 // ln 2 split so that k * kLn2High is exact for |k| < 2^11 (Cody and Waite's argument reduction).
@@ -96,4 +96,4 @@ double portable_cos(double x) {
   return sum;
 }
 
-}  // namespace m2mlat::sim
+}  // namespace m2mlat::core
