@@ -277,6 +277,10 @@
     setText('median', fmtMs(s.median_ms));
     setText('iqr', fmtMs(s.iqr_ms));
     setText('quartiles', s.q1_ms === null ? '-' : `Q1 ${fmtMs(s.q1_ms)} .. Q3 ${fmtMs(s.q3_ms)}`);
+    // The bootstrap's interval (the level, e.g. 95 %, and its ends), as `m2mlat stats` gives it.
+    const fmtCi = (ci) => (ci ? `${Math.round(s.ci_level * 100)} % CI ${ci[0].toFixed(1)} .. ${ci[1].toFixed(1)} ms` : '-');
+    setText('median-ci', fmtCi(s.median_ci_ms));
+    setText('iqr-ci', fmtCi(s.iqr_ci_ms));
     setText('p95', fmtMs(s.p95_ms));
     setText('pairs', fmtCount(s.pairs));
     setText('ambiguous', `${s.ambiguous} ambiguous`);

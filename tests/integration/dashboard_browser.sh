@@ -72,7 +72,8 @@ PY
 # One page load, read twice: after 3 s and after 10 s more, without reloading.
 read_page='[document.getElementById("samples").textContent, document.getElementById("connection").textContent,
   document.querySelectorAll("#strip circle.point").length, document.querySelectorAll("#histogram rect.bar").length,
-  document.getElementById("median").textContent, document.getElementById("scenario").textContent]'
+  document.getElementById("median").textContent, document.getElementById("scenario").textContent,
+  document.getElementById("median-ci").textContent]'
 "$PY" "$HERE/cdp_page.py" "$CHROMIUM" "$url" "$WORK/profile" "3=$read_page" "10=$read_page" > page.json \
   || fail "chromium could not load $url"
 $PY - page.json <<'PY'
@@ -81,10 +82,12 @@ page = json.load(open(sys.argv[1]))
 assert not page["errors"], "console errors: %s" % page["errors"]
 first, second = page["values"]
 for v in (first, second):
-    samples, connection, points, bars, median, scenario = v
+    samples, connection, points, bars, median, scenario, median_ci = v
     assert connection == "live", v            # the event stream is open
     assert points >= 2 and bars >= 1, v        # both charts drawn
     assert re.fullmatch(r"\d+\.\d ms", median), v
+    ci = re.fullmatch(r"95 % CI (\d+\.\d) \.\. (\d+\.\d) ms", median_ci)  # the bootstrap's, live
+    assert ci and float(ci[1]) <= float(median[:-3]) <= float(ci[2]), v
     assert scenario == "browser: operator/wheel \u2192 vehicle/wheel", v
 assert int(second[0]) > int(first[0]), "the sample count did not grow: %s then %s" % (first[0], second[0])
 print("dashboard page: %s then %s samples, no console errors" % (first[0], second[0]))
@@ -96,17 +99,20 @@ recorders=()
 kill -TERM "$watcher"
 wait "$watcher" || fail "m2mlat watch did not end cleanly on SIGTERM"
 watcher=""
-"$M2MLAT" stats store.db --bootstrap 0 --json > stats.json
+"$M2MLAT" stats store.db --json > stats.json
 $PY - watch.txt stats.json <<'PY'
 import json, re, sys
 text = open(sys.argv[1]).read()
 last = re.findall(r"samples (\d+)  last [\d.]+ ms  median ([\d.]+) ms  IQR ([\d.]+) ms", text)[-1]
+ci = re.findall(r"95 % CI: median ([\d.]+)-([\d.]+) ms, IQR ([\d.]+)-([\d.]+) ms", text)[-1]
 s = json.load(open(sys.argv[2]))["scenarios"][0]
 assert s["scenario"] == "browser", s["scenario"]
 lat = s["latency"]
 assert int(last[0]) == lat["n"], (last, lat["n"])
 assert last[1] == "%.1f" % lat["median_ms"] and last[2] == "%.1f" % lat["iqr_ms"], (last, lat)
-print("final block = m2mlat stats: %s samples, median %s ms" % (last[0], last[1]))
+b = lat["bootstrap"]
+assert ci == tuple("%.1f" % x for x in b["median_ms"] + b["iqr_ms"]), (ci, b)
+print("final block = m2mlat stats: %s samples, median %s ms (95 %% CI %s-%s)" % (last[0], last[1], ci[0], ci[1]))
 PY
 
 # The real coordinator with two simulated agents (the live view wired into `m2mlat collect`), with

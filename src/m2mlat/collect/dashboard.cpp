@@ -16,6 +16,7 @@
 #include "m2mlat/net/query.hpp"
 #include "m2mlat/net/wire.hpp"
 #include "m2mlat/report/breakdown_view.hpp"
+#include "m2mlat/stats/bootstrap.hpp"
 
 namespace m2mlat::collect {
 
@@ -23,6 +24,7 @@ namespace {
 
 // A statistic in ms, or null where it is undefined (NaN: no samples).
 nlohmann::json ms_or_null(double ms) { return std::isnan(ms) ? nlohmann::json(nullptr) : nlohmann::json(ms); }
+nlohmann::json interval_json(const stats::Interval& ms) { return nlohmann::json::array({ms.lower, ms.upper}); }
 
 nlohmann::json sample_json(const LiveSample& s) {
   return {{"t_ns", s.cause_ns}, {"latency_ns", s.latency_ns}, {"ambiguous", s.ambiguous}};
@@ -68,6 +70,9 @@ nlohmann::json summary_json(const LiveSummary& s) {
           {"q1_ms", ms_or_null(st.q1_ms)},
           {"q3_ms", ms_or_null(st.q3_ms)},
           {"iqr_ms", ms_or_null(st.iqr_ms)},
+          {"median_ci_ms", st.bootstrap ? interval_json(st.bootstrap->median_ms) : nlohmann::json(nullptr)},
+          {"iqr_ci_ms", st.bootstrap ? interval_json(st.bootstrap->iqr_ms) : nlohmann::json(nullptr)},
+          {"ci_level", st.bootstrap ? nlohmann::json(st.bootstrap->level) : nlohmann::json(nullptr)},
           {"p95_ms", ms_or_null(st.p95_ms)},
           {"mean_ms", ms_or_null(st.mean_ms)},
           {"min_ns", st.min ? nlohmann::json(st.min->ns) : nlohmann::json(nullptr)},

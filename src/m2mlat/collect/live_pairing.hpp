@@ -34,7 +34,7 @@ namespace m2mlat::collect {
 struct LiveOptions {
   analysis::Selection selection;        // cause and effect channels, edges (as `m2mlat stats`)
   pairing::MatchOptions match;          // the matcher's window, refractory, tolerance
-  stats::SummaryOptions summary;        // thresholds, extra percentiles; the bootstrap is never run live
+  stats::SummaryOptions summary;        // thresholds, extra percentiles, bootstrap (unset: stats' default)
   bool include_ambiguous = false;       // statistics over ambiguous pairs too
   std::string scenario;                 // empty: the scenario of the store's newest session
   std::size_t recent_samples = 300;     // samples kept for the strip chart (the newest)

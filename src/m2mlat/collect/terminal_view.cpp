@@ -57,6 +57,11 @@ std::vector<std::string> render_block(const LiveSummary& s, const std::vector<No
                     "effect; {} bounces)",
                     st.n, s.last ? ns_as_ms(s.last->latency_ns, 1) : "-", ms(st.median_ms), ms(st.iqr_ms),
                     s.pairs, s.ambiguous, s.cause_unmatched, s.effect_unmatched, s.bounces));
+    if (st.bootstrap) {
+      const auto& ci = *st.bootstrap;
+      lines.push_back(fmt::format("{:.0f} % CI: median {:.1f}-{:.1f} ms, IQR {:.1f}-{:.1f} ms", ci.level * 100,
+                                  ci.median_ms.lower, ci.median_ms.upper, ci.iqr_ms.lower, ci.iqr_ms.upper));
+    }
     if (s.breakdown) {
       // The live stage breakdown (--stages): each stage's median and share of the M2M.
       const auto& b = *s.breakdown;

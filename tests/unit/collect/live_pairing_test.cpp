@@ -14,6 +14,7 @@
 #include "m2mlat/analysis/scenario_result.hpp"
 #include "m2mlat/capture/sim_to_store.hpp"
 #include "m2mlat/sim/presets.hpp"
+#include "m2mlat/stats/bootstrap.hpp"
 #include "m2mlat/store/store.hpp"
 #include "temp_dir.hpp"
 
@@ -35,12 +36,14 @@ void simulate(const std::string& path, const std::string& preset, std::int64_t m
   capture::record_simulation(store, config, "live");
 }
 
-// `m2mlat stats STORE --bootstrap 0` as the CLI computes it.
+// `m2mlat stats STORE` as the CLI computes it: the flags' defaults are the library's, the bootstrap's
+// too (2000 resamples, seed 1, 95 %).
 analysis::ScenarioResult offline_stats(const std::string& path) {
-  // The flags' defaults are the library's; --bootstrap 0 is no bootstrap, the library's default too.
   analysis::PipelineInputs inputs;
   inputs.inputs = {path};
-  auto results = analysis::analyse_inputs(inputs, {});
+  analysis::PipelineOptions options;
+  options.summary.bootstrap = stats::BootstrapOptions{};
+  auto results = analysis::analyse_inputs(inputs, options);
   EXPECT_EQ(results.size(), 1u);
   return results.front();
 }
@@ -80,6 +83,13 @@ TEST(LivePairing, FinishedStoreEqualsOfflineStats) {
   expect_same_number(s.summary.p95_ms, offline.summary.p95_ms);
   EXPECT_EQ(s.summary.min, offline.summary.min);
   EXPECT_EQ(s.summary.max, offline.summary.max);
+  ASSERT_TRUE(s.summary.bootstrap && offline.summary.bootstrap);  // the intervals, bit for bit
+  EXPECT_EQ(s.summary.bootstrap->median_ms.lower, offline.summary.bootstrap->median_ms.lower);
+  EXPECT_EQ(s.summary.bootstrap->median_ms.upper, offline.summary.bootstrap->median_ms.upper);
+  EXPECT_EQ(s.summary.bootstrap->iqr_ms.lower, offline.summary.bootstrap->iqr_ms.lower);
+  EXPECT_EQ(s.summary.bootstrap->iqr_ms.upper, offline.summary.bootstrap->iqr_ms.upper);
+  EXPECT_LE(s.summary.bootstrap->median_ms.lower, s.summary.median_ms);
+  EXPECT_GE(s.summary.bootstrap->median_ms.upper, s.summary.median_ms);
   std::size_t cause_unmatched = 0, effect_unmatched = 0, bounces = 0;
   for (const auto& u : offline.match.unmatched) {
     if (u.reason == pairing::UnmatchedReason::bounce)
