@@ -90,14 +90,15 @@ build: deps
 UNITY := -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=8
 
 # Clang, warnings as errors, AddressSanitizer and UndefinedBehaviorSanitizer (any report fails), with
-# the coverage instrumentation of libFuzzer: the same tree holds the unit tests and the fuzz targets.
+# the coverage instrumentation of libFuzzer: the same tree holds the unit tests and the fuzz targets,
+# and nothing else (M2MLAT_EXECUTABLE=OFF: no executable, no cli/, which no test there runs).
 SANITIZE := -fsanitize=address,undefined -fno-sanitize-recover=undefined -fsanitize=fuzzer-no-link
 build-clang: deps
 	$(call install_missing,libclang-rt-14-dev)
 	$(call step,build $(BUILD_CLANG))
 	cmake -S . -B $(BUILD_CLANG) -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=Release \
 	  "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -gline-tables-only" "-DCMAKE_CXX_FLAGS=$(SANITIZE)" \
-	  -DM2MLAT_WERROR=ON -DM2MLAT_FUZZ=ON -DM2MLAT_BENCH=OFF $(UNITY)
+	  -DM2MLAT_WERROR=ON -DM2MLAT_FUZZ=ON -DM2MLAT_BENCH=OFF -DM2MLAT_EXECUTABLE=OFF $(UNITY)
 	cmake --build $(BUILD_CLANG)
 
 # The first run: only the m2mlat executable (no tests, no benchmarks, no debug info, a unity build
