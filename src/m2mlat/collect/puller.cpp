@@ -156,19 +156,22 @@ void Puller::ingest(store::Store& store, std::vector<store::StoredEvent> events,
   store::IngestBatch batch;
   batch.origin = origin_;
   // The sessions the items name (a cheap guarantee that the store knows them) and those changed.
-  std::set<std::int64_t> named = unsent_;
+  // The named ones are looked up first: one begun since the last look reads the agent's sessions
+  // again, which can change others too (the previous session's end), and those must go in this
+  // batch: unsent_ is cleared after it.
+  std::set<std::int64_t> named;
   for (const auto& e : events) named.insert(e.session_id);
   for (const auto& s : samples) named.insert(s.sample.session_id);
   for (const auto& l : losses) named.insert(l.loss.session_id);
   for (const auto& b : blocks) named.insert(b.block.session_id);
   for (const auto& m : markers) named.insert(m.marker.session_id);
   for (auto id : named) {
-    const auto* session = lookup(id);
-    if (session == nullptr)
+    if (lookup(id) == nullptr)
       throw core::Error(core::ErrorKind::data,
                         fmt::format("{}: session {} is named but not in /v1/sessions", control_.url(), id));
-    batch.sessions.push_back(*session);
   }
+  named.insert(unsent_.begin(), unsent_.end());
+  for (auto id : named) batch.sessions.push_back(sessions_.at(id));
   const auto new_events = beyond(events, cursor_.events);
   batch.events = std::move(events);
   batch.clock_samples = std::move(samples);
