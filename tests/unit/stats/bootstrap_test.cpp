@@ -59,40 +59,40 @@ TEST(Bootstrap, ResampledQuantilesComeFromTheSample) {
 }
 
 TEST(Bootstrap, MatchesIndependentPythonImplementation) {
-  // reference_values.py: "Bootstrap of lcg_sample(25, 7), B = 300, seed = 2024, level 0.95",
-  // its order statistics drawn by a Python xoshiro256** and variates, its quartiles by numpy.
-  const auto sorted = sorted_copy(lcg_sample(25, 7));
+  // reference_values.py: "Bootstrap of lcg_sample(n, sample_seed)", its order statistics drawn by a
+  // Python xoshiro256** and variates, its quartiles by numpy. n = 1000 interpolates the quartiles.
+  struct Case {
+    std::size_t n;
+    std::uint64_t sample_seed;
+    std::size_t resamples;
+    std::uint64_t seed;
+    double level;
+    double medians_ns[3], iqrs_ns[3];  // resamples 0, 1, 2
+    double median_ci_ms[2], iqr_ci_ms[2];
+  };
+  const Case cases[] = {
+      {25, 7, 300, 2024, 0.95, {582178098.0, 536493632.0, 536493632.0}, {323132611.0, 290716484.0, 288461454.0},
+       {381.473951, 596.5046812249996}, {188.02937820000002, 517.33763315}},
+      {1000, 3, 50, 8, 0.9, {523632534.0, 530793549.5, 533042748.0}, {439118619.0, 451776304.0, 477126338.0},
+       {515.132977425, 553.960790225}, {433.259678625, 482.3947063625}},
+  };
   const std::vector<double> probs = {0.25, 0.5, 0.75};
-  const BootstrapQuantiles q = bootstrap_quantiles(sorted, probs, 300, 2024);
-  EXPECT_EQ(q.value(0, 1), 582178098.0);
-  EXPECT_EQ(q.value(1, 1), 536493632.0);
-  EXPECT_EQ(q.value(2, 1), 536493632.0);
-  EXPECT_EQ(q.column(1).size(), 300u);
-  EXPECT_EQ(q.column(1)[2], 536493632.0);
-  EXPECT_EQ(q.value(0, 2) - q.value(0, 0), 323132611.0);
-  EXPECT_EQ(q.value(1, 2) - q.value(1, 0), 290716484.0);
-  EXPECT_EQ(q.value(2, 2) - q.value(2, 0), 288461454.0);
-  const auto ci = bootstrap_median_iqr(sorted, {300, 2024, 0.95});
-  ASSERT_TRUE(ci);
-  expect_close(ci->median_ms.lower, 381.473951);
-  expect_close(ci->median_ms.upper, 596.5046812249996);
-  expect_close(ci->iqr_ms.lower, 188.02937820000002);
-  expect_close(ci->iqr_ms.upper, 517.33763315);
-  // "Bootstrap of lcg_sample(1000, 3)": quartiles between two order statistics.
-  const auto sorted1000 = sorted_copy(lcg_sample(1000, 3));
-  const BootstrapQuantiles q1000 = bootstrap_quantiles(sorted1000, probs, 50, 8);
-  EXPECT_EQ(q1000.value(0, 1), 523632534.0);
-  EXPECT_EQ(q1000.value(1, 1), 530793549.5);
-  EXPECT_EQ(q1000.value(2, 1), 533042748.0);
-  EXPECT_EQ(q1000.value(0, 2) - q1000.value(0, 0), 439118619.0);
-  EXPECT_EQ(q1000.value(1, 2) - q1000.value(1, 0), 451776304.0);
-  EXPECT_EQ(q1000.value(2, 2) - q1000.value(2, 0), 477126338.0);
-  const auto ci1000 = bootstrap_median_iqr(sorted1000, {50, 8, 0.9});
-  ASSERT_TRUE(ci1000);
-  expect_close(ci1000->median_ms.lower, 515.132977425);
-  expect_close(ci1000->median_ms.upper, 553.960790225);
-  expect_close(ci1000->iqr_ms.lower, 433.259678625);
-  expect_close(ci1000->iqr_ms.upper, 482.3947063625);
+  for (const Case& c : cases) {
+    const auto sorted = sorted_copy(lcg_sample(c.n, c.sample_seed));
+    const BootstrapQuantiles q = bootstrap_quantiles(sorted, probs, c.resamples, c.seed);
+    EXPECT_EQ(q.column(1).size(), c.resamples);
+    for (std::size_t b = 0; b < 3; ++b) {
+      EXPECT_EQ(q.value(b, 1), c.medians_ns[b]) << c.n << " " << b;
+      EXPECT_EQ(q.column(1)[b], c.medians_ns[b]) << c.n << " " << b;
+      EXPECT_EQ(q.value(b, 2) - q.value(b, 0), c.iqrs_ns[b]) << c.n << " " << b;
+    }
+    const auto ci = bootstrap_median_iqr(sorted, {c.resamples, c.seed, c.level});
+    ASSERT_TRUE(ci);
+    expect_close(ci->median_ms.lower, c.median_ci_ms[0]);
+    expect_close(ci->median_ms.upper, c.median_ci_ms[1]);
+    expect_close(ci->iqr_ms.lower, c.iqr_ci_ms[0]);
+    expect_close(ci->iqr_ms.upper, c.iqr_ci_ms[1]);
+  }
 }
 
 TEST(Bootstrap, SameSeedSameIntervalsOtherSeedOtherIntervals) {

@@ -293,20 +293,14 @@ def main():
     show("ranks(Rng::stream(2024, 0), 10007, [2501, 2502, 5003])",
          resample_order_statistics(Xoshiro256ss.stream(2024, 0), 10007, [2501, 2502, 5003]))
 
-    print("\n# Bootstrap of lcg_sample(25, 7), B = 300, seed = 2024, level 0.95")
-    medians, iqrs, med_ci, iqr_ci = bootstrap_median_iqr(lcg_sample(25, 7), 300, 2024, 0.95)
-    show("boot.median_ns[0..2]", medians[:3])
-    show("boot.iqr_ns[0..2]", iqrs[:3])
-    show("boot.median_ci_ms", med_ci)
-    show("boot.iqr_ci_ms", iqr_ci)
-
-    print("\n# Bootstrap of lcg_sample(1000, 3) (interpolated quartiles), B = 50, seed = 8, level 0.9")
-    medians, iqrs, med_ci, iqr_ci = bootstrap_median_iqr(lcg_sample(1000, 3), 50, 8, 0.9)
-    show("boot1000.median_ns[0..2]", medians[:3])
-    show("boot1000.iqr_ns[0..2]", iqrs[:3])
-    show("boot1000.median_ci_ms", med_ci)
-    show("boot1000.iqr_ci_ms", iqr_ci)
-
+    for (n, sample_seed, resamples, seed, level, name) in ((25, 7, 300, 2024, 0.95, "boot"),
+                                                           (1000, 3, 50, 8, 0.9, "boot1000")):
+        print(f"\n# Bootstrap of lcg_sample({n}, {sample_seed}), B = {resamples}, seed = {seed}, level {level}")
+        medians, iqrs, med_ci, iqr_ci = bootstrap_median_iqr(lcg_sample(n, sample_seed), resamples, seed, level)
+        show(f"{name}.median_ns[0..2]", medians[:3])
+        show(f"{name}.iqr_ns[0..2]", iqrs[:3])
+        show(f"{name}.median_ci_ms", med_ci)
+        show(f"{name}.iqr_ci_ms", iqr_ci)
 
 if __name__ == "__main__":
     main()
