@@ -80,7 +80,7 @@ deps-vm: deps
 build: deps
 	$(call step,build $(BUILD))
 	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DM2MLAT_TESTS=ON -DM2MLAT_BENCH=ON \
-	  -DCMAKE_UNITY_BUILD=OFF -DM2MLAT_PCH=OFF -DM2MLAT_O1_MODULES= $(CMAKE_FLAGS)
+	  -DCMAKE_UNITY_BUILD=OFF -DM2MLAT_PCH=OFF -DM2MLAT_O1_MODULES= -DM2MLAT_TEST_OPTIMIZE= $(CMAKE_FLAGS)
 	cmake --build $(BUILD)
 
 # make check's three trees (GCC, Clang, arm64) are unity builds: eight source files of a target compiled
@@ -117,7 +117,7 @@ demo: deps-demo
 	./$(BUILD)/m2mlat demo --report demo-report
 
 check: BUILD_TYPE = Release
-check: CMAKE_FLAGS += -DM2MLAT_WERROR=ON -DCMAKE_CXX_FLAGS_RELEASE=-O2 $(UNITY)
+check: CMAKE_FLAGS += -DM2MLAT_WERROR=ON -DCMAKE_CXX_FLAGS_RELEASE=-O2 -DM2MLAT_TEST_OPTIMIZE=-O1 $(UNITY)
 check: build build-clang
 	$(call step,unit and integration tests: $(BUILD))
 	ctest --test-dir $(BUILD) --output-on-failure -j2
@@ -167,6 +167,7 @@ cross-arm64: deps-arm64
 	$(call step,build $(BUILD_ARM64))
 	cmake -S . -B $(BUILD_ARM64) -G Ninja -DCMAKE_TOOLCHAIN_FILE=$(CURDIR)/cmake/toolchain-aarch64.cmake \
 	  -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O2 -DNDEBUG" -DM2MLAT_WERROR=ON -DM2MLAT_BENCH=OFF $(UNITY) \
+	  -DM2MLAT_TEST_OPTIMIZE=-O1 \
 	  "-DM2MLAT_TEST_NAMESPACES=$(subst $(space),;,$(ARM64_TEST_NAMESPACES))"
 	cmake --build $(BUILD_ARM64)
 
