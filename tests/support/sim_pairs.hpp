@@ -12,8 +12,8 @@ namespace m2mlat::testing {
 
 inline pairing::Pair true_pair(const sim::Simulation& run, const sim::TruePair& t) {
   pairing::Pair p;
-  p.cause_index = t.cause_index;
-  p.effect_index = t.effect_index;
+  p.cause_index = static_cast<std::uint32_t>(t.cause_index);
+  p.effect_index = static_cast<std::uint32_t>(t.effect_index);
   p.cause_ns = run.cause_events[static_cast<std::size_t>(t.cause_index)].time.ns();
   p.effect_ns = run.effect_events[static_cast<std::size_t>(t.effect_index)].time.ns();
   return p;

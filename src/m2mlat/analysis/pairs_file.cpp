@@ -1,9 +1,13 @@
 // The pairs file and the unmatched-events file of analysed scenarios.
 #include "m2mlat/analysis/pairs_file.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <limits>
 #include <ostream>
 
+#include "m2mlat/core/error.hpp"
 #include "m2mlat/core/output_file.hpp"
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/formats/pair_source.hpp"
@@ -74,8 +78,19 @@ class ResultPairs final : public formats::PairSource {
 std::vector<pairing::Pair> pairs_from_rows(std::span<const formats::PairRow> rows) {
   std::vector<pairing::Pair> pairs;
   pairs.reserve(rows.size());
-  for (const formats::PairRow& r : rows)
-    pairs.push_back({r.cause_index, r.effect_index, r.cause_time.ns(), r.effect_time.ns(), r.flags});
+  // A pair's indices are 32 bits (pairing::Pair); a file's rows number theirs from 0.
+  const auto index = [](std::int64_t value, std::size_t row, const char* field) {
+    if (value < 0 || value > std::numeric_limits<std::uint32_t>::max())
+      throw core::Error(
+          core::ErrorKind::data,
+          fmt::format("pair row {}: field '{}' {} is outside 0 .. 2^32 - 1", row + 1, field, value));
+    return static_cast<std::uint32_t>(value);
+  };
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const formats::PairRow& r = rows[k];
+    pairs.push_back({index(r.cause_index, k, "cause_index"), index(r.effect_index, k, "effect_index"),
+                     r.cause_time.ns(), r.effect_time.ns(), r.flags});
+  }
   return pairs;
 }
 

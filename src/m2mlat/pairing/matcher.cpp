@@ -712,12 +712,13 @@ std::int64_t pair_worth(const LocalReference& reference, std::size_t i, std::int
 //    neighbours: a jump is taken as real (a stalled link) only when at least two consecutive pairs
 //    jump and every edge between the typical pairs around them, on both sides, is paired, so that
 //    the order alone fixes which edge belongs to which.
-std::vector<std::uint32_t> uncertain_pairs(const Sides& sides, const std::vector<std::uint32_t>& matched,
-                                           const LocalReference& reference, std::int64_t tolerance_ns) {
+std::vector<std::uint8_t> uncertain_pairs(const Sides& sides, const std::vector<std::uint32_t>& matched,
+                                          const LocalReference& reference, std::int64_t tolerance_ns) {
   // Named copies, not structured bindings: C++20 lets clang capture no binding in the lambdas below.
   const std::span<const std::int64_t> causes = sides.causes, effects = sides.effects;
   const std::int64_t min_ns = sides.min_ns, max_ns = sides.max_ns;
-  std::vector<std::uint32_t> flags(matched.size(), 0);
+  static_assert(kPairUncertain < 256, "the matcher's flags fit a byte a cause");
+  std::vector<std::uint8_t> flags(matched.size(), 0);
   std::vector<std::uint32_t> pc, pe;  // the pairs in order: cause and effect indices
   // Reserved to the pair count: grown by doubling, the two were up to 8 bytes a pair more at a peak of
   // `m2mlat stats`.
@@ -1056,7 +1057,7 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   causes.release();
   effects.release();
 
-  // The pairs (40 bytes each, the largest part of the result), in cause order and so in effect order.
+  // The pairs (32 bytes each, the largest part of the result), in cause order and so in effect order.
   result.pairs.reserve(pair_count);
   KeptIndex cause_index(causes.bounces), effect_index(effects.bounces);
   BounceSpan cause_bounce_span(cause_ns, causes.bounces), effect_bounce_span(effect_ns, effects.bounces);
@@ -1065,7 +1066,9 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
     const auto c = cause_index(i), e = effect_index(matched[i]);
     const std::int64_t cause_span = cause_bounce_span(c), effect_span = effect_bounce_span(e);
     const bool bounced = cause_span > kBounceSpanLimit.count() || effect_span > kBounceSpanLimit.count();
-    result.pairs.push_back(Pair{c, e, cause_ns[static_cast<std::size_t>(c)], effect_ns[static_cast<std::size_t>(e)],
+    // Indices below kMaxEvents (2^31, checked above): they fit the pair's 32 bits.
+    result.pairs.push_back(Pair{static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(e),
+                                cause_ns[static_cast<std::size_t>(c)], effect_ns[static_cast<std::size_t>(e)],
                                 flags[i] | (bounced ? kPairBounced : 0u),
                                 static_cast<std::int32_t>(std::min<std::int64_t>(
                                     cause_span + effect_span, std::numeric_limits<std::int32_t>::max()))});

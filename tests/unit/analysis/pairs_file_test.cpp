@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "m2mlat/analysis/clock_steps.hpp"
+#include "m2mlat/core/error.hpp"
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/formats/pair_source.hpp"
 #include "temp_dir.hpp"
@@ -35,8 +36,8 @@ ScenarioResult make_result(const std::string& name, std::size_t pairs, std::int6
   for (std::size_t i = 0; i < pairs; ++i) {
     const auto n = static_cast<std::int64_t>(i);
     pairing::Pair p;
-    p.cause_index = n;
-    p.effect_index = n + 2;
+    p.cause_index = static_cast<std::uint32_t>(n);
+    p.effect_index = static_cast<std::uint32_t>(n + 2);
     p.cause_ns = start_ns + n * 1'000'033;
     p.effect_ns = p.cause_ns + 900'000'000 + n * 17;
     p.flags = n % 13 == 0 ? std::uint32_t{pairing::kPairAmbiguous} : 0u;
@@ -130,6 +131,30 @@ TEST(PairsFile, BlockByBlockAsFromTheWholeTable) {
     }
   }
   EXPECT_EQ(compared, 6u);
+}
+
+// A file's rows become pairs with their indices as they are; one outside a pair's 32 bits is refused by
+// row and field, not wrapped.
+TEST(PairsFile, RowsBecomePairsAndAnIndexBeyond32BitsIsRefused) {
+  const auto t = core::TimePoint::from_ns(core::Clock::realtime, 1'762'872'545'000'000'000);
+  std::vector<formats::PairRow> rows{{0, 1, t, t + core::Duration{800'000'000}, 1},
+                                     {4'294'967'295, 2, t, t + core::Duration{700'000'000}, 0}};
+  const auto pairs = pairs_from_rows(rows);
+  ASSERT_EQ(pairs.size(), 2u);
+  EXPECT_EQ(pairs[0].effect_index, 1u);
+  EXPECT_EQ(pairs[0].latency().count(), 800'000'000);
+  EXPECT_EQ(pairs[0].flags, 1u);
+  EXPECT_EQ(pairs[1].cause_index, 4'294'967'295u);
+  for (const std::int64_t bad : {std::int64_t{-1}, std::int64_t{4'294'967'296}}) {
+    rows[1].effect_index = bad;
+    try {
+      pairs_from_rows(rows);
+      ADD_FAILURE() << bad << " was taken";
+    } catch (const core::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("pair row 2: field 'effect_index'"), std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 }  // namespace

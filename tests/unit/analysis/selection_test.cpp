@@ -119,7 +119,7 @@ TEST(Summarize, ExtremesNameTheCauseOfPairsInTheStatistics) {
   const std::int64_t latency_ms[] = {500, 100, 300, 100, 900, 900};
   for (std::int64_t i = 0; i < 6; ++i) {
     pairing::Pair p;
-    p.cause_index = p.effect_index = i;
+    p.cause_index = p.effect_index = static_cast<std::uint32_t>(i);
     p.cause_ns = kT0 + i * 10'000 * kMs;
     p.effect_ns = p.cause_ns + latency_ms[i] * kMs;
     if (i == 1) p.flags = pairing::kPairAmbiguous;

@@ -22,8 +22,8 @@ std::vector<sim::TruePair> twenty_true_pairs() {
 
 pairing::Pair found_pair(std::int64_t cause, std::int64_t effect, std::uint32_t flags = 0) {
   pairing::Pair p;
-  p.cause_index = cause;
-  p.effect_index = effect;
+  p.cause_index = static_cast<std::uint32_t>(cause);
+  p.effect_index = static_cast<std::uint32_t>(effect);
   p.cause_ns = cause * 2'000'000'000;
   p.effect_ns = effect * 2'000'000'000 + 800'000'000;
   p.flags = flags;

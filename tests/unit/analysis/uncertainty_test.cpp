@@ -115,7 +115,8 @@ TEST(Uncertainty, ACorrectedEventCarriesItsStepsUncertainty) {
   o.kernel_u = o.path_u = core::Duration{0};
   ScenarioResult result;
   for (std::int64_t k = 0; k < 2; ++k)
-    result.match.pairs.push_back({k, k, kT0 + k * kS, kT0 + k * kS + kS / 2, 0});
+    result.match.pairs.push_back({static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(k), kT0 + k * kS,
+                                  kT0 + k * kS + kS / 2, 0});
   result.steps.effect.mark = {StepMark::none, StepMark::corrected};
   result.steps.effect.bound_of = {0, 1};
   result.steps.effect.bounds = {{}, {1'200'000, 1'200'000}};
@@ -203,7 +204,7 @@ TEST(Uncertainty, GateRefuseLeavesSamplesOutOfTheStatistics) {
   r.input.effect.seq = {0, 1, 2};
   for (std::int64_t i = 0; i < 3; ++i) {
     pairing::Pair p;
-    p.cause_index = p.effect_index = i;
+    p.cause_index = p.effect_index = static_cast<std::uint32_t>(i);
     p.cause_ns = kT0 + i * 10 * kS;
     p.effect_ns = p.cause_ns + (i + 1) * 100'000'000;
     r.match.pairs.push_back(p);
@@ -236,8 +237,8 @@ TEST(Uncertainty, TruthCheckCountsCoverageOverTheCorrectBoundedPairs) {
   const std::int64_t errors_us[] = {100, -300, 50, 900, 0, 10};
   for (std::int64_t i = 0; i < 6; ++i) {
     pairing::Pair p;
-    p.cause_index = i;
-    p.effect_index = i == 4 ? 5 : i;  // pair 4 takes the wrong effect
+    p.cause_index = static_cast<std::uint32_t>(i);
+    p.effect_index = static_cast<std::uint32_t>(i == 4 ? 5 : i);  // pair 4 takes the wrong effect
     p.cause_ns = kT0 + i * kS;
     p.effect_ns = p.cause_ns + 800'000'000;
     r.match.pairs.push_back(p);
