@@ -40,8 +40,9 @@ inline constexpr core::Duration kBounceSpanLimit{3'000'000};  // ns
 // One latency sample: the cause edge and the effect edge it produced. Both timestamps are on the
 // match's clock (CLOCK_REALTIME of two synchronised boards in the field); latency = effect - cause.
 struct Pair {
-  // The two events' indices in the matcher's input, each side below 2^31 (the matcher's limit,
-  // kMaxEvents): 4 bytes each, so that a pair is 32 bytes (298 MB at 9.3 million pairs, not 372).
+  // The two events' indices in the input that was paired: 4 bytes each (the matcher takes fewer than
+  // 2^31 events a side; pulse pairing and a pairs file's rows check theirs), so that a pair is 32
+  // bytes (298 MB at 9.3 million pairs, not 372).
   std::uint32_t cause_index = 0;
   std::uint32_t effect_index = 0;
   // The two edges' times, ns on the clock of the pairs' MatchResult (one clock for all the pairs of a
