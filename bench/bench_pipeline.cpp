@@ -43,7 +43,7 @@ void add_pipeline(std::size_t resamples) {
           ids.reserve(match.pairs.size());
           for (const auto& p : match.pairs) {
             if (p.ambiguous()) continue;  // as `m2mlat stats` does by default
-            latencies.push_back(p.latency().count());
+            latencies.push_back(effects[p.effect_index] - causes[p.cause_index]);
             ids.push_back(p.cause_index);
           }
           const auto summary = stats::summarize(latencies, ids, summary_options);

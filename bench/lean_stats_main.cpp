@@ -56,7 +56,8 @@ int run(const std::string& cause_path, const std::string& effect_path, std::size
   std::vector<std::int64_t> latencies;
   latencies.reserve(match.pairs.size());
   for (const auto& p : match.pairs)
-    if (!p.ambiguous()) latencies.push_back(p.latency().count());  // as `m2mlat stats` does by default
+    if (!p.ambiguous())  // as `m2mlat stats` does by default
+      latencies.push_back(effects[p.effect_index] - causes[p.cause_index]);
   timing["pair"] = seconds_since(start);
 
   start = Clock::now();

@@ -47,10 +47,11 @@ void attach_budget(ScenarioResult& result, const ClockTrack& cause, const ClockT
   result.effect_clock_ms.reset();
   if (cause.empty() || effect.empty()) return;
   std::vector<std::int64_t> cause_bounds, effect_bounds;
+  const auto times = result.times();
   for (const auto& p : result.match.pairs) {
     if (!result.include_ambiguous && p.ambiguous()) continue;
-    const auto bc = bound_at(cause, p.cause_ns, growth_ppm);
-    const auto be = bound_at(effect, p.effect_ns, growth_ppm);
+    const auto bc = bound_at(cause, times.cause(p), growth_ppm);
+    const auto be = bound_at(effect, times.effect(p), growth_ppm);
     if (bc.synchronised) cause_bounds.push_back(bc.max_error_ns);
     if (be.synchronised) effect_bounds.push_back(be.max_error_ns);
   }

@@ -62,7 +62,7 @@ const MarkerIndex::Stamp* last_at_or_before(std::span<const MarkerIndex::Stamp> 
 
 }  // namespace
 
-EventStages event_stages(const pairing::Pair& pair, core::Clock clock, const StageRule& rule,
+EventStages event_stages(std::int64_t cause, std::int64_t effect, core::Clock clock, const StageRule& rule,
                          const MarkerIndex& index) {
   if (clock != core::Clock::realtime)
     throw core::Error(core::ErrorKind::data,
@@ -70,8 +70,6 @@ EventStages event_stages(const pairing::Pair& pair, core::Clock clock, const Sta
                                   "boards' CLOCK_REALTIME events",
                                   core::to_string(clock)));
   EventStages e;
-  const std::int64_t cause = pair.cause_ns;
-  const std::int64_t effect = pair.effect_ns;
   e.cause_time = core::TimePoint::from_ns(clock, cause);
   e.effect_time = core::TimePoint::from_ns(clock, effect);
   e.m2m_ns = effect - cause;
@@ -143,12 +141,14 @@ EventStages event_stages(const pairing::Pair& pair, core::Clock clock, const Sta
   return e;  // not reached: a parsed rule ends at `effect`
 }
 
-Breakdown break_down(std::span<const pairing::Pair> pairs, core::Clock clock, std::span<const std::size_t> positions,
-                     std::span<const std::int64_t> cause_ids, const StageRule& rule, const MarkerIndex& index) {
+Breakdown break_down(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
+                     core::Clock clock, std::span<const std::size_t> positions,
+                     std::span<const std::int64_t> cause_ids, const StageRule& rule,
+                     const MarkerIndex& index) {
   std::vector<EventStages> events;
-  events.reserve(pairs.size());
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
-    auto e = event_stages(pairs[i], clock, rule, index);
+  events.reserve(cause_ns.size());
+  for (std::size_t i = 0; i < cause_ns.size(); ++i) {
+    auto e = event_stages(cause_ns[i], effect_ns[i], clock, rule, index);
     e.pair = positions[i];
     e.cause_id = cause_ids[i];
     events.push_back(std::move(e));

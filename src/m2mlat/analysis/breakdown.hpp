@@ -95,16 +95,18 @@ struct Breakdown {
   std::vector<GapCount> gaps;  // in the rule's stage order, then by reason
 };
 
-// The stages of one event (its times on `clock`, the match's); throws core::Error(data) when `clock`
-// is not CLOCK_REALTIME.
-EventStages event_stages(const pairing::Pair& pair, core::Clock clock, const StageRule& rule,
-                         const MarkerIndex& index);
+// The stages of one event: its cause and effect edges' times (ns on `clock`, the match's); throws
+// core::Error(data) when `clock` is not CLOCK_REALTIME.
+EventStages event_stages(std::int64_t cause_ns, std::int64_t effect_ns, core::Clock clock,
+                         const StageRule& rule, const MarkerIndex& index);
 
-// The breakdown of the given pairs (`pairs[i]` with its cause id `cause_ids[i]` and its position
-// `positions[i]` in the scenario's match; times on `clock`): every event, the per-stage statistics over
-// the complete ones.
-Breakdown break_down(std::span<const pairing::Pair> pairs, core::Clock clock, std::span<const std::size_t> positions,
-                     std::span<const std::int64_t> cause_ids, const StageRule& rule, const MarkerIndex& index);
+// The breakdown of the given events (event i: its edges at `cause_ns[i]` and `effect_ns[i]` on
+// `clock`, its cause id `cause_ids[i]` and its pair's position `positions[i]` in the scenario's
+// match): every event, the per-stage statistics over the complete ones.
+Breakdown break_down(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
+                     core::Clock clock, std::span<const std::size_t> positions,
+                     std::span<const std::int64_t> cause_ids, const StageRule& rule,
+                     const MarkerIndex& index);
 // The statistics of events already joined (event_stages, with their pair and cause_id set), kept in
 // the order given: what break_down does after the joins, and the live view over joins it keeps.
 Breakdown summarize_stages(std::vector<EventStages> events, const StageRule& rule);

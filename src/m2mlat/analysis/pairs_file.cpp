@@ -55,8 +55,10 @@ class ResultPairs final : public formats::PairSource {
       const std::size_t i = row - starts_[k];
       const pairing::Pair& p = r.match.pairs[i];
       formats::PairRecord& record = out[j];
-      record.row = {p.cause_index, p.effect_index, core::TimePoint::from_ns(r.match.clock, p.cause_ns),
-                    core::TimePoint::from_ns(r.match.clock, p.effect_ns), p.flags | pair_flags(r.step_mark(p))};
+      const auto times = r.times();
+      record.row = {p.cause_index, p.effect_index, core::TimePoint::from_ns(r.match.clock, times.cause(p)),
+                    core::TimePoint::from_ns(r.match.clock, times.effect(p)),
+                    p.flags | pair_flags(r.step_mark(p))};
       record.session = sessions_[k].empty() ? 0 : sessions_[k][i];
       // Unknown or unbounded uncertainty, and pairs past the end of it, are written empty.
       const bool bounded = i < r.uncertainty.size() && r.uncertainty[i].bounded();
@@ -88,8 +90,8 @@ std::vector<pairing::Pair> pairs_from_rows(std::span<const formats::PairRow> row
   };
   for (std::size_t k = 0; k < rows.size(); ++k) {
     const formats::PairRow& r = rows[k];
-    pairs.push_back({index(r.cause_index, k, "cause_index"), index(r.effect_index, k, "effect_index"),
-                     r.cause_time.ns(), r.effect_time.ns(), r.flags});
+    pairs.push_back(
+        {index(r.cause_index, k, "cause_index"), index(r.effect_index, k, "effect_index"), r.flags});
   }
   return pairs;
 }
@@ -123,8 +125,9 @@ void write_unmatched_file(const std::string& path, std::span<const ScenarioResul
       for (const auto& u : r.match.unmatched) {
         const bool cause = u.side == pairing::Side::cause;
         const auto& ref = cause ? r.input.cause_ref : r.input.effect_ref;
+        const auto& times = cause ? r.input.cause.t_ns : r.input.effect.t_ns;  // the paired columns
         out << r.input.scenario << ',' << pairing::to_string(u.side) << ',' << ref.node << ',' << ref.channel
-            << ',' << r.seq(u) << ',' << u.time.ns() << ',' << pairing::to_string(u.reason) << '\n';
+            << ',' << r.seq(u) << ',' << times[u.index] << ',' << pairing::to_string(u.reason) << '\n';
       }
   });
 }

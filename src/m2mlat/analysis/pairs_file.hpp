@@ -17,7 +17,8 @@
 
 namespace m2mlat::analysis {
 
-// A file's rows as pairs (indices, times and flags as they are; the rows' clock is the caller's to keep).
+// A file's rows as pairs (indices and flags as they are). A pair holds no times: the caller keeps the
+// rows' times in columns at those indices (and their clock).
 std::vector<pairing::Pair> pairs_from_rows(std::span<const formats::PairRow> rows);
 
 // Writes the pairs of every result, one scenario after another, to `path` ("-" = standard output,

@@ -26,8 +26,9 @@ bool ScenarioResult::in_statistics(std::size_t i) const {
 std::vector<std::int64_t> ScenarioResult::latencies_ns() const {
   std::vector<std::int64_t> out;
   out.reserve(match.pairs.size());
+  const auto t = times();
   for (std::size_t i = 0; i < match.pairs.size(); ++i)
-    if (in_statistics(i)) out.push_back(match.pairs[i].latency().count());
+    if (in_statistics(i)) out.push_back(t.latency(match.pairs[i]).count());
   return out;
 }
 

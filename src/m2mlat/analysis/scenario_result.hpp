@@ -46,6 +46,8 @@ struct ScenarioResult {
   // include_ambiguous, not gated when refused, not after a clock step of unknown offset).
   bool in_statistics(std::size_t i) const;
 
+  // The pairs' times: the input's columns, which the matcher paired (after correct_scenario).
+  pairing::PairTimes times() const { return {input.cause.t_ns, input.effect.t_ns}; }
   std::vector<std::int64_t> latencies_ns() const;  // of the pairs the summary is over
   // The source ids (store seq or file index) of a pair's events, or of an unmatched event.
   std::int64_t cause_seq(const pairing::Pair& p) const { return source_id(input.cause, p.cause_index); }

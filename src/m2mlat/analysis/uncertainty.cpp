@@ -196,12 +196,13 @@ SampleUncertainty pair_uncertainty(const ClockTrack& cause, const ClockTrack& ef
 
 std::vector<SampleUncertainty> pair_uncertainties(const ClockTrack& cause, const ClockTrack& effect,
                                                   std::span<const pairing::Pair> pairs,
+                                                  pairing::PairTimes times,
                                                   const UncertaintyOptions& options) {
   std::vector<SampleUncertainty> out;
   out.reserve(pairs.size());
   for (const auto& p : pairs)
     out.push_back(
-        pair_uncertainty(cause, effect, p.cause_ns, p.effect_ns, options, p.bounce_span_ns));
+        pair_uncertainty(cause, effect, times.cause(p), times.effect(p), options, p.bounce_span_ns));
   return out;
 }
 
@@ -239,7 +240,7 @@ void attach_uncertainty(ScenarioResult& result, const ClockTrack& cause, const C
   result.uncertainty.clear();
   result.refuse_gated = false;
   if (cause.empty() && effect.empty()) return;
-  result.uncertainty = pair_uncertainties(cause, effect, result.match.pairs, options);
+  result.uncertainty = pair_uncertainties(cause, effect, result.match.pairs, result.times(), options);
   // An event corrected by a clock step of known size carries the size's uncertainty (clock_steps.hpp):
   // its bound adds to the worst case, its standard uncertainty to u in quadrature.
   const auto add_step = [](SampleUncertainty& u, const SideSteps& side, std::int64_t event) {

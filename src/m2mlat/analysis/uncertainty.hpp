@@ -141,8 +141,10 @@ bool step_between(const ClockTrack& track, std::int64_t from_ns, std::int64_t to
 SampleUncertainty pair_uncertainty(const ClockTrack& cause, const ClockTrack& effect, std::int64_t cause_ns,
                                    std::int64_t effect_ns, const UncertaintyOptions& options,
                                    std::int64_t bounce_span_ns = 0);
+// One per pair, its edges' times from `times`.
 std::vector<SampleUncertainty> pair_uncertainties(const ClockTrack& cause, const ClockTrack& effect,
                                                   std::span<const pairing::Pair> pairs,
+                                                  pairing::PairTimes times,
                                                   const UncertaintyOptions& options);
 
 struct UncertaintySummary {

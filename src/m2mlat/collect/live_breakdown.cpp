@@ -51,7 +51,8 @@ void LiveBreakdown::update(analysis::ScenarioResult& result) {
     scenario_ = result.input.scenario;
   }
   const auto& pairs = result.match.pairs;
-  for (const auto& p : pairs) newest_ns_ = std::max(newest_ns_, p.effect_ns);
+  const auto times = result.times();
+  for (const auto& p : pairs) newest_ns_ = std::max(newest_ns_, times.effect(p));
   const auto w = window_.count();
   const auto settled = newest_ns_ == INT64_MIN ? INT64_MIN : newest_ns_ - w;  // effects before it: frozen
   const analysis::MarkerIndex index(markers_);
@@ -61,12 +62,12 @@ void LiveBreakdown::update(analysis::ScenarioResult& result) {
   for (std::size_t i = 0; i < pairs.size(); ++i) {
     if (!result.in_statistics(i)) continue;
     const auto& p = pairs[i];
-    const std::pair key{p.cause_ns, p.effect_ns};
+    const std::pair key{times.cause(p), times.effect(p)};
     analysis::EventStages e;
     if (const auto it = frozen_.find(key); it != frozen_.end()) {
       e = it->second;
     } else {
-      e = analysis::event_stages(p, result.match.clock, rule_, index);
+      e = analysis::event_stages(key.first, key.second, result.match.clock, rule_, index);
     }
     e.pair = i;
     e.cause_id = result.cause_seq(p);

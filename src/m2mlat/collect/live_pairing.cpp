@@ -191,11 +191,12 @@ void LivePairing::repair(bool final) {
   const auto& pairs = r.match.pairs;
   const auto keep = std::min(pairs.size(), options_.recent_samples);
   s.recent.reserve(keep);
-  for (auto k = pairs.size() - keep; k < pairs.size(); ++k)
-    s.recent.push_back({pairs[k].cause_ns, pairs[k].latency().count(), pairs[k].ambiguous()});
-  if (!pairs.empty())
-    s.last =
-        LiveSample{pairs.back().cause_ns, pairs.back().latency().count(), pairs.back().ambiguous()};
+  const auto times = r.times();
+  const auto sample = [&](const pairing::Pair& p) {
+    return LiveSample{times.cause(p), times.latency(p).count(), p.ambiguous()};
+  };
+  for (auto k = pairs.size() - keep; k < pairs.size(); ++k) s.recent.push_back(sample(pairs[k]));
+  if (!pairs.empty()) s.last = sample(pairs.back());
   s.histogram = histogram(r.latencies_ns(), options_.max_histogram_bins);
   if (breakdown_) {
     if (final) {

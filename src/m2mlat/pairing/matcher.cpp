@@ -1017,15 +1017,14 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
                            effects.bounces.size());
   std::size_t bounce = 0;  // the next bounce of the side being listed
   // Lists the side's bounces before input index `below`, then (unless it is kAllBounces) the edge itself.
-  auto add = [&](Side side, std::int64_t below, UnmatchedReason reason, std::span<const std::int64_t> times,
+  // (Input indices are below kMaxEvents, 2^31, checked above: they fit the list's 32 bits.)
+  auto add = [&](Side side, std::int64_t below, UnmatchedReason reason,
                  const std::vector<std::int64_t>& bounces) {
-    const auto time_of = [&](std::int64_t index) {
-      return core::TimePoint::from_ns(clock, times[static_cast<std::size_t>(index)]);
-    };
     for (; bounce < bounces.size() && bounces[bounce] < below; ++bounce)
       result.unmatched.push_back(
-          Unmatched{bounces[bounce], time_of(bounces[bounce]), side, UnmatchedReason::bounce});
-    if (below != kAllBounces) result.unmatched.push_back(Unmatched{below, time_of(below), side, reason});
+          Unmatched{static_cast<std::uint32_t>(bounces[bounce]), side, UnmatchedReason::bounce});
+    if (below != kAllBounces)
+      result.unmatched.push_back(Unmatched{static_cast<std::uint32_t>(below), side, reason});
   };
   {
     KeptIndex cause_index(causes.bounces);
@@ -1034,10 +1033,9 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
       if (matched[i] != kNone) continue;
       w.at(i);
       add(Side::cause, cause_index(i),
-          w.lo == w.hi ? UnmatchedReason::no_candidate : UnmatchedReason::outmatched, cause_ns,
-          causes.bounces);
+          w.lo == w.hi ? UnmatchedReason::no_candidate : UnmatchedReason::outmatched, causes.bounces);
     }
-    add(Side::cause, kAllBounces, UnmatchedReason::bounce, cause_ns, causes.bounces);
+    add(Side::cause, kAllBounces, UnmatchedReason::bounce, causes.bounces);
   }
   bounce = 0;
   {
@@ -1048,16 +1046,15 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
       const auto first = std::lower_bound(causes.ns.begin(), causes.ns.end(), effects.ns[j] - max_ns);
       const bool candidate = first != causes.ns.end() && *first <= effects.ns[j] - min_ns;
       add(Side::effect, effect_index(j),
-          candidate ? UnmatchedReason::outmatched : UnmatchedReason::no_candidate, effect_ns,
-          effects.bounces);
+          candidate ? UnmatchedReason::outmatched : UnmatchedReason::no_candidate, effects.bounces);
     }
-    add(Side::effect, kAllBounces, UnmatchedReason::bounce, effect_ns, effects.bounces);
+    add(Side::effect, kAllBounces, UnmatchedReason::bounce, effects.bounces);
   }
   free_now(effect_used);
   causes.release();
   effects.release();
 
-  // The pairs (32 bytes each, the largest part of the result), in cause order and so in effect order.
+  // The pairs (16 bytes each, the largest part of the result), in cause order and so in effect order.
   result.pairs.reserve(pair_count);
   KeptIndex cause_index(causes.bounces), effect_index(effects.bounces);
   BounceSpan cause_bounce_span(cause_ns, causes.bounces), effect_bounce_span(effect_ns, effects.bounces);
@@ -1068,7 +1065,6 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
     const bool bounced = cause_span > kBounceSpanLimit.count() || effect_span > kBounceSpanLimit.count();
     // Indices below kMaxEvents (2^31, checked above): they fit the pair's 32 bits.
     result.pairs.push_back(Pair{static_cast<std::uint32_t>(c), static_cast<std::uint32_t>(e),
-                                cause_ns[static_cast<std::size_t>(c)], effect_ns[static_cast<std::size_t>(e)],
                                 flags[i] | (bounced ? kPairBounced : 0u),
                                 static_cast<std::int32_t>(std::min<std::int64_t>(
                                     cause_span + effect_span, std::numeric_limits<std::int32_t>::max()))});

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string_view>
 
 #include "m2mlat/core/time.hpp"
@@ -37,31 +38,38 @@ inline constexpr std::uint32_t kPairUncertain = kPairAmbiguous | kPairCompeting 
 // and the latency is right to within this (less than the clock terms of docs/precision.md).
 inline constexpr core::Duration kBounceSpanLimit{3'000'000};  // ns
 
-// One latency sample: the cause edge and the effect edge it produced. Both timestamps are on the
-// match's clock (CLOCK_REALTIME of two synchronised boards in the field); latency = effect - cause.
+// One latency sample: the cause edge and the effect edge it produced, by their indices in the two
+// columns that were paired. The times are not repeated here: they are the columns' (PairTimes), so
+// that a pair is 16 bytes (149 MB at 9.3 million pairs, not 298, beside the columns that hold them
+// anyway).
 struct Pair {
   // The two events' indices in the input that was paired: 4 bytes each (the matcher takes fewer than
-  // 2^31 events a side; pulse pairing and a pairs file's rows check theirs), so that a pair is 32
-  // bytes (298 MB at 9.3 million pairs, not 372).
+  // 2^31 events a side; pulse pairing and a pairs file's rows check theirs).
   std::uint32_t cause_index = 0;
   std::uint32_t effect_index = 0;
-  // The two edges' times, ns on the clock of the pairs' MatchResult (one clock for all the pairs of a
-  // match, so it is not repeated in each).
-  std::int64_t cause_ns = 0;
-  std::int64_t effect_ns = 0;
   std::uint32_t flags = 0;  // PairFlag bits
   // How long the edges dropped as bounces went on after the cause edge, plus after the effect edge, ns
   // (0 without bounces; saturated at 2^31 - 1). The matcher takes each cluster's first edge; if that
   // was a spurious edge just before the true one, the latency is off by up to this: the worst-case
-  // bound of the pair (analysis/uncertainty.hpp) includes it. (Beside the flags: no padding.)
+  // bound of the pair (analysis/uncertainty.hpp) includes it.
   std::int32_t bounce_span_ns = 0;
 
-  core::Duration latency() const { return core::Duration{effect_ns - cause_ns}; }
   // Any reason to doubt the pair: such pairs stay out of the statistics unless asked for.
   bool ambiguous() const { return (flags & kPairUncertain) != 0; }
   friend bool operator==(const Pair&, const Pair&) = default;
 };
-static_assert(sizeof(Pair) == 32, "a pair is four words: 10^7 of them are 320 MB");
+static_assert(sizeof(Pair) == 16, "a pair is two indices, its flags and its bounce span");
+
+// The times of a match's pairs: the two columns that were paired, ns on the clock of the pairs'
+// MatchResult (CLOCK_REALTIME of two synchronised boards in the field); latency = effect - cause.
+// It borrows the columns: keep them alive and unchanged while it is used.
+struct PairTimes {
+  std::span<const std::int64_t> cause_ns, effect_ns;
+
+  std::int64_t cause(const Pair& p) const { return cause_ns[p.cause_index]; }
+  std::int64_t effect(const Pair& p) const { return effect_ns[p.effect_index]; }
+  core::Duration latency(const Pair& p) const { return core::Duration{effect(p) - cause(p)}; }
+};
 
 enum class Side : std::uint8_t { cause = 0, effect = 1 };
 std::string_view to_string(Side side);
@@ -74,15 +82,14 @@ enum class UnmatchedReason : std::uint8_t {
 };
 std::string_view to_string(UnmatchedReason reason);
 
+// An event without partner, by its index in the matcher's input on its side (fewer than 2^31 a side):
+// its time is that column's, as a pair's are (PairTimes). 8 bytes: the list is held beside the pairs.
 struct Unmatched {
-  std::int64_t index = 0;  // index in the matcher's input on that side
-  core::TimePoint time;
-  // The two one-byte fields last, side by side: 32 bytes rather than 40 (an unmatched event is a few
-  // per cent of the events, and the list is held beside the pairs).
+  std::uint32_t index = 0;
   Side side = Side::cause;
   UnmatchedReason reason = UnmatchedReason::no_candidate;
   friend bool operator==(const Unmatched&, const Unmatched&) = default;
 };
-static_assert(sizeof(Unmatched) == 32, "index, time, and the two one-byte fields together");
+static_assert(sizeof(Unmatched) == 8, "an index and the two one-byte fields");
 
 }  // namespace m2mlat::pairing

@@ -31,7 +31,7 @@ std::vector<std::size_t> used_pairs(const ScenarioReport& s) {
 
 std::int64_t origin_ns(const ScenarioReport& s) {
   const auto& pairs = s.result.match.pairs;
-  if (!pairs.empty()) return pairs.front().cause_ns;
+  if (!pairs.empty()) return s.result.times().cause(pairs.front());
   if (!s.result.input.cause.t_ns.empty()) return s.result.input.cause.t_ns.front();
   return 0;
 }
@@ -112,13 +112,14 @@ TimeSeries time_series(const ScenarioReport& s) {
   ts.samples = used.size();
   const auto origin = origin_ns(s);
   const auto& pairs = s.result.match.pairs;
+  const auto times = s.result.times();
   const auto unc = [&](std::size_t i) {
     return i < s.uncertainty_ns.size() && s.uncertainty_ns[i] ? ms(*s.uncertainty_ns[i]) : kNaN;
   };
   if (used.size() <= kSeriesPoints) {
     for (auto i : used) {
-      const double lat = ms(pairs[i].latency().count()), u = unc(i);
-      ts.t_s.push_back(static_cast<double>(pairs[i].cause_ns - origin) / 1e9);
+      const double lat = ms(times.latency(pairs[i]).count()), u = unc(i);
+      ts.t_s.push_back(static_cast<double>(times.cause(pairs[i]) - origin) / 1e9);
       ts.latency_ms.push_back(lat);
       ts.uncertainty_ms.push_back(u);
       ts.low_ms.push_back(std::isnan(u) ? lat : lat - u);
@@ -134,12 +135,12 @@ TimeSeries time_series(const ScenarioReport& s) {
     bin.clear();
     double u_max = kNaN;
     for (std::size_t k = start; k < end; ++k) {
-      bin.push_back(pairs[used[k]].latency().count());
+      bin.push_back(times.latency(pairs[used[k]]).count());
       const double u = unc(used[k]);
       if (!std::isnan(u)) u_max = std::isnan(u_max) ? u : std::max(u_max, u);
     }
     std::sort(bin.begin(), bin.end());
-    const auto mid = pairs[used[(start + end - 1) / 2]].cause_ns;
+    const auto mid = times.cause(pairs[used[(start + end - 1) / 2]]);
     ts.t_s.push_back(static_cast<double>(mid - origin) / 1e9);
     ts.latency_ms.push_back(stats::quantile(std::span<const std::int64_t>(bin), 0.5) / 1e6);
     ts.low_ms.push_back(ms(bin.front()));

@@ -76,8 +76,8 @@ TEST_F(BoardRecordTest, OneLoadGivesSeriesLossesBoundsAndBudget) {
   ASSERT_EQ(result.uncertainty.size(), 2u);
   for (std::size_t i = 0; i < 2; ++i) {
     const auto& p = result.match.pairs[i];
-    EXPECT_EQ(result.uncertainty[i],
-              analysis::pair_uncertainty(cause, effect, p.cause_ns, p.effect_ns, o));
+    EXPECT_EQ(result.uncertainty[i], analysis::pair_uncertainty(cause, effect, result.times().cause(p),
+                                                                result.times().effect(p), o));
   }
   // Worse neighbour grown by 15 ppm: cause at +1 s -> 300 us + 45 us (3 s to the later sample).
   EXPECT_EQ(result.uncertainty[0].sync_max_ns - analysis::bound_at(effect, kT0 + 1800 * kMs, 15).max_error_ns,

@@ -13,7 +13,6 @@
 #include "m2mlat/sim/presets.hpp"
 #include "m2mlat/sim/simulate.hpp"
 #include "m2mlat/sim/stage_markers.hpp"
-#include "sim_pairs.hpp"
 
 using namespace m2mlat;
 using namespace m2mlat::analysis;
@@ -31,27 +30,29 @@ sim::RigConfig small_run(const char* preset, std::int64_t manoeuvres) {
   return config;
 }
 
-// The true pairs as pairing::Pair values (the perfect matcher), with their pass.
+// The true pairs (the perfect matcher): their edges' times, with their pass.
 struct TrueEvent {
-  pairing::Pair pair;
+  std::int64_t cause_ns = 0, effect_ns = 0;
   std::int64_t pass = 0;
 };
 std::vector<TrueEvent> true_events(const sim::Simulation& run) {
   std::vector<TrueEvent> out;
-  for (const auto& t : run.pairs) out.push_back({m2mlat::testing::true_pair(run, t), t.pass});
+  for (const auto& t : run.pairs)
+    out.push_back({run.cause_events[static_cast<std::size_t>(t.cause_index)].time.ns(),
+                   run.effect_events[static_cast<std::size_t>(t.effect_index)].time.ns(), t.pass});
   return out;
 }
 
 Breakdown break_down_events(const std::vector<TrueEvent>& events, const MarkerIndex& index) {
-  std::vector<pairing::Pair> pairs;
   std::vector<std::size_t> positions;
-  std::vector<std::int64_t> ids;
+  std::vector<std::int64_t> cause_ns, effect_ns, ids;
   for (std::size_t i = 0; i < events.size(); ++i) {
-    pairs.push_back(events[i].pair);
+    cause_ns.push_back(events[i].cause_ns);
+    effect_ns.push_back(events[i].effect_ns);
     positions.push_back(i);
     ids.push_back(events[i].pass);
   }
-  return break_down(pairs, core::Clock::realtime, positions, ids, sim_rule(), index);
+  return break_down(cause_ns, effect_ns, core::Clock::realtime, positions, ids, sim_rule(), index);
 }
 
 TEST(BreakdownSim, StagesAddUpToTheM2MAndMatchTheTruth) {

@@ -25,12 +25,10 @@ markers::Marker mark(std::string node, std::string name, std::int64_t ns, std::s
   return m;
 }
 
-pairing::Pair pair_at(std::int64_t cause_ns, std::int64_t effect_ns) {
-  pairing::Pair p;
-  p.cause_ns = cause_ns;
-  p.effect_ns = effect_ns;
-  return p;
-}
+// One event: its cause and effect edges' times (ns).
+struct Edges {
+  std::int64_t cause_ns, effect_ns;
+};
 
 const StageRule& three_stage_rule() {
   static const StageRule rule = parse_stage_rule(
@@ -53,21 +51,23 @@ std::vector<markers::Marker> chain_markers(int events) {
   return out;
 }
 
-Breakdown break_down_all(const std::vector<pairing::Pair>& pairs, const StageRule& rule, const MarkerIndex& index) {
+Breakdown break_down_all(const std::vector<Edges>& events, const StageRule& rule, const MarkerIndex& index) {
   std::vector<std::size_t> positions;
-  std::vector<std::int64_t> ids;
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
+  std::vector<std::int64_t> cause_ns, effect_ns, ids;
+  for (std::size_t i = 0; i < events.size(); ++i) {
+    cause_ns.push_back(events[i].cause_ns);
+    effect_ns.push_back(events[i].effect_ns);
     positions.push_back(i);
     ids.push_back(static_cast<std::int64_t>(i) + 1);
   }
-  return break_down(pairs, core::Clock::realtime, positions, ids, rule, index);
+  return break_down(cause_ns, effect_ns, core::Clock::realtime, positions, ids, rule, index);
 }
 
 TEST(Breakdown, StagesAddUpToTheM2MExactly) {
   const auto markers = chain_markers(5);
   const MarkerIndex index(markers);
-  std::vector<pairing::Pair> pairs;
-  for (int i = 0; i < 5; ++i) pairs.push_back(pair_at(i * kSecond, i * kSecond + 800 * kMs + i * kMs));
+  std::vector<Edges> pairs;
+  for (int i = 0; i < 5; ++i) pairs.push_back({i * kSecond, i * kSecond + 800 * kMs + i * kMs});
   const auto b = break_down_all(pairs, three_stage_rule(), index);
   EXPECT_EQ(b.complete, 5u);
   EXPECT_EQ(b.incomplete, 0u);
@@ -111,8 +111,8 @@ TEST(Breakdown, IncompleteChainsAreCountedWithTheirStageAndReason) {
       m.time = core::TimePoint::from_ns(core::Clock::realtime, 3 * kSecond + 900 * kMs);
   }
   const MarkerIndex index(markers);
-  std::vector<pairing::Pair> pairs;
-  for (int i = 0; i < 6; ++i) pairs.push_back(pair_at(i * kSecond, i * kSecond + 800 * kMs));
+  std::vector<Edges> pairs;
+  for (int i = 0; i < 6; ++i) pairs.push_back({i * kSecond, i * kSecond + 800 * kMs});
   const auto b = break_down_all(pairs, three_stage_rule(), index);
   EXPECT_EQ(b.complete, 2u);  // events 0 and 5
   EXPECT_EQ(b.incomplete, 4u);
@@ -151,20 +151,20 @@ TEST(Breakdown, LastBeforeEffectAndFirstAfterPrevious) {
       mark("vehicle", "tick", 900 * kMs, ""),  // after the effect: not the last before it
   };
   const MarkerIndex index(markers);
-  const auto e = event_stages(pair_at(0, 100 * kMs), core::Clock::realtime, rule, index);
+  const auto e = event_stages(0, 100 * kMs, core::Clock::realtime, rule, index);
   ASSERT_TRUE(e.complete()) << e.detail;
   EXPECT_EQ(e.stage_ns, (std::vector<std::int64_t>{5 * kMs, 25 * kMs, 10 * kMs, 60 * kMs}));
   // No markers at all: the first stage is missing.
   const MarkerIndex empty(std::span<const markers::Marker>{});
-  const auto none = event_stages(pair_at(0, 100 * kMs), core::Clock::realtime, rule, empty);
+  const auto none = event_stages(0, 100 * kMs, core::Clock::realtime, rule, empty);
   EXPECT_EQ(none.gap, StageGap::missing);
   EXPECT_EQ(none.detail, "no operator:send after the cause");
-  EXPECT_TRUE(std::isnan(break_down_all({pair_at(0, 1)}, rule, empty).stages[0].median_ns));
+  EXPECT_TRUE(std::isnan(break_down_all({{0, 1}}, rule, empty).stages[0].median_ns));
 }
 
 TEST(Breakdown, EventsOffCLOCK_REALTIMEAreRefused) {
   const MarkerIndex index(std::span<const markers::Marker>{});
-  EXPECT_THROW(event_stages(pair_at(0, 10), core::Clock::monotonic, three_stage_rule(), index), core::Error);
+  EXPECT_THROW(event_stages(0, 10, core::Clock::monotonic, three_stage_rule(), index), core::Error);
 }
 
 }  // namespace m2mlat::analysis::breakdown_test

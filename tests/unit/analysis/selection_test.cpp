@@ -120,11 +120,9 @@ TEST(Summarize, ExtremesNameTheCauseOfPairsInTheStatistics) {
   for (std::int64_t i = 0; i < 6; ++i) {
     pairing::Pair p;
     p.cause_index = p.effect_index = static_cast<std::uint32_t>(i);
-    p.cause_ns = kT0 + i * 10'000 * kMs;
-    p.effect_ns = p.cause_ns + latency_ms[i] * kMs;
     if (i == 1) p.flags = pairing::kPairAmbiguous;
-    r.input.cause.t_ns.push_back(p.cause_ns);
-    r.input.effect.t_ns.push_back(p.effect_ns);
+    r.input.cause.t_ns.push_back(kT0 + i * 10'000 * kMs);
+    r.input.effect.t_ns.push_back(r.input.cause.t_ns.back() + latency_ms[i] * kMs);
     r.match.pairs.push_back(p);
   }
   analysis::summarize(r, {});

@@ -24,8 +24,6 @@ pairing::Pair found_pair(std::int64_t cause, std::int64_t effect, std::uint32_t 
   pairing::Pair p;
   p.cause_index = static_cast<std::uint32_t>(cause);
   p.effect_index = static_cast<std::uint32_t>(effect);
-  p.cause_ns = cause * 2'000'000'000;
-  p.effect_ns = effect * 2'000'000'000 + 800'000'000;
   p.flags = flags;
   return p;
 }

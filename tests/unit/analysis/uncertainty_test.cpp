@@ -114,9 +114,11 @@ TEST(Uncertainty, ACorrectedEventCarriesItsStepsUncertainty) {
   o.growth_ppm = 0;
   o.kernel_u = o.path_u = core::Duration{0};
   ScenarioResult result;
-  for (std::int64_t k = 0; k < 2; ++k)
-    result.match.pairs.push_back({static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(k), kT0 + k * kS,
-                                  kT0 + k * kS + kS / 2, 0});
+  for (std::int64_t k = 0; k < 2; ++k) {
+    result.input.cause.t_ns.push_back(kT0 + k * kS);
+    result.input.effect.t_ns.push_back(kT0 + k * kS + kS / 2);
+    result.match.pairs.push_back({static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(k), 0});
+  }
   result.steps.effect.mark = {StepMark::none, StepMark::corrected};
   result.steps.effect.bound_of = {0, 1};
   result.steps.effect.bounds = {{}, {1'200'000, 1'200'000}};
@@ -205,8 +207,8 @@ TEST(Uncertainty, GateRefuseLeavesSamplesOutOfTheStatistics) {
   for (std::int64_t i = 0; i < 3; ++i) {
     pairing::Pair p;
     p.cause_index = p.effect_index = static_cast<std::uint32_t>(i);
-    p.cause_ns = kT0 + i * 10 * kS;
-    p.effect_ns = p.cause_ns + (i + 1) * 100'000'000;
+    r.input.cause.t_ns.push_back(kT0 + i * 10 * kS);
+    r.input.effect.t_ns.push_back(r.input.cause.t_ns.back() + (i + 1) * 100'000'000);
     r.match.pairs.push_back(p);
   }
   // The effect board loses synchronisation between the second and the third pair.
@@ -239,8 +241,6 @@ TEST(Uncertainty, TruthCheckCountsCoverageOverTheCorrectBoundedPairs) {
     pairing::Pair p;
     p.cause_index = static_cast<std::uint32_t>(i);
     p.effect_index = static_cast<std::uint32_t>(i == 4 ? 5 : i);  // pair 4 takes the wrong effect
-    p.cause_ns = kT0 + i * kS;
-    p.effect_ns = p.cause_ns + 800'000'000;
     r.match.pairs.push_back(p);
     truth.push_back(
         {i, i, i, core::Duration{800'000'000 - errors_us[i] * 1000}, core::Duration{800'000'000}});

@@ -41,7 +41,9 @@ Run simulated(std::int64_t manoeuvres, double drop) {
   Run out;
   out.markers = analysis::to_markers(sim::stage_markers(run, options), run.config);
   out.result.input.scenario = "live";
-  for (const auto& t : run.pairs) out.result.match.pairs.push_back(m2mlat::testing::true_pair(run, t));
+  out.result.input.cause.t_ns = m2mlat::testing::event_times(run.cause_events);
+  out.result.input.effect.t_ns = m2mlat::testing::event_times(run.effect_events);
+  for (const auto& t : run.pairs) out.result.match.pairs.push_back(m2mlat::testing::true_pair(t));
   return out;
 }
 
@@ -131,9 +133,10 @@ TEST(LiveBreakdown, PairsPastTheWindowKeepTheirJoin) {
   auto run = simulated(60, 0.0);
   const auto& pairs = run.result.match.pairs;
   ASSERT_GT(pairs.size(), 40u);
-  const auto newest = pairs.back().effect_ns;
+  const auto times = run.result.times();
+  const auto newest = times.effect(pairs.back());
   // A window that leaves the first two thirds of the pairs behind.
-  const auto middle = pairs[pairs.size() * 2 / 3].effect_ns;
+  const auto middle = times.effect(pairs[pairs.size() * 2 / 3]);
   const core::Duration window(newest - middle);
   std::vector<markers::Marker> early, late;  // the first half's operator markers come late
   for (const auto& m : run.markers)

@@ -105,8 +105,8 @@ TEST(LivePairing, FinishedStoreEqualsOfflineStats) {
   // The newest pair and the strip chart's tail are the offline pairs'.
   ASSERT_TRUE(s.last.has_value());
   const auto& last = offline.match.pairs.back();
-  EXPECT_EQ(s.last->cause_ns, last.cause_ns);
-  EXPECT_EQ(s.last->latency_ns, last.latency().count());
+  EXPECT_EQ(s.last->cause_ns, offline.times().cause(last));
+  EXPECT_EQ(s.last->latency_ns, offline.times().latency(last).count());
   ASSERT_EQ(s.recent.size(), std::min<std::size_t>(offline.match.pairs.size(), 300));
   EXPECT_EQ(s.recent.back(), *s.last);
   // The histogram holds exactly the statistics' latencies.
@@ -144,7 +144,8 @@ TEST(LivePairing, CorrectsAClockStepAsOfflineDoes) {
   // Every pair's latency is the offline (corrected) one; more than ten pairs lie after the step.
   ASSERT_EQ(s.recent.size(), offline.match.pairs.size());
   for (std::size_t k = 0; k < s.recent.size(); ++k)
-    EXPECT_EQ(s.recent[k].latency_ns, offline.match.pairs[k].latency().count()) << "pair " << k;
+    EXPECT_EQ(s.recent[k].latency_ns, offline.times().latency(offline.match.pairs[k]).count())
+        << "pair " << k;
   EXPECT_GT(offline.pairs_marked(analysis::StepMark::corrected), 10u);
 }
 

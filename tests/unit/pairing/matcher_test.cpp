@@ -51,7 +51,7 @@ TEST(Matcher, SingleMagnetClean) {
   const auto r = match(c, e, core::Clock::realtime);
   EXPECT_EQ(index_pairs(r), (IndexPairs{{0, 0}, {1, 1}, {2, 2}}));
   EXPECT_TRUE(r.unmatched.empty());
-  EXPECT_EQ(r.pairs[1].latency().count(), 850 * kMs);
+  EXPECT_EQ(pairing::PairTimes({c, e}).latency(r.pairs[1]).count(), 850 * kMs);
 }
 
 TEST(Matcher, MultiMagnetBurstWithMissedEffectEdge) {
@@ -81,9 +81,10 @@ TEST(Matcher, MissingEffectDoesNotShiftLaterPairs) {
   std::sort(e.begin(), e.end());
   const auto r = match(c, e, core::Clock::realtime);
   ASSERT_EQ(r.pairs.size(), 29u);
+  const pairing::PairTimes times{c, e};
   for (const auto& p : r.pairs) {
-    EXPECT_GE(p.latency().count(), 800 * kMs);
-    EXPECT_LE(p.latency().count(), 840 * kMs);
+    EXPECT_GE(times.latency(p).count(), 800 * kMs);
+    EXPECT_LE(times.latency(p).count(), 840 * kMs);
   }
   std::size_t reasons_cause = 0, reasons_effect = 0;
   for (const auto& u : r.unmatched) (u.side == pairing::Side::cause ? reasons_cause : reasons_effect)++;
