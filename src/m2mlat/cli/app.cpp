@@ -9,6 +9,7 @@
 
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/heap.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/core/version.hpp"
 
@@ -27,6 +28,7 @@ std::string_view subcommand_named(int argc, char** argv) {
 }  // namespace
 
 int run(int argc, char** argv) {
+  core::return_large_blocks_when_freed();
   CLI::App app{"m2mlat: measure Motion-to-Motion latency between two boards (cause -> effect edges)",
                "m2mlat"};
   app.set_version_flag("--version", std::string("m2mlat ") + core::kVersion);
