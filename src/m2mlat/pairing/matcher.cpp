@@ -28,37 +28,55 @@ void free_now(Vector& v) {
   Vector().swap(v);
 }
 
-// The kept (non-bounce) edges of one side: the input itself when the refractory filter removed
-// nothing, else a compact copy (8 bytes an edge). `bounces` maps kept positions back to input
-// indices (KeptIndex), so that no table of input indices is kept.
+// The kept (non-bounce) edges of one side, moved to the front of the caller's column in place: no
+// copy of them (8 bytes an edge), only the bounces' times kept beside their indices (16 bytes a
+// bounce: a few per cent of the edges). `bounces` maps kept positions back to input indices
+// (KeptIndex), so that no table of input indices is kept. restore() puts the column back as it was;
+// the destructor does it if match_in_place() leaves by an exception.
 struct Kept {
-  std::vector<std::int64_t> bounces;  // ascending input indices
-  std::vector<std::int64_t> copy;     // the kept timestamps when there were bounces
-  std::span<const std::int64_t> ns;   // the kept timestamps (ns): `copy` or the input
+  std::vector<std::int64_t> bounces;    // ascending input indices
+  std::vector<std::int64_t> bounce_ns;  // their timestamps (ns), saved before the kept edges move over them
+  std::span<const std::int64_t> ns;     // the kept timestamps (ns): the front of the column until restore()
 
-  Kept(std::span<const std::int64_t> times, core::Duration refractory)
-      : bounces(refractory_bounces(times, refractory)) {
-    if (bounces.empty()) {
-      ns = times;
-      return;
-    }
-    copy.reserve(times.size() - bounces.size());
-    std::size_t b = 0;
-    for (std::size_t i = 0; i < times.size(); ++i) {
+  Kept(std::span<std::int64_t> column, core::Duration refractory)
+      : bounces(refractory_bounces(column, refractory)), column_(column) {
+    bounce_ns.reserve(bounces.size());  // before anything moves: a bad_alloc leaves the column as it was
+    // Edges before the first bounce stay where they are; each later kept edge moves forward by the
+    // number of bounces before it.
+    std::size_t k = bounces.empty() ? column.size() : static_cast<std::size_t>(bounces.front());
+    for (std::size_t i = k, b = 0; i < column.size(); ++i) {
       if (b < bounces.size() && bounces[b] == static_cast<std::int64_t>(i))
-        ++b;
+        bounce_ns.push_back(column[i]), ++b;
       else
-        copy.push_back(times[i]);
+        column[k++] = column[i];
     }
-    ns = copy;
+    ns = column.first(k);
   }
-  Kept(const Kept&) = delete;  // `ns` may point into `copy`
+  Kept(const Kept&) = delete;  // restores the column once
   Kept& operator=(const Kept&) = delete;
+  ~Kept() { restore(); }
 
-  void release() {
-    free_now(copy);
+  // Moves the kept edges back to their input indices and the bounces' times into the gaps, from the
+  // column's end (an edge only moves back, onto a slot already read), and stops at the first bounce:
+  // the edges before it never moved. `ns` is no longer valid afterwards.
+  void restore() noexcept {
+    if (restored_) return;
+    restored_ = true;
+    std::size_t k = ns.size();
+    for (std::size_t i = column_.size(), b = bounces.size(); b > 0;) {
+      --i;
+      if (bounces[b - 1] == static_cast<std::int64_t>(i))
+        column_[i] = bounce_ns[--b];
+      else
+        column_[i] = column_[--k];
+    }
     ns = {};
+    free_now(bounce_ns);  // held beside the pairs otherwise
   }
+
+ private:
+  std::span<std::int64_t> column_;
+  bool restored_ = false;
 };
 
 // For cause i, its candidate effects are [lo, hi): those with latency in [min, max]. Both ends only
@@ -443,11 +461,6 @@ class SweepStretch {
   std::int64_t low_reach_ = reach(1), high_reach_ = reach(1);  // reach(low_), reach(high_ + 1)
 };
 
-// The locally typical latency and how far a true pair may stray from it, per cause (ns).
-struct LocalReference {
-  std::vector<std::int64_t> median;      // running median of the matched latencies
-  std::vector<std::int64_t> acceptance;  // kSpreadFactor x their median absolute deviation, >= kMinAcceptance
-};
 // 7.5 MAD is 5 standard deviations of a normal spread (MAD = 0.6745 sd): a true pair strays that far
 // about once in two million. The floor keeps a very regular rig (sd of a few ms) from calling every
 // small change a jump: a clock step of up to a few tens of ms is then still a typical latency.
@@ -478,16 +491,18 @@ std::int64_t sorted_window_mad(const std::int64_t* w, std::size_t size) {
 
 // Running median (and median absolute deviation) of the matched latencies over `k` pairs either side,
 // assigned to every cause (causes without a pair take the values of the nearest pair before them, or
-// the first pair). The window is kept sorted; in the middle of the recording one latency leaves it as
-// another enters, and the one leaving is overwritten by moving the entering one to its place (a few
-// steps: the window holds 2k + 1 values), with no vector insert or erase.
-LocalReference local_reference(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
-                               const std::vector<std::uint32_t>& match, int k, std::int64_t fallback) {
-  LocalReference out{std::vector<std::int64_t>(causes.size(), fallback),
-                     std::vector<std::int64_t>(causes.size(), kMinAcceptance)};
+// the first pair; without pairs every cause takes `fallback` and kMinAcceptance): calls
+// set(first, end, median, acceptance) for causes [first, end), the ranges in order and covering all
+// causes. The window is kept sorted; in the middle of the recording one latency leaves it as another
+// enters, and the one leaving is overwritten by moving the entering one to its place (a few steps: the
+// window holds 2k + 1 values), with no vector insert or erase.
+template <typename Set>
+void for_each_local_reference(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
+                              const std::vector<std::uint32_t>& match, int k, std::int64_t fallback,
+                              Set set) {
   const auto n = static_cast<std::ptrdiff_t>(
       std::count_if(match.begin(), match.end(), [](std::uint32_t j) { return j != kNone; }));
-  if (n == 0) return out;
+  if (n == 0) return set(std::size_t{0}, causes.size(), fallback, kMinAcceptance);
   // The pairs are walked in `match` itself by three cursors (the pair whose median is taken, the pair
   // entering the window, the pair leaving it), so that nothing but the result and the window is
   // allocated (a list of the pairs' latencies would add 8 bytes a pair while the passes' candidates
@@ -497,8 +512,6 @@ LocalReference local_reference(std::span<const std::int64_t> causes, std::span<c
     return from;
   };
   const auto latency = [&](std::size_t i) { return effects[match[i]] - causes[i]; };
-  std::int64_t* const reference = out.median.data();
-  std::int64_t* const acceptance_of = out.acceptance.data();
   std::vector<std::int64_t> window(2 * static_cast<std::size_t>(k) + 1);
   std::int64_t* const w = window.data();
   std::size_t size = 0;
@@ -525,7 +538,7 @@ LocalReference local_reference(std::span<const std::int64_t> causes, std::span<c
   };
   std::ptrdiff_t first = 0, last = 0;  // the window holds pairs [first, last)
   std::size_t entering = next_pair(0), leaving = entering, current = entering;  // their causes
-  std::size_t filled = 0;                                                       // reference[0, filled) set
+  std::size_t filled = 0;                                                       // causes [0, filled) set
   for (std::ptrdiff_t p = 0; p < n; ++p) {
     const auto want_first = std::max<std::ptrdiff_t>(0, p - k),
                want_last = std::min<std::ptrdiff_t>(n, p + k + 1);
@@ -540,11 +553,59 @@ LocalReference local_reference(std::span<const std::int64_t> causes, std::span<c
         std::max(kMinAcceptance, sorted_window_mad(w, size) * kSpreadNumerator / kSpreadDenominator);
     // Every cause up to the next pair's takes this pair's values.
     const std::size_t next = next_pair(current + 1);  // the cause of pair p + 1, or the end
-    for (; filled < next; ++filled) reference[filled] = median, acceptance_of[filled] = acceptance;
-    current = next;
+    set(filled, next, median, acceptance);
+    filled = next, current = next;
   }
-  return out;
 }
+
+// The locally typical latency and how far a true pair may stray from it, per cause (ns): the running
+// median of the matched latencies, and kSpreadFactor x their median absolute deviation, at least
+// kMinAcceptance (for_each_local_reference). Held in 4 bytes each where every value fits, 8 bytes a
+// cause rather than 16 (pass 2's reference is held through pass 3 and both flaggings of uncertain
+// pairs, beside the matches: 72 MiB at 10^7 causes rather than 143): the median as its distance from
+// the global reference (within +-2.1 s; the recordings' medians lie within 0.2 s of it), the acceptance
+// as it is (below 4.2 s; the recordings' reach 1.5 s). Else in 8 bytes each, built anew.
+class LocalReference {
+ public:
+  LocalReference() = default;
+  LocalReference(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
+                 const std::vector<std::uint32_t>& match, int k, std::int64_t global)
+      : global_(global), median_(causes.size()), acceptance_(causes.size()) {
+    bool fits = true;
+    // One setter for both forms: one instance of the walk, whose helpers the compiler then inlines.
+    const auto set = [&](std::size_t first, std::size_t end, std::int64_t median, std::int64_t acceptance) {
+      if (wide_) {
+        std::fill(wide_median_.begin() + first, wide_median_.begin() + end, median);
+        std::fill(wide_acceptance_.begin() + first, wide_acceptance_.begin() + end, acceptance);
+        return;
+      }
+      const std::int64_t distance = median - global;
+      // The narrow form holds a distance in [-2^31, 2^31) and an acceptance (> 0) below 2^32: one
+      // unsigned compare each, without a branch.
+      const auto shifted = static_cast<std::uint64_t>(distance) + 0x8000'0000u;
+      fits = fits & (shifted <= 0xFFFF'FFFFu) & (static_cast<std::uint64_t>(acceptance) <= 0xFFFF'FFFFu);
+      for (std::size_t i = first; i < end; ++i)
+        median_[i] = static_cast<std::int32_t>(distance),
+        acceptance_[i] = static_cast<std::uint32_t>(acceptance);
+    };
+    for_each_local_reference(causes, effects, match, k, global, set);
+    if (fits) return;
+    free_now(median_), free_now(acceptance_);
+    wide_ = true;
+    wide_median_.resize(causes.size()), wide_acceptance_.resize(causes.size());
+    for_each_local_reference(causes, effects, match, k, global, set);
+  }
+  std::int64_t median(std::size_t i) const { return wide_ ? wide_median_[i] : global_ + median_[i]; }
+  std::int64_t acceptance(std::size_t i) const { return wide_ ? wide_acceptance_[i] : acceptance_[i]; }
+
+ private:
+  bool wide_ = false;
+  std::int64_t global_ = 0;                // ns
+  std::vector<std::int32_t> median_;       // median - global_ (ns)
+  std::vector<std::uint32_t> acceptance_;  // ns
+  std::vector<std::int64_t> wide_median_;  // ns, when a value did not fit the narrow form
+  std::vector<std::int64_t> wide_acceptance_;
+};
 
 // Bursts: runs of kept edges on one side closer than `gap` to the previous one. Returns the burst
 // number of every edge.
@@ -590,7 +651,11 @@ void mark_misfits(const std::vector<std::uint32_t>& burst, std::size_t magnets, 
 // one side) when alone, but a chain shifted by an edge when the other side has a boundary of its own
 // within fewer pairs than the magnets (at least 2): the pairs between the two are marked.
 void mark_shifted_bursts(const std::vector<std::uint32_t>& matched, std::size_t magnets, BurstMarks& b) {
-  std::vector<std::uint32_t> pc;  // the paired causes in order
+  // The paired causes in order. Reserved to the pair count: grown by doubling, the list was up to 8
+  // bytes a pair more (its old and new storage at once) at the peak of `m2mlat stats`.
+  std::vector<std::uint32_t> pc;
+  pc.reserve(static_cast<std::size_t>(
+      std::count_if(matched.begin(), matched.end(), [](std::uint32_t j) { return j != kNone; })));
   for (std::size_t i = 0; i < matched.size(); ++i)
     if (matched[i] != kNone) pc.push_back(static_cast<std::uint32_t>(i));
   std::vector<std::ptrdiff_t> cause_only, effect_only;  // pair positions p: a boundary between p - 1 and p
@@ -687,16 +752,16 @@ constexpr std::int64_t kFirstPassAcceptance = 1'000'000'000;  // ns
 
 // True when cause i at this latency lies beyond the local acceptance: not a typical pair.
 bool beyond_acceptance(const LocalReference& reference, std::size_t i, std::int64_t latency) {
-  const std::int64_t ref = reference.median[i];
-  return (latency > ref ? latency - ref : ref - latency) >= reference.acceptance[i];
+  const std::int64_t ref = reference.median(i);
+  return (latency > ref ? latency - ref : ref - latency) >= reference.acceptance(i);
 }
 
 std::int64_t pair_worth(const LocalReference& reference, std::size_t i, std::int64_t latency,
                         std::int64_t tolerance_ns) {
-  const std::int64_t ref = reference.median[i];
+  const std::int64_t ref = reference.median(i);
   const std::int64_t deviation = latency > ref ? latency - ref : ref - latency;
   if (tolerance_ns > 0 && deviation >= tolerance_ns) return kDisallowed;
-  const std::int64_t acceptance = reference.acceptance[i];
+  const std::int64_t acceptance = reference.acceptance(i);
   // Most candidates of a wide window lie beyond the acceptance: no division for them.
   return deviation >= acceptance ? kPairWorth - kDeviationCost
                                  : kPairWorth - deviation * kDeviationCost / acceptance;
@@ -719,15 +784,16 @@ std::vector<std::uint8_t> uncertain_pairs(const Sides& sides, const std::vector<
   const std::int64_t min_ns = sides.min_ns, max_ns = sides.max_ns;
   static_assert(kPairUncertain < 256, "the matcher's flags fit a byte a cause");
   std::vector<std::uint8_t> flags(matched.size(), 0);
-  std::vector<std::uint32_t> pc, pe;  // the pairs in order: cause and effect indices
-  // Reserved to the pair count: grown by doubling, the two were up to 8 bytes a pair more at a peak of
-  // `m2mlat stats`.
+  // The pairs in order: pc[k] the cause of the k-th, pe(k) its effect, read in `matched` (a list of the
+  // effects too was 4 bytes a pair more at the peak of `m2mlat stats`). Reserved to the pair count:
+  // grown by doubling, the list was up to 4 bytes a pair more.
+  std::vector<std::uint32_t> pc;
   const auto pair_count = static_cast<std::size_t>(
       std::count_if(matched.begin(), matched.end(), [](std::uint32_t j) { return j != kNone; }));
   pc.reserve(pair_count);
-  pe.reserve(pair_count);
   for (std::size_t i = 0; i < matched.size(); ++i)
-    if (matched[i] != kNone) pc.push_back(static_cast<std::uint32_t>(i)), pe.push_back(matched[i]);
+    if (matched[i] != kNone) pc.push_back(static_cast<std::uint32_t>(i));
+  const auto pe = [&](std::size_t k) { return matched[pc[k]]; };
   const std::size_t n = pc.size();
   if (n == 0) return flags;
   const auto in_window = [&](std::uint32_t i, std::uint32_t j) {
@@ -737,14 +803,14 @@ std::vector<std::uint8_t> uncertain_pairs(const Sides& sides, const std::vector<
   const auto worth = [&](std::uint32_t i, std::uint32_t j) {
     return pair_worth(reference, i, effects[j] - causes[i], tolerance_ns);
   };
-  const auto paired_worth = [&](std::size_t k) { return worth(pc[k], pe[k]); };
+  const auto paired_worth = [&](std::size_t k) { return worth(pc[k], pe(k)); };
   constexpr std::size_t kMaxShift = 64;  // pairs a change may shift: far beyond what stays in the margin
 
   // Unmatched kept edges of each side, ascending.
   std::vector<std::uint32_t> lone_causes, lone_effects;
   {
     std::vector<bool> effect_used(effects.size(), false);
-    for (const auto j : pe) effect_used[j] = true;
+    for (const auto i : pc) effect_used[matched[i]] = true;
     for (std::size_t i = 0; i < causes.size(); ++i)
       if (matched[i] == kNone) lone_causes.push_back(static_cast<std::uint32_t>(i));
     for (std::size_t j = 0; j < effects.size(); ++j)
@@ -758,8 +824,8 @@ std::vector<std::uint8_t> uncertain_pairs(const Sides& sides, const std::vector<
   // within kDeviationCost is flagged.
   const auto walk = [&](std::ptrdiff_t k, int step, std::uint32_t free, bool free_is_cause) {
     const auto& others = free_is_cause ? lone_effects : lone_causes;
-    const auto partner = [&](std::size_t q) { return free_is_cause ? pe[q] : pc[q]; };
-    const auto own = [&](std::size_t q) { return free_is_cause ? pc[q] : pe[q]; };
+    const auto partner = [&](std::size_t q) { return free_is_cause ? pe(q) : pc[q]; };
+    const auto own = [&](std::size_t q) { return free_is_cause ? pc[q] : pe(q); };
     const auto make = [&](std::uint32_t mine, std::uint32_t other) {  // (cause, effect)
       return free_is_cause ? std::pair{mine, other} : std::pair{other, mine};
     };
@@ -799,14 +865,18 @@ std::vector<std::uint8_t> uncertain_pairs(const Sides& sides, const std::vector<
     walk(next - 1, -1, i, true);
   }
   for (const auto j : lone_effects) {
-    const auto next = static_cast<std::ptrdiff_t>(std::lower_bound(pe.begin(), pe.end(), j) - pe.begin());
+    // The first pair whose effect is >= j (the pairs' effects ascend with their causes).
+    const auto next = static_cast<std::ptrdiff_t>(
+        std::lower_bound(pc.begin(), pc.end(), j,
+                         [&](std::uint32_t i, std::uint32_t e) { return matched[i] < e; }) -
+        pc.begin());
     walk(next, +1, j, false);
     walk(next - 1, -1, j, false);
   }
 
   // Jumps: runs of consecutive pairs beyond the acceptance.
   const auto jumps = [&](std::size_t k) {
-    return beyond_acceptance(reference, pc[k], effects[pe[k]] - causes[pc[k]]);
+    return beyond_acceptance(reference, pc[k], effects[pe(k)] - causes[pc[k]]);
   };
   for (std::size_t k = 0; k < n;) {
     if (!jumps(k)) {
@@ -819,13 +889,13 @@ std::vector<std::uint8_t> uncertain_pairs(const Sides& sides, const std::vector<
     // chain shifted by one edge: if each cause of the run fits typically with its neighbour's
     // partner, the run is as likely a shifted chain that swallowed an unmatched edge at either end.
     bool confirmed = end - k >= kConfirmingRun && k > 0 && end < n && pc[end] - pc[k - 1] == end - k + 1 &&
-                     pe[end] - pe[k - 1] == end - k + 1;
+                     pe(end) - pe(k - 1) == end - k + 1;
     // A real change of latency moves it one way (a stall holds commands back; a handover to a faster
     // link shortens them): a run that lies partly below and partly above the reference is a chain
     // that took a wrong edge.
     {
       const auto above = [&](std::size_t r) {
-        return effects[pe[r]] - causes[pc[r]] > reference.median[pc[r]];
+        return effects[pe(r)] - causes[pc[r]] > reference.median(pc[r]);
       };
       for (std::size_t r = k + 1; r < end; ++r)
         if (above(r) != above(k)) confirmed = false;
@@ -835,7 +905,7 @@ std::vector<std::uint8_t> uncertain_pairs(const Sides& sides, const std::vector<
       for (std::size_t r = k; r < end; ++r) {
         const auto q = static_cast<std::ptrdiff_t>(r) + shift;
         if (q < 0 || static_cast<std::size_t>(q) >= n) continue;
-        const std::uint32_t i = pc[r], j = pe[static_cast<std::size_t>(q)];
+        const std::uint32_t i = pc[r], j = pe(static_cast<std::size_t>(q));
         fits += !beyond_acceptance(reference, i, effects[j] - causes[i]);
       }
       if (2 * fits >= end - k) confirmed = false;
@@ -917,6 +987,15 @@ core::Duration burst_gap_for(std::span<const double> magnets_deg) {
 
 MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
                   core::Clock clock, const MatchOptions& options) {
+  // Copies the matcher may rearrange (8 bytes an edge a side): a caller that owns its columns saves
+  // them with match_in_place.
+  std::vector<std::int64_t> causes(cause_ns.begin(), cause_ns.end()),
+      effects(effect_ns.begin(), effect_ns.end());
+  return match_in_place(causes, effects, clock, options);
+}
+
+MatchResult match_in_place(std::span<std::int64_t> cause_ns, std::span<std::int64_t> effect_ns,
+                           core::Clock clock, const MatchOptions& options) {
   if (options.max_latency <= options.min_latency)
     throw core::Error(core::ErrorKind::usage,
                       "the latency window is empty: max latency must exceed min latency");
@@ -961,32 +1040,36 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   });
   // Pass 2: against the local reference of pass 1; the most pairs (a typical one counting twice), then
   // the largest worth. (A third such pass, against pass 2's reference, changed nothing measurable.)
-  reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
+  // Each pass's matches go once what it needs of them is taken (the sweep's band, the reference):
+  // the pass after writes its own (4 bytes a cause each).
   const auto gap = options.burst_gap.count() > 0 ? options.burst_gap : burst_gap_for(options.magnets_deg);
   const std::size_t magnet_count = std::max<std::size_t>(1, options.magnets_deg.size());
   SweepStretch sweep(causes.ns, effects.ns, gap.count(), magnet_count);
   sweep.fit(matched);
+  reference = LocalReference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
+  free_now(matched);
   matched = align_pass(sides, counted, chains, [&](std::size_t i) {
-    return PassRow{reference.median[i], reference.acceptance[i], tolerance, 2, 1, sweep.link(i)};
+    return PassRow{reference.median(i), reference.acceptance(i), tolerance, 2, 1, sweep.link(i)};
   });
-  sweep.fit(matched);
-  // Pass 1's reference goes before pass 2's is built: the two at once (16 bytes a cause each) made
-  // one of the plateaus of `m2mlat stats` as high as its peak.
+  // Pass 1's reference goes before the sweep's band is fitted and pass 2's reference built: the two
+  // references at once made one of the plateaus of `m2mlat stats` as high as its peak.
   reference = LocalReference();
-  reference = local_reference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
+  sweep.fit(matched);
+  reference = LocalReference(causes.ns, effects.ns, matched, options.reference_neighbours, global);
   // Pass 3: a pair far from the typical latency that an unmatched edge could replace counts nothing
   // (only its worth), so that such pairs never displace a typical one: a lost edge and a spurious one
   // must not push a true pair out.
   {
     std::vector<bool> demoted(matched.size(), false);
-    {  // the flags (4 bytes a cause) go before the pass
+    {  // the flags (a byte a cause) go before the pass
       const auto doubtful = uncertain_pairs(sides, matched, reference, tolerance);
       for (std::size_t i = 0; i < matched.size(); ++i)
         demoted[i] = matched[i] != kNone && (doubtful[i] & kPairCompeting) != 0 &&
                      beyond_acceptance(reference, i, effects.ns[matched[i]] - causes.ns[i]);
     }
+    free_now(matched);
     matched = align_pass(sides, counted, chains, [&](std::size_t i) {
-      return PassRow{reference.median[i], reference.acceptance[i], tolerance, 2, demoted[i] ? 0u : 1u,
+      return PassRow{reference.median(i), reference.acceptance(i), tolerance, 2, demoted[i] ? 0u : 1u,
                      sweep.link(i)};
     });
   }
@@ -1005,8 +1088,8 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
       if (ambiguous[i]) flags[i] |= kPairAmbiguous;
   }
 
-  // Reasons for everything left over, first: they need the kept timestamps, which can then go
-  // before the pairs are built (the pairs' times come from the input).
+  // Reasons for everything left over, first: they need the kept timestamps (a cause's window, an
+  // effect's candidates), which then go back to their input indices before the pairs are built.
   std::vector<bool> effect_used(effects.ns.size(), false);
   std::size_t pair_count = 0;
   for (const auto j : matched)
@@ -1051,8 +1134,8 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
     add(Side::effect, kAllBounces, UnmatchedReason::bounce, effects.bounces);
   }
   free_now(effect_used);
-  causes.release();
-  effects.release();
+  causes.restore();
+  effects.restore();
 
   // The pairs (16 bytes each, the largest part of the result), in cause order and so in effect order.
   result.pairs.reserve(pair_count);
@@ -1089,8 +1172,7 @@ MatchResult match(std::span<const core::Event> causes, std::span<const core::Eve
                                       event.channel));
       out->push_back(event.time.ns());
     }
-  return match(std::span<const std::int64_t>(cause_ns), std::span<const std::int64_t>(effect_ns), clock,
-               options);
+  return match_in_place(cause_ns, effect_ns, clock, options);
 }
 
 }  // namespace m2mlat::pairing

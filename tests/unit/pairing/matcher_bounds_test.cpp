@@ -67,6 +67,25 @@ TEST(MatcherBounds, MoreCandidatePairsThanTheLimitAreRefusedAtOnce) {
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
 }
 
+TEST(MatcherBounds, InPlaceTheColumnsArePutBackWhenTheWindowIsRefused) {
+  // The same 25,000 edges a side with a bounce after every hundredth: the window is refused after the
+  // kept edges were moved to the front of the columns, and the columns are as they were.
+  std::vector<std::int64_t> causes, effects;
+  for (std::int64_t i = 0; i < 25'000; ++i) {
+    causes.push_back(i * kS);
+    effects.push_back(i * kS + kS / 2);
+    if (i % 100 == 0) causes.push_back(i * kS + 1'000'000), effects.push_back(i * kS + kS / 2 + 1'000'000);
+  }
+  const auto causes0 = causes, effects0 = effects;
+  pairing::MatchOptions o;
+  o.max_latency = pairing::kMaxLatency;
+  const auto message =
+      usage_error([&] { pairing::match_in_place(causes, effects, core::Clock::realtime, o); });
+  EXPECT_NE(message.find("312512500 candidate pairs"), std::string::npos) << message;
+  EXPECT_EQ(causes, causes0);
+  EXPECT_EQ(effects, effects0);
+}
+
 TEST(MatcherBounds, AOneDayWindowPairsASimulatedRunAsTheDefaultWindowDoes) {
   const auto run = sim::simulate(sim::preset("static_wifi"));
   ASSERT_GT(run.pairs.size(), 20u);

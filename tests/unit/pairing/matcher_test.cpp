@@ -107,6 +107,24 @@ TEST(Matcher, BouncesAreReportedAndIgnored) {
   EXPECT_EQ(r.pairs[1].bounce_span_ns, 0);
 }
 
+TEST(Matcher, InPlaceGivesTheSameResultAndPutsTheColumnsBack) {
+  // Bounces on both sides (a run of them, one after the last kept edge), so that the kept edges move
+  // to the front of the columns while the matcher runs.
+  std::vector<std::int64_t> c{0, 2500 * kMs, 2502 * kMs, 2505 * kMs, 5100 * kMs, 7600 * kMs, 7601 * kMs};
+  std::vector<std::int64_t> e{800 * kMs,  803 * kMs,  3350 * kMs, 5850 * kMs,
+                              5851 * kMs, 8400 * kMs, 8409 * kMs};
+  const auto c0 = c, e0 = e;
+  const auto expected = match(c0, e0, core::Clock::realtime);
+  const auto r = pairing::match_in_place(c, e, core::Clock::realtime);
+  EXPECT_EQ(c, c0);
+  EXPECT_EQ(e, e0);
+  EXPECT_EQ(index_pairs(r), (IndexPairs{{0, 0}, {1, 2}, {4, 3}, {5, 5}}));
+  EXPECT_EQ(r.pairs, expected.pairs);
+  EXPECT_EQ(r.unmatched, expected.unmatched);
+  ASSERT_EQ(r.unmatched.size(), 6u);
+  for (const auto& u : r.unmatched) EXPECT_EQ(u.reason, UnmatchedReason::bounce);
+}
+
 TEST(Matcher, NoCandidateReason) {
   // Farther apart than the default window (10 s) either way.
   const std::vector<std::int64_t> c{0, 15'000 * kMs};
