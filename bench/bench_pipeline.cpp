@@ -35,9 +35,9 @@ void add_pipeline(std::size_t resamples) {
         if (resamples > 0) summary_options.bootstrap = stats::BootstrapOptions{resamples, 1, 0.95};
         std::size_t events = 0;
         for (auto _ : state) {
-          const auto causes = read_side(files.kernel_log);
-          const auto effects = read_side(files.kernel_log_effect);
-          const auto match = pairing::match(causes, effects, core::Clock::realtime);
+          auto causes = read_side(files.kernel_log);
+          auto effects = read_side(files.kernel_log_effect);
+          const auto match = pairing::match_in_place(causes, effects, core::Clock::realtime);
           std::vector<std::int64_t> latencies, ids;
           latencies.reserve(match.pairs.size());
           ids.reserve(match.pairs.size());
