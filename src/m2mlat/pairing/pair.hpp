@@ -44,7 +44,7 @@ inline constexpr core::Duration kBounceSpanLimit{3'000'000};  // ns
 // anyway).
 struct Pair {
   // The two events' indices in the input that was paired: 4 bytes each (the matcher takes fewer than
-  // 2^31 events a side; pulse pairing and a pairs file's rows check theirs).
+  // 2^31 events a side; a pairs file's rows are checked, analysis/pairs_file.hpp).
   std::uint32_t cause_index = 0;
   std::uint32_t effect_index = 0;
   std::uint32_t flags = 0;  // PairFlag bits

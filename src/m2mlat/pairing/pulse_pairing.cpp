@@ -2,7 +2,6 @@
 #include "m2mlat/pairing/pulse_pairing.hpp"
 
 #include <algorithm>
-#include <limits>
 #include <numeric>
 
 #include "m2mlat/core/error.hpp"
@@ -51,11 +50,6 @@ PulsePairing pair_pulses(std::span<const std::int64_t> a_ns, std::span<const std
   PulsePairing result;
   if (options.period.count() < 0)
     throw core::Error(core::ErrorKind::usage, "pulse pairing: the period must not be negative");
-  // A pair holds 32-bit indices (pairing::Pair): a pulse a second is 136 years of them.
-  if (a_ns.size() > std::numeric_limits<std::uint32_t>::max() ||
-      b_ns.size() > std::numeric_limits<std::uint32_t>::max())
-    throw core::Error(core::ErrorKind::usage,
-                      "pulse pairing: more than 2^32 edges on one board: split the input");
   result.period = options.period.count() > 0 ? options.period : median_interval(a_ns);
   if (result.period.count() <= 0)
     throw core::Error(core::ErrorKind::usage,
@@ -83,8 +77,7 @@ PulsePairing pair_pulses(std::span<const std::int64_t> a_ns, std::span<const std
         continue;
       }
       used_b[j] = true;
-      result.pairs.push_back({static_cast<std::uint32_t>(order_a[i]), static_cast<std::uint32_t>(order_b[j]),
-                              a_ns[order_a[i]], b_ns[order_b[j]]});
+      result.pairs.push_back({order_a[i], order_b[j], a_ns[order_a[i]], b_ns[order_b[j]]});
     }
   } else {
     result.unmatched_a = order_a;
