@@ -6,9 +6,17 @@
 // arrays into one sorted output (each input read once, 2n int64 written to a fresh vector, as the
 // matcher writes its pairs to a fresh vector). bench/report.py prints the matcher's time over the
 // merge's (target <= 1.2x).
+//
+// And the floor of any matcher that weighs every candidate pair in a cause's latency window, as
+// issue 16's must (a stall of seconds puts the true effect anywhere in it): one pass of the least
+// order-preserving chain over those candidates (window_dp below). The matcher runs three such passes,
+// each with a value, the sweep's links and the back-tracking; bench/report.py prints its time over
+// three of these (docs/benchmarks.md, "Why the two speed targets are blocked").
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -17,6 +25,49 @@
 #include "workload.hpp"
 
 namespace m2mlat::bench {
+namespace {
+
+// The longest order-preserving chain of pairs with effect - cause in [0, window_ns]: per candidate one
+// running maximum (over the effects before it, from the causes before this one) and its predecessor
+// written, per cause its row folded into each effect's best. The predecessors go round a ring of
+// 2^20 (4 MiB), as the matcher's back-tracking reuses its settled blocks. Returns the chain's length.
+std::uint32_t window_dp(std::span<const std::int64_t> causes, std::span<const std::int64_t> effects,
+                        std::int64_t window_ns, std::vector<std::uint32_t>& predecessors) {
+  constexpr std::size_t kRingMask = (std::size_t{1} << 20) - 1;
+  predecessors.resize(kRingMask + 1);
+  std::vector<std::uint32_t> best(effects.size(), 0), best_id(effects.size(), 0);
+  std::vector<std::uint32_t> row;
+  std::uint32_t frozen = 0, frozen_id = 0;  // the best over the effects behind every later window
+  std::size_t lo = 0, hi = 0, folded = 0, id = 0;
+  for (const std::int64_t cause : causes) {
+    while (lo < effects.size() && effects[lo] < cause) ++lo;
+    while (hi < effects.size() && effects[hi] - cause <= window_ns) ++hi;
+    for (; folded < lo; ++folded) {
+      const bool up = best[folded] > frozen;
+      frozen = up ? best[folded] : frozen;
+      frozen_id = up ? best_id[folded] : frozen_id;
+    }
+    std::uint32_t running = frozen, running_id = frozen_id;
+    row.resize(hi - lo);
+    const std::size_t first_id = id;  // this row's candidates are first_id, first_id + 1, ...
+    for (std::size_t j = lo; j < hi; ++j) {
+      row[j - lo] = running + 1;
+      predecessors[id++ & kRingMask] = running_id;
+      const bool up = best[j] > running;
+      running = up ? best[j] : running;
+      running_id = up ? best_id[j] : running_id;
+    }
+    for (std::size_t j = lo; j < hi; ++j) {
+      const bool up = row[j - lo] > best[j];
+      best[j] = up ? row[j - lo] : best[j];
+      best_id[j] = up ? static_cast<std::uint32_t>(first_id + (j - lo)) : best_id[j];
+    }
+  }
+  for (; folded < effects.size(); ++folded) frozen = std::max(frozen, best[folded]);
+  return frozen;
+}
+
+}  // namespace
 
 void register_pairing_benchmarks() {
   for (auto n : ladder()) {
@@ -42,6 +93,19 @@ void register_pairing_benchmarks() {
         benchmark::DoNotOptimize(merged.data());
         benchmark::ClobberMemory();
       }
+      set_rate(state, input.cause_ns.size() + input.effect_ns.size(), "events");
+    });
+    add(fmt::format("pairing/window_dp_floor/events_per_side:{}", n), [n](benchmark::State& state) {
+      const auto window_ns = pairing::MatchOptions{}.max_latency.count();
+      const auto input = prefix(n, window_ns);
+      std::vector<std::uint32_t> predecessors;
+      std::uint32_t chain = 0;
+      for (auto _ : state) {
+        chain = window_dp(input.cause_ns, input.effect_ns, window_ns, predecessors);
+        benchmark::DoNotOptimize(chain);
+      }
+      if (chain == 0) throw std::runtime_error("the window's chain is empty");
+      state.counters["chain"] = static_cast<double>(chain);
       set_rate(state, input.cause_ns.size() + input.effect_ns.size(), "events");
     });
   }

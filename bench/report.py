@@ -175,6 +175,12 @@ def floor(table, benchmarks):
         ratio = match / merge
         table.row(f"pairing/match vs merge, {int(n):,} events per side", f"{ratio:.1f}x the merge's time", "-",
                   f"{ratio:.1f}x", verdict(ratio <= MERGE_TARGET) + f" (<= {MERGE_TARGET:g}x)")
+        # The floor of a matcher that weighs every candidate in the window (bench_pairing.cpp): the
+        # matcher runs three passes; no target, the figure says how far it is from that floor.
+        dp = times.get(f"pairing/window_dp_floor/events_per_side:{n}")
+        if dp is not None:
+            table.row(f"pairing/match vs 3 passes of the least window DP, {int(n):,} a side",
+                      f"one pass {dp / merge:.1f}x the merge's time", "-", f"{match / (3 * dp):.1f}x")
 
 
 def high_rate(table, r):
