@@ -196,9 +196,14 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
     // error in the cause file is still the one reported when both have one.
     const auto names = file_pair_names(inputs);
     const auto& scenario = names.scenario;
-    auto effect_read = std::async(std::launch::async, lean_side, std::cref(inputs.effect_file), format,
-                                  std::cref(names.effect), std::cref(selection.effect));
-    auto cause = lean_side(inputs.cause_file, format, names.cause, selection.cause);
+    // The interference filter (--min-pulse) needs each edge's kind, which the bare read has not: the
+    // events' path below then, which names a file that holds one kind only.
+    const bool read_bare = selection.min_pulse.count() == 0;
+    auto effect_read = std::async(std::launch::async, [&]() -> std::optional<LeanSide> {
+      return read_bare ? lean_side(inputs.effect_file, format, names.effect, selection.effect) : std::nullopt;
+    });
+    auto cause =
+        read_bare ? lean_side(inputs.cause_file, format, names.cause, selection.cause) : std::nullopt;
     auto effect = effect_read.get();
     BoardRecord record;
     if (cause && effect) {

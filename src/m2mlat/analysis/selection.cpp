@@ -11,6 +11,7 @@
 #include <set>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/pairing/glitch_filter.hpp"
 
 namespace m2mlat::analysis {
 
@@ -85,6 +86,48 @@ store::Timestamps load_side(const store::Store& store, const std::vector<store::
   return side;
 }
 
+core::Edge opposite(core::Edge edge) {
+  return edge == core::Edge::falling ? core::Edge::rising : core::Edge::falling;
+}
+
+// Drops from `side` (edges of `edge`, sorted by time) those that start no pulse of `min_pulse`, given
+// the line's other edges `idle_ns` (sorted); returns how many. A side whose line has no other edges is
+// refused: without them no pulse has a width.
+std::int64_t drop_glitches(store::Timestamps& side, std::span<const std::int64_t> idle_ns, core::Edge edge,
+                           core::Duration min_pulse, const core::ChannelRef& ref) {
+  if (side.t_ns.empty()) return 0;
+  if (idle_ns.empty())
+    throw core::Error(
+        core::ErrorKind::data,
+        fmt::format("--min-pulse needs both edges of a line, and {} has {} edges only (record it "
+                    "with --edges both --refractory 0)",
+                    core::to_string(ref), core::to_string(edge)));
+  const auto drop = pairing::glitches(side.t_ns, idle_ns, min_pulse);
+  if (drop.empty()) return 0;
+  if (side.seq.empty()) {  // ids were positions: keep them as they were before the drop
+    side.seq.resize(side.t_ns.size());
+    std::iota(side.seq.begin(), side.seq.end(), std::int64_t{0});
+  }
+  std::size_t out = 0, next_drop = 0;
+  for (std::size_t k = 0; k < side.t_ns.size(); ++k) {
+    if (next_drop < drop.size() && static_cast<std::size_t>(drop[next_drop]) == k) {
+      ++next_drop;
+      continue;
+    }
+    side.t_ns[out] = side.t_ns[k], side.seq[out] = side.seq[k];
+    ++out;
+  }
+  side.t_ns.resize(out), side.seq.resize(out);
+  return static_cast<std::int64_t>(drop.size());
+}
+
+// Selection::min_pulse needs one kind of edge to pair: the other kind is the pulses' ends.
+void check_min_pulse(const Selection& selection) {
+  if (selection.min_pulse.count() > 0 && !selection.edge)
+    throw core::Error(core::ErrorKind::usage,
+                      "--min-pulse needs the edges to pair: --edge falling or rising");
+}
+
 void check_clocks(const ScenarioInput& input) {
   if (!input.cause.t_ns.empty() && !input.effect.t_ns.empty() && input.cause.clock != input.effect.clock)
     throw core::Error(
@@ -138,8 +181,18 @@ ScenarioInput load_scenario(const store::Store& store, const std::string& scenar
                      selection.cause ? selection.cause->channel : ""};
   input.effect_ref = {side_node(sessions, scenario, selection.effect, core::Role::effect),
                       selection.effect ? selection.effect->channel : ""};
+  check_min_pulse(selection);
   input.cause = load_side(store, sessions, scenario, input.cause_ref, selection.edge);
   input.effect = load_side(store, sessions, scenario, input.effect_ref, selection.edge);
+  if (selection.min_pulse.count() > 0) {
+    const auto other = opposite(*selection.edge);
+    Glitches g{selection.min_pulse};
+    g.cause = drop_glitches(input.cause, load_side(store, sessions, scenario, input.cause_ref, other).t_ns,
+                            *selection.edge, selection.min_pulse, input.cause_ref);
+    g.effect = drop_glitches(input.effect, load_side(store, sessions, scenario, input.effect_ref, other).t_ns,
+                             *selection.edge, selection.min_pulse, input.effect_ref);
+    input.glitches = g;
+  }
   input.clock = input.cause.clock;
   check_clocks(input);
   return input;
@@ -166,13 +219,19 @@ ScenarioInput from_events(std::string scenario, std::span<const core::Event> cau
   ScenarioInput input;
   input.scenario = std::move(scenario);
   input.id_kind = "index";
+  check_min_pulse(selection);
+  const bool filter = selection.min_pulse.count() > 0;
   auto take = [&](std::span<const core::Event> events, const std::optional<core::ChannelRef>& want,
-                  core::ChannelRef& ref, store::Timestamps& out, const char* side) {
+                  core::ChannelRef& ref, store::Timestamps& out, const char* side) -> std::int64_t {
     std::optional<core::Clock> seen;
+    std::vector<std::size_t> others;  // the other kind of edge, for the interference filter
     for (std::size_t k = 0; k < events.size(); ++k) {
       const auto& e = events[k];
       if (want && (e.node != want->node || (!want->channel.empty() && e.channel != want->channel))) continue;
-      if (selection.edge && e.edge != *selection.edge) continue;
+      if (selection.edge && e.edge != *selection.edge) {
+        if (filter) others.push_back(k);
+        continue;
+      }
       if (ref.node.empty()) ref = {e.node, e.channel};
       if ((!want || want->channel.empty()) && (e.node != ref.node || e.channel != ref.channel))
         throw core::Error(
@@ -190,9 +249,17 @@ ScenarioInput from_events(std::string scenario, std::span<const core::Event> cau
     if (want && ref.node.empty()) ref = *want;
     out.clock = seen.value_or(core::Clock::realtime);
     sort_by_time(out);
+    if (!filter) return 0;
+    std::vector<std::int64_t> idle_ns;  // the same line's other edges, sorted
+    for (auto k : others)
+      if (events[k].node == ref.node && events[k].channel == ref.channel)
+        idle_ns.push_back(events[k].time.ns());
+    std::sort(idle_ns.begin(), idle_ns.end());
+    return drop_glitches(out, idle_ns, *selection.edge, selection.min_pulse, ref);
   };
-  take(causes, selection.cause, input.cause_ref, input.cause, "cause");
-  take(effects, selection.effect, input.effect_ref, input.effect, "effect");
+  const auto cause_glitches = take(causes, selection.cause, input.cause_ref, input.cause, "cause");
+  const auto effect_glitches = take(effects, selection.effect, input.effect_ref, input.effect, "effect");
+  if (filter) input.glitches = Glitches{selection.min_pulse, cause_glitches, effect_glitches};
   input.clock = input.cause.clock;
   check_clocks(input);
   return input;

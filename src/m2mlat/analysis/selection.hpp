@@ -21,6 +21,15 @@ struct Selection {
   std::optional<core::ChannelRef> cause;                 // unset: the node of the scenario's cause sessions
   std::optional<core::ChannelRef> effect;                // unset: the node of the scenario's effect sessions
   std::optional<core::Edge> edge = core::Edge::falling;  // unset: both edges
+  // > 0: drop the edges of `edge` that start no pulse this long (pairing/glitch_filter.hpp); needs
+  // one edge kind and both kinds in the input.
+  core::Duration min_pulse{0};
+};
+
+// What the interference filter dropped (Selection::min_pulse), per side.
+struct Glitches {
+  core::Duration min_pulse{0};
+  std::int64_t cause = 0, effect = 0;
 };
 
 // One scenario's two sides, ready for the matcher. `seq` says where each timestamp came from: the
@@ -36,6 +45,7 @@ struct ScenarioInput {
   // What the seq numbers are: "seq" (store sequence numbers), "line" (line in a paired-results file)
   // or "index" (0-based position in an imported file's events).
   std::string id_kind = "seq";
+  std::optional<Glitches> glitches;  // set when the interference filter ran
 };
 
 // The source id of one side's timestamp at `index` (its position after sorting, as the matcher's
@@ -54,7 +64,8 @@ std::string side_node(const std::vector<store::Session>& sessions, const std::st
 std::vector<std::string> scenarios(const store::Store& store);
 
 // Loads one scenario. Throws core::Error(data) naming the scenario when a side has no session, when
-// a node has several channels and none was chosen, or when the two sides use different clocks.
+// a node has several channels and none was chosen, when the two sides use different clocks, or when
+// min_pulse is set and a side's channel holds one kind of edge only.
 ScenarioInput load_scenario(const store::Store& store, const std::string& scenario,
                             const Selection& selection);
 
@@ -67,7 +78,8 @@ struct SideInput {
 // when the side was already in time order).
 ScenarioInput from_timestamps(std::string scenario, SideInput cause, SideInput effect);
 
-// The same from events in memory (e.g. imported files): filters by selection and sorts by time.
+// The same from events in memory (e.g. imported files): filters by selection and sorts by time;
+// the same errors as load_scenario.
 ScenarioInput from_events(std::string scenario, std::span<const core::Event> causes,
                           std::span<const core::Event> effects, const Selection& selection);
 

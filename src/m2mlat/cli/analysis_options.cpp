@@ -132,6 +132,11 @@ void SelectionFlags::add_to(CLI::App& sub) {
   group->add_option("--effect", effect,
                     "Effect channel as node[/channel] (default: the effect sessions' node)");
   group->add_option("--edge", edge, "Edges to pair: falling, rising or both")->capture_default_str();
+  group
+      ->add_option("--min-pulse", min_pulse,
+                   "Drop edges that start no pulse this long, e.g. 1ms: interference (needs both edges "
+                   "recorded)")
+      ->capture_default_str();
 }
 
 analysis::Selection SelectionFlags::selection() const {
@@ -143,6 +148,11 @@ analysis::Selection SelectionFlags::selection() const {
     s.edge.reset();
   else
     s.edge = core::parse_edge(edge);
+  if (min_pulse != "off") {
+    s.min_pulse = duration_flag("--min-pulse", min_pulse);
+    if (s.min_pulse.count() <= 0)
+      throw core::Error(core::ErrorKind::usage, "--min-pulse: a duration above 0, or off");
+  }
   return s;
 }
 

@@ -55,6 +55,7 @@ struct StatsFlags {
 struct SelectionFlags {
   std::string cause, effect;  // node[/channel]; empty = by session role
   std::string edge = "falling";
+  std::string min_pulse = "off";  // interference filter (pairing/glitch_filter.hpp)
   void add_to(CLI::App& sub);
   analysis::Selection selection() const;
 };

@@ -63,12 +63,16 @@ nlohmann::json pairing_json(const analysis::ScenarioResult& r) {
     auto& n = unmatched[std::string(pairing::to_string(u.side))][std::string(pairing::to_string(u.reason))];
     n = n.get<std::int64_t>() + 1;
   }
-  return {{"cause_events", r.match.cause_count},
-          {"effect_events", r.match.effect_count},
-          {"pairs", r.match.pairs.size()},
-          {"ambiguous_pairs", r.ambiguous_pairs()},
-          {"ambiguous_in_statistics", r.include_ambiguous},
-          {"unmatched", unmatched}};
+  nlohmann::json j{{"cause_events", r.match.cause_count},
+                   {"effect_events", r.match.effect_count},
+                   {"pairs", r.match.pairs.size()},
+                   {"ambiguous_pairs", r.ambiguous_pairs()},
+                   {"ambiguous_in_statistics", r.include_ambiguous},
+                   {"unmatched", unmatched}};
+  // Only with --min-pulse: edges dropped before pairing, not counted in cause_events / effect_events.
+  if (const auto& g = r.input.glitches)
+    j["glitches"] = {{"min_pulse_ns", g->min_pulse.count()}, {"cause", g->cause}, {"effect", g->effect}};
+  return j;
 }
 
 nlohmann::json uncertainty_json(const analysis::UncertaintySummary& s) {

@@ -73,7 +73,13 @@ std::string pairing_table(std::span<const analysis::ScenarioResult> results) {
                    std::to_string(count_unmatched(m, Side::cause, UnmatchedReason::bounce) +
                                   count_unmatched(m, Side::effect, UnmatchedReason::bounce))});
   }
-  return table.render();
+  std::string notes;  // the interference filter's drops, before pairing (--min-pulse)
+  for (const auto& r : results)
+    if (const auto& g = r.input.glitches)
+      notes += fmt::format(
+          "{}: {} cause and {} effect edges started no pulse of {} ms (dropped as interference)\n",
+          r.input.scenario, g->cause, g->effect, ms_text(static_cast<double>(g->min_pulse.count()) / 1e6, 3));
+  return table.render() + notes;
 }
 
 std::string uncertainty_table(std::span<const analysis::ScenarioResult> results) {

@@ -81,6 +81,82 @@ TEST(FromEvents, SplitsByNodeAndRefusesMixedChannels) {
   EXPECT_THROW(analysis::from_events("x", events, events, sel), core::Error);
 }
 
+// Two passes a side (the line held low for 12 ms) and a 5 us pulse of interference on the vehicle's
+// line, 300 ms after the operator's second pass, where its pass was missed.
+std::vector<core::Event> passes_and_interference() {
+  const auto pass = [](const char* node, std::int64_t t, std::vector<core::Event>& out) {
+    out.push_back(edge(node, "wheel", t));
+    out.push_back(edge(node, "wheel", t + 12 * kMs, core::Edge::rising));
+  };
+  std::vector<core::Event> events;
+  pass("operator", kT0, events);
+  pass("vehicle", kT0 + 800 * kMs, events);
+  pass("operator", kT0 + 3 * kS, events);
+  events.push_back(edge("vehicle", "wheel", kT0 + 3300 * kMs));
+  events.push_back(edge("vehicle", "wheel", kT0 + 3300 * kMs + 5'000, core::Edge::rising));
+  return events;
+}
+
+TEST(FromEvents, MinPulseDropsInterferenceAndKeepsIds) {
+  const auto events = passes_and_interference();
+  analysis::Selection sel;
+  sel.cause = core::ChannelRef{"operator", ""};
+  sel.effect = core::ChannelRef{"vehicle", ""};
+  EXPECT_EQ(analysis::from_events("x", events, events, sel).effect.t_ns.size(), 2u);  // filter off
+  EXPECT_FALSE(analysis::from_events("x", events, events, sel).glitches);
+  sel.min_pulse = core::Duration{kMs};
+  const auto input = analysis::from_events("x", events, events, sel);
+  EXPECT_EQ(input.cause.t_ns, (std::vector<std::int64_t>{kT0, kT0 + 3 * kS}));
+  EXPECT_EQ(input.effect.t_ns, (std::vector<std::int64_t>{kT0 + 800 * kMs}));
+  EXPECT_EQ(input.effect.seq, (std::vector<std::int64_t>{2}));  // its index in the file's events
+  ASSERT_TRUE(input.glitches);
+  EXPECT_EQ(input.glitches->cause, 0);
+  EXPECT_EQ(input.glitches->effect, 1);
+}
+
+TEST(FromEvents, MinPulseNeedsBothEdgesAndOneKindToPair) {
+  analysis::Selection sel;
+  sel.cause = core::ChannelRef{"operator", ""};
+  sel.effect = core::ChannelRef{"vehicle", ""};
+  sel.min_pulse = core::Duration{kMs};
+  const std::vector<core::Event> falling_only{edge("operator", "wheel", kT0),
+                                              edge("vehicle", "wheel", kT0 + 900 * kMs)};
+  try {
+    analysis::from_events("x", falling_only, falling_only, sel);
+    FAIL();
+  } catch (const core::Error& e) {
+    EXPECT_EQ(e.kind(), core::ErrorKind::data);
+    EXPECT_NE(std::string(e.what()).find("operator/wheel has falling edges only"), std::string::npos)
+        << e.what();
+  }
+  sel.edge.reset();
+  const auto events = passes_and_interference();
+  try {
+    analysis::from_events("x", events, events, sel);
+    FAIL();
+  } catch (const core::Error& e) {
+    EXPECT_EQ(e.kind(), core::ErrorKind::usage);
+  }
+}
+
+TEST_F(SelectionTest, MinPulseOnAStore) {
+  auto s = store::Store::open(path_);
+  std::vector<core::Event> operator_edges, vehicle_edges;
+  for (auto& e : passes_and_interference())
+    (e.node == "operator" ? operator_edges : vehicle_edges).push_back(e);
+  add_session(s, "run", "operator", core::Role::cause, operator_edges);
+  add_session(s, "run", "vehicle", core::Role::effect, vehicle_edges);
+  analysis::Selection sel;
+  sel.min_pulse = core::Duration{kMs};
+  const auto input = analysis::load_scenario(s, "run", sel);
+  EXPECT_EQ(input.effect.t_ns, (std::vector<std::int64_t>{kT0 + 800 * kMs}));
+  ASSERT_TRUE(input.glitches);
+  EXPECT_EQ(input.glitches->effect, 1);
+  const auto result = analysis::analyse(input, {}, {});
+  EXPECT_EQ(result.summary.n, 1u);  // without the filter the interference pairs at 300 ms
+  EXPECT_EQ(analysis::analyse(analysis::load_scenario(s, "run", {}), {}, {}).summary.n, 2u);
+}
+
 TEST(FromTimestamps, FilesInTimeOrderKeepNoSeqColumn) {
   analysis::SideInput cause{{"cause", "gpio16"}, {kT0, kT0 + 3000 * kMs}};
   analysis::SideInput effect{{"effect", "gpio16"}, {kT0 + 800 * kMs, kT0 + 3850 * kMs}};
