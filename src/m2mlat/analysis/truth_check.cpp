@@ -68,6 +68,25 @@ double TruthCheck::width_ratio() const {
                                  : std::numeric_limits<double>::infinity();
 }
 
+std::vector<sim::TruePair> in_columns(std::vector<sim::TruePair> pairs,
+                                      std::span<const std::int64_t> cause_stamps,
+                                      std::span<const std::int64_t> effect_stamps,
+                                      const ScenarioInput& input) {
+  const auto position = [](std::int64_t index, std::span<const std::int64_t> stamps,
+                           const store::Timestamps& column) {
+    if (index < 0 || static_cast<std::size_t>(index) >= stamps.size()) return std::int64_t{-1};
+    const std::int64_t stamp = stamps[static_cast<std::size_t>(index)];
+    const auto it = std::lower_bound(column.t_ns.begin(), column.t_ns.end(), stamp);
+    return it != column.t_ns.end() && *it == stamp ? static_cast<std::int64_t>(it - column.t_ns.begin())
+                                                   : std::int64_t{-1};
+  };
+  for (auto& p : pairs) {
+    p.cause_index = position(p.cause_index, cause_stamps, input.cause);
+    p.effect_index = position(p.effect_index, effect_stamps, input.effect);
+  }
+  return pairs;
+}
+
 TruthCheck check_against_truth(const ScenarioResult& result,
                                const std::vector<sim::TruePair>& pairs) {
   TruthCheck check;

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "m2mlat/analysis/scenario_result.hpp"
@@ -72,6 +73,17 @@ std::vector<CoveragePoint> coverage_points(const ScenarioResult& result,
 
 // `result` must come from the run whose truth is `pairs`, with the events in the simulator's order
 // (pair indices = the simulator's event indices, as when read back from a store in time order).
+// The true pairs with their indices moved from the nodes' event lists to the loaded columns, where
+// a column's position is not the event's index: a line recorded with both edges (the column holds
+// one kind) or edges dropped before pairing (Selection::min_pulse). `cause_stamps[k]` is the cause
+// node's k-th event's timestamp (ns), INT64_MIN for an event of the kind not paired; an event is
+// found in its column by its timestamp. A pair whose edge is not in its column (dropped as
+// interference) gets index -1: it can only be missed.
+std::vector<sim::TruePair> in_columns(std::vector<sim::TruePair> pairs,
+                                      std::span<const std::int64_t> cause_stamps,
+                                      std::span<const std::int64_t> effect_stamps,
+                                      const ScenarioInput& input);
+
 TruthCheck check_against_truth(const ScenarioResult& result,
                                const std::vector<sim::TruePair>& pairs);
 

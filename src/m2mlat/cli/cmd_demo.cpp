@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <memory>
 
 #include "m2mlat/analysis/chain_truth.hpp"
@@ -35,6 +36,10 @@
 namespace m2mlat::cli {
 
 namespace {
+
+// The demo's interference filter (docs/matcher.md, step 0): a simulated pass holds its line at least
+// 5 ms, interference at most 50 us.
+constexpr core::Duration kDemoMinPulse = std::chrono::milliseconds{1};
 
 struct DemoCommand {
   std::string store_path;  // empty: a temporary store, removed afterwards
@@ -106,6 +111,9 @@ int run_demo(const DemoCommand& c) {
     }
     auto config = sim::preset(c.scenarios[k]);
     config.seed = c.seed + k;  // each scenario its own random stream
+    // The wheels' lines recorded with both edges, as docs/matcher.md advises against interference:
+    // each pass a pulse, interference a pulse of microseconds that --min-pulse drops (kDemoMinPulse).
+    config.cause_sensor.both_edges = config.effect_sensor.both_edges = true;
     if (c.manoeuvres > 0) config.manoeuvres = c.manoeuvres;
     if (!c.match.magnets.empty()) config.magnets_deg = c.match.magnets;  // the wheels and the matcher
     sim::apply_overrides(config, c.overrides);  // validates the whole configuration
@@ -120,14 +128,29 @@ int run_demo(const DemoCommand& c) {
     auto store = store::Store::open(path);
     for (const sim::RigConfig& config : configs) {
       std::vector<sim::TruePair> truth;
+      // Each node's events' timestamps (INT64_MIN: a rising edge), to find the true pairs' edges in
+      // the columns the matcher sees (analysis::in_columns).
+      std::vector<std::int64_t> cause_stamps, effect_stamps;
+      const auto keep_stamps = [](const std::vector<core::Event>& events, std::vector<std::int64_t>& stamps) {
+        for (const auto& e : events)
+          stamps.push_back(e.edge == core::Edge::falling ? e.time.ns()
+                                                         : std::numeric_limits<std::int64_t>::min());
+      };
       capture::record_simulation(store, config, "demo", [&](const sim::Chunk& chunk, std::int64_t events) {
         truth.insert(truth.end(), chunk.pairs.begin(), chunk.pairs.end());
+        keep_stamps(chunk.cause_events, cause_stamps);
+        keep_stamps(chunk.effect_events, effect_stamps);
         progress(fmt::format("simulating {}: {} events", config.scenario, events));
       });
       progress(fmt::format("pairing {}", config.scenario));
+      analysis::Selection selection;
+      if (config.cause_sensor.both_edges && config.effect_sensor.both_edges)
+        selection.min_pulse = kDemoMinPulse;
       // Read back from the store: the same path a real campaign takes.
-      results.push_back(analysis::analyse(analysis::load_scenario(store, config.scenario, {}), match_options,
-                                          summary_options, c.match.include_ambiguous));
+      auto input = analysis::load_scenario(store, config.scenario, selection);
+      truth = analysis::in_columns(std::move(truth), cause_stamps, effect_stamps, input);
+      results.push_back(
+          analysis::analyse(std::move(input), match_options, summary_options, c.match.include_ambiguous));
       // The per-sample uncertainty from the recorded clock samples, to be checked against the truth.
       analysis::attach_board_record(results.back(), store, uncertainty_options, summary_options);
       checks.push_back(analysis::check_against_truth(results.back(), truth));

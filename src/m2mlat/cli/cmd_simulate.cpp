@@ -157,6 +157,11 @@ void write_files(const sim::RigConfig& config, const std::string& dir, formats::
   };
   std::vector<sim::TruePair> truth;
   if (format == formats::Format::kernel_log) {
+    // The reference rig's log has one kind of edge, and no field that says which.
+    if (config.cause_sensor.both_edges || config.effect_sensor.both_edges)
+      throw core::Error(
+          core::ErrorKind::usage,
+          "a kernel log holds one kind of edge: both_edges needs --format events-csv or events-jsonl");
     // Both logs are written at once, chunk by chunk: the effect's file inside the cause's.
     core::write_output_file(name(config.cause_node, ".log"), [&](std::ostream& cause) {
       core::write_output_file(name(config.effect_node, ".log"), [&](std::ostream& effect) {

@@ -58,6 +58,19 @@ void Generator::schedule_spurious(Side& side, std::int64_t after_ns) {
   p.order = order_++;
 }
 
+void Generator::push_rising(Side& side, const Pending& like, std::int64_t true_ns, std::int64_t after_key_ns,
+                            std::int64_t before_key_ns) {
+  Pending r = like;
+  r.edge = core::Edge::rising;
+  r.true_ns = true_ns;
+  // The kernel stamps a line's edges in the order they come: never before the falling edge it ends.
+  r.key_ns = std::max(true_ns + side.sensor.rising_irq_latency(), after_key_ns + 1);
+  if (r.key_ns >= before_key_ns) return;
+  r.irq_ns = r.key_ns - true_ns;
+  r.order = order_++;
+  side.queue.push(r);
+}
+
 void Generator::push_edges(Side& side, std::int64_t true_ns, std::int64_t manoeuvre, std::int64_t pass,
                            std::int32_t magnet, bool detected) {
   if (!detected) return;
@@ -74,6 +87,8 @@ void Generator::push_edges(Side& side, std::int64_t true_ns, std::int64_t manoeu
   last_edge_ns_ = std::max(last_edge_ns_, true_ns);
   bounce_scratch_.clear();
   side.sensor.bounces(true_ns, bounce_scratch_);
+  const bool both = side.sensor.both_edges();
+  Pending previous = p;  // the falling edge a rising one ends
   for (std::int64_t t : bounce_scratch_) {
     p.true_ns = t;
     p.irq_ns = side.sensor.irq_latency();
@@ -82,6 +97,15 @@ void Generator::push_edges(Side& side, std::int64_t true_ns, std::int64_t manoeu
     p.kind = EdgeKind::bounce;
     side.queue.push(p);
     last_edge_ns_ = std::max(last_edge_ns_, t);
+    // Chatter: the line back up half-way between two falling edges.
+    if (both) push_rising(side, p, previous.true_ns + (t - previous.true_ns) / 2, previous.key_ns, p.key_ns);
+    previous = p;
+  }
+  if (both) {
+    Pending release = previous;
+    release.kind = EdgeKind::release;
+    // SensorConfig validation keeps the dwell longer than the bounce window: released after them.
+    push_rising(side, release, true_ns + side.sensor.dwell(), previous.key_ns, kNever);
   }
 }
 
@@ -159,13 +183,12 @@ void Generator::emit(Side& side, const Pending& edge, Chunk& chunk) {
   const std::int64_t step_ns = config_.start.ns() + clock.step_at.count();
   const bool after_step = clock.step.count() != 0 && side.last_key_ns < step_ns && step_ns <= edge.key_ns;
   side.last_key_ns = edge.key_ns;
-  chunk.events(side.role).push_back(core::Event{node, config_.channel, core::Edge::falling,
-                                                core::TimePoint::from_ns(core::Clock::realtime, stamp), seqno,
-                                                seqno, core::kFlagSimulated | 
-                                                    (after_step ? core::kFlagAfterClockStep : 0u)});
+  chunk.events(side.role).push_back(
+      core::Event{node, config_.channel, edge.edge, core::TimePoint::from_ns(core::Clock::realtime, stamp),
+                  seqno, seqno, core::kFlagSimulated | (after_step ? core::kFlagAfterClockStep : 0u)});
   chunk.truth(side.role).push_back(EventTruth{edge.kind, edge.manoeuvre, edge.pass, edge.magnet,
                                               true_time(edge.true_ns), core::Duration{edge.irq_ns}, error});
-  if (edge.kind != EdgeKind::pass) return;
+  if (edge.kind != EdgeKind::pass || edge.edge != core::Edge::falling) return;
   OpenPass& open = open_[static_cast<std::size_t>(edge.pass - first_open_pass_)];
   if (side.role == core::Role::effect) {
     open.truth.effect_event = index;
@@ -227,10 +250,14 @@ bool Generator::next(Chunk& chunk, std::size_t max_events) {
       break;
     }
     const Pending edge = *best;
-    if (spurious)
+    if (spurious) {
       schedule_spurious(*from, edge.true_ns);
-    else
+      // Interference on a line recorded with both edges: a pulse of microseconds.
+      if (from->sensor.both_edges())
+        push_rising(*from, edge, edge.true_ns + from->sensor.interference_width(), edge.key_ns, kNever);
+    } else {
       from->queue.pop();
+    }
     emit(*from, edge, chunk);
   }
   return chunk.event_count() > 0 || !chunk.manoeuvres.empty() || !chunk.passes.empty() ||

@@ -77,6 +77,7 @@ class Generator {
     std::int64_t true_ns = 0;
     std::int64_t irq_ns = 0;
     EdgeKind kind = EdgeKind::pass;
+    core::Edge edge = core::Edge::falling;
     std::int64_t manoeuvre = -1;
     std::int64_t pass = -1;
     std::int32_t magnet = -1;
@@ -106,6 +107,11 @@ class Generator {
   void push_edges(Side& side, std::int64_t true_ns, std::int64_t manoeuvre, std::int64_t pass,
                   std::int32_t magnet, bool detected);
   void schedule_spurious(Side& side, std::int64_t after_ns);
+  // SensorConfig::both_edges: a rising edge of the kind and pass of `like`, at true time `true_ns`,
+  // stamped after `after_key_ns` (the falling edge it follows) and, where given, before
+  // `before_key_ns` (the next falling edge of the same pulse train; none fits: no edge).
+  void push_rising(Side& side, const Pending& like, std::int64_t true_ns, std::int64_t after_key_ns,
+                   std::int64_t before_key_ns);
   void emit(Side& side, const Pending& edge, Chunk& chunk);
   void sample_clocks_until(std::int64_t true_ns, Chunk& chunk);  // samples at times <= true_ns
   void close_passes(Chunk& chunk);

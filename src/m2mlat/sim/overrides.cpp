@@ -43,6 +43,12 @@ Int integer_value(std::string_view text) {
   return value;
 }
 
+bool bool_value(std::string_view text) {
+  if (text == "true") return true;
+  if (text != "false") bad_value(text, "true or false");
+  return false;
+}
+
 // Exact text for a duration, in the largest unit that divides it: "1500ms", "3s", "250us", "7ns".
 std::string format_duration_exact(core::Duration d) {
   struct Unit {
@@ -242,6 +248,12 @@ class Table {
                        [access](const RigConfig& c) { return fmt::format("{}", access(c)); }});
   }
   template <typename Access>
+  void add_bool(std::string key, std::string help, Access access) {
+    fields_.push_back({{std::move(key), std::move(help)},
+                       [access](RigConfig& c, std::string_view v) { access(c) = bool_value(v); },
+                       [access](const RigConfig& c) { return std::string(access(c) ? "true" : "false"); }});
+  }
+  template <typename Access>
   void add_string(std::string key, std::string help, Access access) {
     fields_.push_back({{std::move(key), std::move(help)},
                        [access](RigConfig& c, std::string_view v) { access(c) = std::string(v); },
@@ -304,6 +316,19 @@ class Table {
         "edge -> kernel timestamp on the " + whose + " board", [access](auto& c) -> auto& {
           return access(c).irq_latency;
         });
+    add_bool(
+        key + ".both_edges",
+        "the " + whose + " line recorded with both edges: passes and interference as pulses",
+        [access](auto& c) -> auto& { return access(c).both_edges; });
+    add_dist(
+        key + ".dwell",
+        "with both edges: how long a pass holds the " + whose + " line", [access](auto& c) -> auto& {
+          return access(c).dwell;
+        });
+    add_dist(
+        key + ".interference_width",
+        "with both edges: an interference pulse's width on the " + whose + " line",
+        [access](auto& c) -> auto& { return access(c).interference_width; });
   }
   template <typename Access>
   void add_clock(const std::string& key, const std::string& whose, Access access) {

@@ -37,6 +37,13 @@ void validate_sensor(const SensorConfig& sensor, std::string_view field) {
   if (!(sensor.spurious_per_minute >= 0 && sensor.spurious_per_minute <= 6000))
     fail(fmt::format("{}.spurious_per_minute", field), "must be in [0, 6000]");
   validate(sensor.irq_latency, fmt::format("{}.irq_latency", field));
+  validate(sensor.dwell, fmt::format("{}.dwell", field));
+  if (sensor.dwell.min <= sensor.bounce_window)
+    fail(fmt::format("{}.dwell", field),
+         "min must be longer than bounce_window: a pass is released after its bounces");
+  validate(sensor.interference_width, fmt::format("{}.interference_width", field));
+  if (sensor.interference_width.min.count() < 1)
+    fail(fmt::format("{}.interference_width", field), "min must be at least 1ns");
   if (sensor.irq_latency.min.count() < 0 || sensor.irq_latency.max > 10ms)
     fail(fmt::format("{}.irq_latency", field), "must lie within [0, 10ms]");
 }

@@ -81,6 +81,13 @@ struct SensorConfig {
   double spurious_per_minute = 0;          // edges no magnet caused (interference): a Poisson process
   // Edge -> the kernel's timestamp in the hard IRQ: 2 us + exponential with mean 3 us, at most 1 ms.
   DurationDist irq_latency = {Shape::exponential, Us{2}, Us{3}, 0, core::Duration{0}, Ms{1}};
+  // The line recorded with both edges (`record --edges both`): each pass a pulse, its rising edge
+  // (the line back at idle) `dwell` after the falling one (a field about 5 degrees wide at the
+  // steering speeds of a manoeuvre), a bounce's edges alternating, and interference a pulse of
+  // `interference_width`. Drawn from a stream of their own: the falling edges stay as without.
+  bool both_edges = false;
+  DurationDist dwell = normal(Ms{15}, Ms{5}, Ms{5});
+  DurationDist interference_width = {Shape::uniform, Us{1}, Us{49}, 0, Us{1}, Ms{1}};  // 1-50 us
 
   friend bool operator==(const SensorConfig&, const SensorConfig&) = default;
 };

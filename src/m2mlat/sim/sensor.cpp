@@ -22,7 +22,8 @@ SensorModel::SensorModel(const SensorConfig& config, std::uint64_t seed, core::R
       detect_rng_(seed, stream(role, 1)),
       bounce_rng_(seed, stream(role, 2)),
       irq_rng_(seed, stream(role, 3)),
-      spurious_rng_(seed, stream(role, 4)) {}
+      spurious_rng_(seed, stream(role, 4)),
+      rising_rng_(seed, stream(role, 5)) {}
 
 bool SensorModel::detects() { return !detect_rng_.bernoulli(config_.miss_probability); }
 
@@ -47,5 +48,11 @@ std::int64_t SensorModel::next_spurious(std::int64_t after_ns) {
   // At least 1 ns later, so that two spurious edges never share a time.
   return after_ns + std::max<std::int64_t>(1, std::llround(mean_gap_ns * spurious_rng_.exponential()));
 }
+
+std::int64_t SensorModel::dwell() { return sample(config_.dwell, rising_rng_).count(); }
+std::int64_t SensorModel::interference_width() {
+  return sample(config_.interference_width, rising_rng_).count();
+}
+std::int64_t SensorModel::rising_irq_latency() { return sample(config_.irq_latency, rising_rng_).count(); }
 
 }  // namespace m2mlat::sim

@@ -27,6 +27,12 @@ class SensorModel {
   std::int64_t irq_latency();
   // True time of the next spurious edge after `after_ns`; INT64_MAX when the rate is 0.
   std::int64_t next_spurious(std::int64_t after_ns);
+  // With both edges (SensorConfig::both_edges): a pass's time at the active level, an interference
+  // pulse's width, and the edge -> timestamp latency of the rising edges, ns.
+  std::int64_t dwell();
+  std::int64_t interference_width();
+  std::int64_t rising_irq_latency();
+  bool both_edges() const { return config_.both_edges; }
 
  private:
   const SensorConfig& config_;
@@ -34,6 +40,7 @@ class SensorModel {
   Rng bounce_rng_;
   Rng irq_rng_;
   Rng spurious_rng_;
+  Rng rising_rng_;
 };
 
 }  // namespace m2mlat::sim

@@ -19,6 +19,7 @@ enum class EdgeKind : std::uint8_t {
   pass = 0,      // a magnet passing the sensor: the edge the measurement is about
   bounce = 1,    // an extra edge a few ms after a pass's edge (contact bounce)
   spurious = 2,  // an edge no magnet caused (interference)
+  release = 3,   // a pass's rising edge, the line back at idle (SensorConfig::both_edges)
 };
 std::string_view to_string(EdgeKind kind);
 

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "m2mlat/sim/presets.hpp"
 #include "m2mlat/sim/simulate.hpp"
 
@@ -63,6 +65,29 @@ TEST(TruthCheck, CountsWrongPairsByFlagAndTheFoundShare) {
 
   // No true pair and nothing found: nothing to fail.
   EXPECT_TRUE(check_against_truth(ScenarioResult{}, {}).passes());
+}
+
+TEST(TruthCheck, InColumnsMovesTheTruthToTheColumnsByTimestamp) {
+  // Events of each node: falling edges at 100, 300, 500 ns with rising ones between (INT64_MIN);
+  // the cause column lost its middle edge (dropped as interference).
+  constexpr std::int64_t kRising = std::numeric_limits<std::int64_t>::min();
+  const std::vector<std::int64_t> stamps{100, kRising, 300, kRising, 500, kRising};
+  ScenarioInput input;
+  input.cause.t_ns = {100, 500};
+  input.effect.t_ns = {100, 300, 500};
+  std::vector<sim::TruePair> pairs{{0, 0, 0, {}, {}}, {1, 2, 2, {}, {}}, {2, 4, 4, {}, {}}};
+  const auto moved = in_columns(pairs, stamps, stamps, input);
+  EXPECT_EQ(moved[0].cause_index, 0);
+  EXPECT_EQ(moved[0].effect_index, 0);
+  EXPECT_EQ(moved[1].cause_index, -1);  // not in its column: it can only be missed
+  EXPECT_EQ(moved[1].effect_index, 1);
+  EXPECT_EQ(moved[2].cause_index, 1);
+  EXPECT_EQ(moved[2].effect_index, 2);
+  ScenarioResult result;
+  result.match.pairs = {found_pair(0, 0), found_pair(1, 2)};
+  const auto check = check_against_truth(result, moved);
+  EXPECT_EQ(check.correct, 2);
+  EXPECT_EQ(check.missed, 1);
 }
 
 TEST(TruthCheck, AnIdealRunPairedByTheMatcherPasses) {

@@ -14,7 +14,7 @@ constexpr std::int64_t kUs = 1'000, kMs = 1'000'000;
 const core::Duration kWindow{1 * kMs};
 
 TEST(GlitchFilter, KeepsPassesAndDropsShortPulses) {
-  // A pass held 12 ms, a 5 us pulse, a pass held 2 ms, a 400 us pulse (under half the window held).
+  // A pass held 12 ms, a 5 us pulse, a pass held 2 ms, a 400 us pulse (shorter than the window).
   const Ns active{0, 100 * kMs, 200 * kMs, 300 * kMs};
   const Ns idle{12 * kMs, 100 * kMs + 5 * kUs, 202 * kMs, 300 * kMs + 400 * kUs};
   EXPECT_EQ(glitches(active, idle, kWindow), (Ns{1, 3}));
@@ -28,6 +28,22 @@ TEST(GlitchFilter, KeepsAPassWhoseStartChatters) {
   EXPECT_TRUE(glitches(active, idle, kWindow).empty());
 }
 
+TEST(GlitchFilter, KeepsAPassWhoseBounceComesAboutAWindowLater) {
+  // A bounce 1.01 ms after the pass's edge, the line up half-way: the pass's edge was active for
+  // 0.5 ms of the window after it, and is the pass's all the same (the simulator's seed 3 found it).
+  const Ns active{0, 1'010 * kUs};
+  const Ns idle{500 * kUs, 6 * kMs};
+  EXPECT_TRUE(glitches(active, idle, kWindow).empty());
+}
+
+TEST(GlitchFilter, DropsTheChatterOfARelease) {
+  // The line released at 15 ms with chatter: its active edges start no pass (the first ends a short
+  // dropout after a long pass, the last is a short pulse followed by rest).
+  const Ns active{0, 15 * kMs + 100 * kUs, 15 * kMs + 300 * kUs};
+  const Ns idle{15 * kMs, 15 * kMs + 200 * kUs, 15 * kMs + 400 * kUs};
+  EXPECT_EQ(glitches(active, idle, kWindow), (Ns{1, 2}));
+}
+
 TEST(GlitchFilter, DropsAnEdgeInsideAPass) {
   // The line goes idle for 10 us inside a pass and back: that second active edge starts no pass.
   const Ns active{0, 5 * kMs + 10 * kUs};
@@ -36,11 +52,20 @@ TEST(GlitchFilter, DropsAnEdgeInsideAPass) {
 }
 
 TEST(GlitchFilter, APulseBeforeAPassIsDroppedAndThePassKept) {
-  // Interference 2 ms before a true edge: the bounce rule alone would keep the interference's edge
-  // and drop the pass's as a bounce, off by 2 ms.
-  const Ns active{98 * kMs, 100 * kMs};
-  const Ns idle{98 * kMs + 3 * kUs, 110 * kMs};
+  // Interference 3 ms before a true edge: the bounce rule alone would keep the interference's edge
+  // and drop the pass's as a bounce, off by 3 ms. Within 2 w it would be the pass's chatter.
+  const Ns active{97 * kMs, 100 * kMs};
+  const Ns idle{97 * kMs + 3 * kUs, 110 * kMs};
   EXPECT_EQ(glitches(active, idle, kWindow), (Ns{0}));
+  const Ns close_active{98 * kMs + 500 * kUs, 100 * kMs}, close_idle{98 * kMs + 503 * kUs, 110 * kMs};
+  EXPECT_TRUE(glitches(close_active, close_idle, kWindow).empty());
+}
+
+TEST(GlitchFilter, KeepsAPassWhoseBounceComesTwoWindowsLater) {
+  // The line up half-way to a bounce 2 ms after the pass's edge: 1 ms low, 1 ms high (seed 168).
+  const Ns active{0, 1'999 * kUs};
+  const Ns idle{999 * kUs, 10 * kMs};
+  EXPECT_TRUE(glitches(active, idle, kWindow).empty());
 }
 
 TEST(GlitchFilter, OffOrNothingToFilter) {

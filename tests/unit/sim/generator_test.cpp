@@ -400,3 +400,55 @@ TEST(Generator, RejectsBadConfiguration) {
     EXPECT_NE(std::string(e.what()).find("network.loss_probability"), std::string::npos) << e.what();
   }
 }
+
+// SensorConfig::both_edges: the same falling edges, each pass a pulse held for its dwell, interference
+// a pulse of microseconds, and every rising edge stamped after the edge before it.
+TEST(Generator, BothEdgesAddPulsesAndKeepTheFallingEdges) {
+  RigConfig config;
+  config.manoeuvres = 200;
+  config.magnets_deg = {0, 20, 40};
+  for (auto* sensor : {&config.cause_sensor, &config.effect_sensor}) {
+    sensor->bounce_probability = 0.2;
+    sensor->spurious_per_minute = 6;
+  }
+  const Simulation one = simulate(config);
+  config.cause_sensor.both_edges = config.effect_sensor.both_edges = true;
+  const Simulation both = simulate(config);
+  for (Role role : kRoles) {
+    const auto& events = both.events(role);
+    const auto& truth = role == Role::effect ? both.effect_truth : both.cause_truth;
+    std::vector<std::int64_t> falling, falling_one;
+    for (const auto& e : one.events(role)) falling_one.push_back(e.time.ns());
+    std::map<EdgeKind, int> rising;
+    for (std::size_t k = 0; k < events.size(); ++k) {
+      if (events[k].edge == core::Edge::falling) {
+        falling.push_back(events[k].time.ns());
+        continue;
+      }
+      ++rising[truth[k].kind];
+      ASSERT_GT(k, 0u);
+      EXPECT_GT(events[k].time.ns(), events[k - 1].time.ns()) << k;  // stamped in the line's order
+      // Interference is microseconds wide (its own falling edge just before, unless a pass came between).
+      if (truth[k].kind == EdgeKind::spurious && truth[k - 1].kind == EdgeKind::spurious) {
+        EXPECT_LE(truth[k].true_time.ns() - truth[k - 1].true_time.ns(), 50'000) << k;
+      }
+      if (truth[k].kind == EdgeKind::release) {
+        EXPECT_GE(truth[k].true_time.ns() - truth[k - 1].true_time.ns(), 50'000) << k;
+      }
+    }
+    EXPECT_EQ(falling, falling_one);
+    std::int64_t passes = 0, spurious = 0;
+    for (const auto& t : (role == Role::effect ? one.effect_truth : one.cause_truth)) {
+      passes += t.kind == EdgeKind::pass;
+      spurious += t.kind == EdgeKind::spurious;
+    }
+    EXPECT_EQ(rising[EdgeKind::release], passes);  // every pass released
+    EXPECT_EQ(rising[EdgeKind::spurious], spurious);
+    EXPECT_GT(rising[EdgeKind::bounce], 0);
+  }
+  // The true pairs' edges are the same falling edges, at their new indices.
+  ASSERT_EQ(one.pairs.size(), both.pairs.size());
+  for (std::size_t p = 0; p < one.pairs.size(); ++p)
+    EXPECT_EQ(one.cause_events[static_cast<std::size_t>(one.pairs[p].cause_index)].time,
+              both.cause_events[static_cast<std::size_t>(both.pairs[p].cause_index)].time);
+}

@@ -34,6 +34,8 @@ TEST(Overrides, SetsTypedValues) {
       "vehicle.actuator_lag_static.shape=lognormal",
       "vehicle.actuator_lag_static.log_sigma=0.1",
       "sensor.bounce_probability=0.2",
+      "sensor.both_edges=true",
+      "effect_sensor.dwell.offset=20ms",
       "network=5g",
       "network.loss_probability=0.05",
       "sync=autonomous",
@@ -49,6 +51,9 @@ TEST(Overrides, SetsTypedValues) {
   EXPECT_EQ(config.vehicle.actuator_lag_static.shape, Shape::lognormal);
   EXPECT_EQ(config.cause_sensor.bounce_probability, 0.2);
   EXPECT_EQ(config.effect_sensor.bounce_probability, 0.2);
+  EXPECT_TRUE(config.cause_sensor.both_edges && config.effect_sensor.both_edges);
+  EXPECT_EQ(get_field(config, "cause_sensor.both_edges"), "true");
+  EXPECT_EQ(config.effect_sensor.dwell.offset, 20ms);
   EXPECT_EQ(config.network.loss_probability, 0.05);
   EXPECT_EQ(config.network.delay, network_profile("5g").delay);
   EXPECT_EQ(config.network.name, "custom");
@@ -78,6 +83,11 @@ TEST(Overrides, ErrorsNameTheFieldAndChangeNothing) {
   EXPECT_NE(message_of({"network=carrier_pigeon"}).find("network"), std::string::npos);
   EXPECT_NE(message_of({"seed"}).find("key=value"), std::string::npos);
   EXPECT_NE(message_of({"magnets_deg=0,x"}).find("magnets_deg"), std::string::npos);
+  EXPECT_NE(message_of({"sensor.both_edges=yes"}).find("true or false"), std::string::npos);
+  // A pass released before its bounces are over: refused, naming the field.
+  EXPECT_NE(
+      message_of({"sensor.dwell.min=2ms", "sensor.dwell.offset=2ms", "sensor.dwell.scale=0"}).find("dwell"),
+      std::string::npos);
   // Each value parses, but the result is invalid: rejected as a whole.
   EXPECT_NE(message_of({"seed=7", "motion.interval_min=9s"}).find("motion.interval_min"), std::string::npos);
   EXPECT_EQ(config, before);
