@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace m2mlat::pairing {
+namespace m2mlat::pairing::glitch_filter_test {
 namespace {
 
 using Ns = std::vector<std::int64_t>;
@@ -81,4 +81,4 @@ TEST(GlitchFilter, EqualTimesEndIdle) {
 }
 
 }  // namespace
-}  // namespace m2mlat::pairing
+}  // namespace m2mlat::pairing::glitch_filter_test
