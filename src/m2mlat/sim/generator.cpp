@@ -188,7 +188,7 @@ void Generator::emit(Side& side, const Pending& edge, Chunk& chunk) {
                   seqno, seqno, core::kFlagSimulated | (after_step ? core::kFlagAfterClockStep : 0u)});
   chunk.truth(side.role).push_back(EventTruth{edge.kind, edge.manoeuvre, edge.pass, edge.magnet,
                                               true_time(edge.true_ns), core::Duration{edge.irq_ns}, error});
-  if (edge.kind != EdgeKind::pass || edge.edge != core::Edge::falling) return;
+  if (edge.kind != EdgeKind::pass) return;  // a pass's rising edge is kind release
   OpenPass& open = open_[static_cast<std::size_t>(edge.pass - first_open_pass_)];
   if (side.role == core::Role::effect) {
     open.truth.effect_event = index;
