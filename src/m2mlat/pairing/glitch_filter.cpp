@@ -18,14 +18,11 @@ std::vector<std::int64_t> glitches(std::span<const std::int64_t> active_ns,
   };
   std::vector<Change> changes;
   changes.reserve(active_ns.size() + idle_ns.size());
-  std::vector<std::size_t> position(active_ns.size());  // where each active edge is in `changes`
   for (std::size_t a = 0, i = 0; a < active_ns.size() || i < idle_ns.size();) {
-    if (a < active_ns.size() && (i == idle_ns.size() || active_ns[a] <= idle_ns[i])) {
-      position[a] = changes.size();
+    if (a < active_ns.size() && (i == idle_ns.size() || active_ns[a] <= idle_ns[i]))
       changes.push_back({active_ns[a++], true});
-    } else {
+    else
       changes.push_back({idle_ns[i++], false});
-    }
   }
   // The time from change k to the next one, or to the end of the recording (held ever after).
   const auto held = [&](std::size_t k) {
@@ -33,13 +30,15 @@ std::vector<std::int64_t> glitches(std::span<const std::int64_t> active_ns,
                                   : std::numeric_limits<std::int64_t>::max();
   };
   const std::int64_t rest = 2 * w;  // the isolation a short pulse or a short dropout must have
-  for (std::size_t a = 0; a < active_ns.size(); ++a) {
-    const std::size_t k = position[a];
+  // The active edges in `changes` come in the order of `active_ns`: the a-th is active_ns[a].
+  for (std::size_t k = 0, a = 0; k < changes.size(); ++k) {
+    if (!changes[k].active) continue;
     const bool short_pulse =
         k + 1 < changes.size() && !changes[k + 1].active && held(k) < w && held(k + 1) >= rest;
     const bool short_dropout =
         k >= 2 && !changes[k - 1].active && changes[k - 2].active && held(k - 1) < w && held(k - 2) >= rest;
     if (short_pulse || short_dropout) out.push_back(static_cast<std::int64_t>(a));
+    ++a;
   }
   return out;
 }
