@@ -747,6 +747,15 @@ std::vector<bool> ambiguous_pairs(std::span<const std::int64_t> causes, std::spa
 // it are not allowed at all.
 constexpr std::int64_t kPairWorth = 1500, kDeviationCost = 1000;
 constexpr std::size_t kConfirmingRun = 2;  // consecutive far pairs that confirm a jump (uncertain_pairs)
+// A stalled link releases its queued commands together, and once they are out the link is free: the
+// last pair of a confirmed jump above the reference, where its cause lies at least the burst gap after
+// the one before (another manoeuvre), has its effect at most this share of that interval after the
+// effect before (the queue draining). A last effect that keeps its cause's spacing is an edge after
+// the drain in the place of a lost one (uncertain_pairs).
+constexpr std::int64_t kDrainNumerator = 1, kDrainDenominator = 2;
+// A pair next to an unconfirmed jump that would be worth at most this less (half an acceptance of
+// deviation) with the jump pair's edge is flagged as competing (uncertain_pairs).
+constexpr std::int64_t kNeighbourMargin = kDeviationCost / 2;
 // Pass 1 knows no local spread yet: a pair within this of the global reference counts as typical.
 constexpr std::int64_t kFirstPassAcceptance = 1'000'000'000;  // ns
 
@@ -776,9 +785,14 @@ std::int64_t pair_worth(const LocalReference& reference, std::size_t i, std::int
 //  - kPairJump: the latency lies beyond the local acceptance and is not confirmed by its
 //    neighbours: a jump is taken as real (a stalled link) only when at least two consecutive pairs
 //    jump and every edge between the typical pairs around them, on both sides, is paired, so that
-//    the order alone fixes which edge belongs to which.
+//    the order alone fixes which edge belongs to which, and, above the reference, its last pair comes
+//    with the queue's drain (kDrainNumerator / kDrainDenominator; `burst_gap_ns` tells manoeuvres apart).
+//  - kPairCompeting also: the pair lies next to an unconfirmed jump and would fit typically, nearly as
+//    well (kNeighbourMargin), with the jump pair's edge instead of its own: the jump may be a lost
+//    edge's place taken by its neighbour's partner, and this pair holds a spurious edge instead.
 std::vector<std::uint8_t> uncertain_pairs(const Sides& sides, const std::vector<std::uint32_t>& matched,
-                                          const LocalReference& reference, std::int64_t tolerance_ns) {
+                                          const LocalReference& reference, std::int64_t tolerance_ns,
+                                          std::int64_t burst_gap_ns) {
   // Named copies, not structured bindings: C++20 lets clang capture no binding in the lambdas below.
   const std::span<const std::int64_t> causes = sides.causes, effects = sides.effects;
   const std::int64_t min_ns = sides.min_ns, max_ns = sides.max_ns;
@@ -910,9 +924,34 @@ std::vector<std::uint8_t> uncertain_pairs(const Sides& sides, const std::vector<
       }
       if (2 * fits >= end - k) confirmed = false;
     }
+    // Above the reference a confirmed jump is a stall: its last pair comes with the queue's drain.
+    if (confirmed) {
+      const std::size_t r = end - 1;  // > k: a confirmed run holds kConfirmingRun pairs or more
+      const std::int64_t cause_step = causes[pc[r]] - causes[pc[r - 1]];
+      const std::int64_t effect_step = effects[pe(r)] - effects[pe(r - 1)];
+      if (cause_step >= burst_gap_ns && effects[pe(r)] - causes[pc[r]] > reference.median(pc[r]) &&
+          effect_step * kDrainDenominator > cause_step * kDrainNumerator)
+        confirmed = false;
+    }
     if (!confirmed)
       for (std::size_t r = k; r < end; ++r) flags[pc[r]] |= kPairJump;
     k = end;
+  }
+  // The neighbours of unconfirmed jumps. A pair that would fit typically, nearly as well, with the jump
+  // pair's edge instead of its own may have given its true partner away: a cause whose effect was lost
+  // took the next cause's effect (far), and that cause a spurious effect (typical); or a spurious cause
+  // just before a true one took its effect, and the true cause the next effect (far).
+  for (std::size_t r = 0; r < n; ++r) {
+    if ((flags[pc[r]] & kPairJump) == 0) continue;
+    for (const std::size_t q : {r - 1, r + 1}) {  // r - 1 wraps to above n at r = 0
+      if (q >= n || (flags[pc[q]] & kPairJump) != 0) continue;
+      const std::int64_t now = paired_worth(q);
+      const auto nearly_as_good = [&](std::uint32_t i, std::uint32_t j) {
+        return in_window(i, j) && !beyond_acceptance(reference, i, effects[j] - causes[i]) &&
+               worth(i, j) >= now - kNeighbourMargin;
+      };
+      if (nearly_as_good(pc[r], pe(q)) || nearly_as_good(pc[q], pe(r))) flags[pc[q]] |= kPairCompeting;
+    }
   }
   return flags;
 }
@@ -1062,7 +1101,7 @@ MatchResult match_in_place(std::span<std::int64_t> cause_ns, std::span<std::int6
   {
     std::vector<bool> demoted(matched.size(), false);
     {  // the flags (a byte a cause) go before the pass
-      const auto doubtful = uncertain_pairs(sides, matched, reference, tolerance);
+      const auto doubtful = uncertain_pairs(sides, matched, reference, tolerance, gap.count());
       for (std::size_t i = 0; i < matched.size(); ++i)
         demoted[i] = matched[i] != kNone && (doubtful[i] & kPairCompeting) != 0 &&
                      beyond_acceptance(reference, i, effects.ns[matched[i]] - causes.ns[i]);
@@ -1079,7 +1118,7 @@ MatchResult match_in_place(std::span<std::int64_t> cause_ns, std::span<std::int6
   result.clock = clock;
   result.cause_count = static_cast<std::int64_t>(cause_ns.size());
   result.effect_count = static_cast<std::int64_t>(effect_ns.size());
-  auto flags = uncertain_pairs(sides, matched, reference, options.tolerance.count());
+  auto flags = uncertain_pairs(sides, matched, reference, options.tolerance.count(), gap.count());
   reference = LocalReference();
   {
     const auto ambiguous = ambiguous_pairs(causes.ns, effects.ns, matched, gap.count(),

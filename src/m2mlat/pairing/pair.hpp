@@ -17,7 +17,8 @@ enum PairFlag : std::uint32_t {
   kPairAmbiguous = 1u << 0,
   // An unmatched edge could take the pair's place (alone, or by shifting neighbouring pairs by one)
   // and the pairing so changed fits nearly as well: a lost edge next to a spurious one, or a real
-  // outlier next to an edge that fits better.
+  // outlier next to an edge that fits better. Also a pair next to a kPairJump pair whose edge it would
+  // fit nearly as well: it may have given its true partner to the jump.
   kPairCompeting = 1u << 1,
   // The latency lies far from its neighbours' (beyond the local acceptance) and is not confirmed as a
   // jump of the link's latency by its neighbours (docs/matcher.md).

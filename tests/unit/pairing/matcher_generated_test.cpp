@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <set>
 #include <string>
 
 #include "generated_logs.hpp"
@@ -22,6 +23,10 @@ struct Tally {
   // (a spurious edge just before a true one, which the refractory filter then drops as a bounce): the
   // latency is off by less than that, which the pair's worst-case bound includes (docs/matcher.md).
   std::int64_t wrong_clear_in_cluster = 0;
+  // Of the rest: coincidences, pairs of two edges whose true partners are both missing or unpaired (a
+  // lost edge's place taken by an unrelated edge, which nothing in a one-edge-per-pass log tells from a
+  // true pair); the others took a true partner of a neighbouring pair (a chain shifted by one edge).
+  std::int64_t wrong_clear_coincident = 0;
   int runs = 0, most_between = 0;
 };
 
@@ -35,6 +40,9 @@ void run_into(Tally& t, const LogOptions& options) {
   t.true_pairs += static_cast<std::int64_t>(log.truth.size());
   std::map<std::int64_t, std::int64_t> effect_of, cause_of;  // the true pairs, both ways
   for (const auto& [c, e] : log.truth) effect_of[c] = e, cause_of[e] = c;
+  std::set<std::int64_t> paired_causes, paired_effects;
+  for (const auto& p : result.pairs)
+    paired_causes.insert(p.cause_index), paired_effects.insert(p.effect_index);
   const auto near = [](std::int64_t a, std::int64_t b) { return std::abs(a - b) < kBounceSpanLimit.count(); };
   for (const auto& p : result.pairs) {
     ++t.pairs;
@@ -49,6 +57,9 @@ void run_into(Tally& t, const LogOptions& options) {
     if ((e != effect_of.end() && near(at(log.effect, e->second), at(log.effect, p.effect_index))) ||
         (c != cause_of.end() && near(at(log.cause, c->second), at(log.cause, p.cause_index))))
       ++t.wrong_clear_in_cluster;
+    else if ((e == effect_of.end() || !paired_effects.contains(e->second)) &&
+             (c == cause_of.end() || !paired_causes.contains(c->second)))
+      ++t.wrong_clear_coincident;
   }
 }
 
@@ -59,6 +70,8 @@ struct Bound {
   std::int64_t max_wrong_clear = 0;
   double min_found_pct = 95.0;
   double min_clear_pct = 0;  // true pairs found and not flagged: what reaches the statistics
+  // Of max_wrong_clear, at most this many neither within 3 ms nor coincident (-1: not checked apart).
+  std::int64_t max_wrong_clear_shifted = -1;
 };
 constexpr Bound kPromise{};
 
@@ -71,12 +84,19 @@ void expect_promise(const std::string& name, LogOptions options, int seeds, Boun
   }
   const double found = 100.0 * static_cast<double>(t.found) / static_cast<double>(t.true_pairs);
   const double clear = 100.0 * static_cast<double>(t.clear) / static_cast<double>(t.true_pairs);
-  std::printf("%-28s runs %3d  true %6lld  found %6.2f %%  unflagged %6.2f %%  wrong: unflagged %lld "
-              "(%lld within 3 ms), flagged %lld  (most edges between cause and effect: %d)\n",
-              name.c_str(), t.runs, static_cast<long long>(t.true_pairs), found, clear,
-              static_cast<long long>(t.wrong_clear), static_cast<long long>(t.wrong_clear_in_cluster),
-              static_cast<long long>(t.wrong_flagged), t.most_between);
+  std::printf(
+      "%-28s runs %3d  true %6lld  found %6.2f %%  unflagged %6.2f %%  wrong: unflagged %lld "
+      "(%lld within 3 ms, %lld coincident), flagged %lld  (most edges between cause and effect: %d)\n",
+      name.c_str(), t.runs, static_cast<long long>(t.true_pairs), found, clear,
+      static_cast<long long>(t.wrong_clear), static_cast<long long>(t.wrong_clear_in_cluster),
+      static_cast<long long>(t.wrong_clear_coincident), static_cast<long long>(t.wrong_flagged),
+      t.most_between);
   EXPECT_LE(t.wrong_clear, bound.max_wrong_clear) << name;
+  if (bound.max_wrong_clear_shifted >= 0) {
+    EXPECT_LE(t.wrong_clear - t.wrong_clear_in_cluster - t.wrong_clear_coincident,
+              bound.max_wrong_clear_shifted)
+        << name;
+  }
   EXPECT_GE(found, bound.min_found_pct) << name;
   EXPECT_GE(100.0 * static_cast<double>(t.clear - t.wrong_clear) / static_cast<double>(t.true_pairs),
             bound.min_clear_pct)
@@ -94,7 +114,7 @@ std::string wheel_name(const std::vector<double>& wheel) { return std::to_string
 // Measured shares of the true pairs that reach the statistics (found and not flagged) in clean logs and
 // with bounces and a step, per wheel of kWheels: a complete sweep is flagged only where the spacing of
 // its passes does not follow the other side's.
-const std::vector<double> kCleanShare{98.5, 97.0, 90.0, 74.0};
+const std::vector<double> kCleanShare{98.5, 97.0, 90.0, 73.5};
 
 TEST(MatcherGenerated, CleanLogsGiveExactlyTheTruePairs) {
   for (std::size_t w = 0; w < kWheels.size(); ++w)
@@ -151,6 +171,27 @@ TEST(MatcherGenerated, EverythingAtOnce) {
   const std::vector<Bound> bounds{{2, 98.5}, {8, 95.0}, {6, 93.5}, {1, 83.1}};  // open: docs/matcher.md
   for (std::size_t w = 0; w < kWheels.size(); ++w)
     expect_promise("all, " + wheel_name(kWheels[w]), with_wheel(o, kWheels[w]), 10, bounds[w]);
+}
+
+// One magnet, fifty runs each: everything at once (as above), and 10 % of the edges lost and 10 %
+// spurious on both sides. Most wrong pairs left unflagged are coincidences (docs/matcher.md, Limits):
+// no rule can flag them without flagging true pairs that look the same. The rest, chains shifted by
+// one edge next to an unconfirmed jump or at a stall, are bounded by the figures measured, so that
+// they can only get better.
+TEST(MatcherGenerated, WhatIsLeftWithOneMagnetIsMostlyCoincidence) {
+  LogOptions all;
+  all.interval_min_s = 0.8;
+  all.interval_max_s = 3;
+  all.stalls_per_minute = 1;
+  all.cause_loss = all.effect_loss = 0.03;
+  all.cause_spurious = all.effect_spurious = 0.02;
+  all.bounce_probability = 0.05;
+  all.effect_step_s = 0.04;
+  expect_promise("all, 1 magnet, 50 runs", all, 50, Bound{14, 98.5, 0, 5});
+  LogOptions heavy;
+  heavy.cause_loss = heavy.effect_loss = 0.10;
+  heavy.cause_spurious = heavy.effect_spurious = 0.10;
+  expect_promise("10 % lost and spurious, 50 runs", heavy, 50, Bound{100, 98.0, 0, 12});
 }
 
 }  // namespace m2mlat::pairing::generated_test

@@ -92,6 +92,63 @@ TEST(Matcher, MissingEffectDoesNotShiftLaterPairs) {
   EXPECT_EQ(reasons_effect, 1u);
 }
 
+namespace {
+// A steady run: a cause every 2 s, its effect 800, 820 or 840 ms later (an acceptance of 150 ms).
+void steady(std::vector<std::int64_t>& c, std::vector<std::int64_t>& e, int from, int to) {
+  for (int k = from; k < to; ++k) {
+    c.push_back(k * 2000 * kMs);
+    e.push_back(k * 2000 * kMs + 800 * kMs + (k % 3) * 20 * kMs);
+  }
+}
+}  // namespace
+
+TEST(Matcher, AStallIsConfirmedWhenItsQueueDrains) {
+  // The link stalls from 39.5 s to 45.2 s: the commands of the causes at 40, 42 and 44 s leave
+  // together and their effects come 30 ms apart, 6.0, 4.03 and 2.06 s after their causes. Every edge
+  // is paired and the run lies above the reference: a real jump, no flag. The same run whose last
+  // effect keeps its cause's spacing (3.9 s after it: a spurious edge after the drain in the place of
+  // an effect that was lost) is no queue draining: its pairs are flagged as a jump.
+  for (const bool drains : {true, false}) {
+    std::vector<std::int64_t> c, e;
+    steady(c, e, 0, 20);
+    for (const std::int64_t k : {0, 1, 2}) c.push_back((40'000 + 2'000 * k) * kMs);
+    for (const std::int64_t at : {46'000, 46'030, drains ? 46'060 : 47'900}) e.push_back(at * kMs);
+    steady(c, e, 24, 40);
+    const auto r = match(c, e, core::Clock::realtime);
+    ASSERT_EQ(r.pairs.size(), c.size()) << drains;
+    for (const auto& p : r.pairs) {
+      EXPECT_EQ(p.cause_index, p.effect_index);
+      const bool stalled = p.cause_index >= 20 && p.cause_index < 23;
+      EXPECT_EQ(p.flags, stalled && !drains ? pairing::kPairJump : 0u) << p.cause_index << " " << drains;
+    }
+  }
+}
+
+TEST(Matcher, TheNeighbourOfAnUnconfirmedJumpThatFitsItsEdgeIsFlagged) {
+  // Cause 10's effect is lost; cause 10 takes cause 11's effect (2.82 s: a jump, unconfirmed) and
+  // cause 11 a spurious edge 930 ms after it (typical). Cause 11 fits its true effect better: its
+  // pair is flagged as competing, so that no wrong pair reaches the statistics. A real outlier (cause
+  // 10's effect 1.3 s late) leaves its neighbours alone: no other edge fits them.
+  for (const bool lost : {true, false}) {
+    std::vector<std::int64_t> c, e;
+    steady(c, e, 0, 30);
+    if (lost) {
+      e[10] = 22'930 * kMs;  // the spurious edge; cause 11's effect stays at 22.82 s
+      std::sort(e.begin(), e.end());
+    } else {
+      e[10] = 21'300 * kMs;
+    }
+    const auto r = match(c, e, core::Clock::realtime);
+    ASSERT_EQ(r.pairs.size(), 30u) << lost;
+    for (const auto& p : r.pairs) {
+      const std::uint32_t expected = p.cause_index == 10           ? pairing::kPairJump
+                                     : lost && p.cause_index == 11 ? pairing::kPairCompeting
+                                                                   : 0u;
+      EXPECT_EQ(p.flags, expected) << p.cause_index << " " << lost;
+    }
+  }
+}
+
 TEST(Matcher, BouncesAreReportedAndIgnored) {
   const std::vector<std::int64_t> c{0, 1 * kMs, 3 * kMs, 2000 * kMs};
   const std::vector<std::int64_t> e{750 * kMs, 752 * kMs, 2760 * kMs};
