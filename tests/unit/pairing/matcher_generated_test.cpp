@@ -159,7 +159,8 @@ TEST(MatcherGenerated, BouncesAndClockSteps) {
   }
 }
 
-TEST(MatcherGenerated, EverythingAtOnce) {
+// Stalls, lost, spurious and bouncing edges and a clock step in one log.
+LogOptions everything_at_once() {
   LogOptions o;
   o.interval_min_s = 0.8;
   o.interval_max_s = 3;
@@ -168,6 +169,11 @@ TEST(MatcherGenerated, EverythingAtOnce) {
   o.cause_spurious = o.effect_spurious = 0.02;
   o.bounce_probability = 0.05;
   o.effect_step_s = 0.04;
+  return o;
+}
+
+TEST(MatcherGenerated, EverythingAtOnce) {
+  const LogOptions o = everything_at_once();
   const std::vector<Bound> bounds{{2, 98.5}, {8, 95.0}, {6, 93.5}, {1, 83.1}};  // open: docs/matcher.md
   for (std::size_t w = 0; w < kWheels.size(); ++w)
     expect_promise("all, " + wheel_name(kWheels[w]), with_wheel(o, kWheels[w]), 10, bounds[w]);
@@ -179,15 +185,7 @@ TEST(MatcherGenerated, EverythingAtOnce) {
 // one edge next to an unconfirmed jump or at a stall, are bounded by the figures measured, so that
 // they can only get better.
 TEST(MatcherGenerated, WhatIsLeftWithOneMagnetIsMostlyCoincidence) {
-  LogOptions all;
-  all.interval_min_s = 0.8;
-  all.interval_max_s = 3;
-  all.stalls_per_minute = 1;
-  all.cause_loss = all.effect_loss = 0.03;
-  all.cause_spurious = all.effect_spurious = 0.02;
-  all.bounce_probability = 0.05;
-  all.effect_step_s = 0.04;
-  expect_promise("all, 1 magnet, 50 runs", all, 50, Bound{14, 98.5, 0, 5});
+  expect_promise("all, 1 magnet, 50 runs", everything_at_once(), 50, Bound{14, 98.5, 0, 5});
   LogOptions heavy;
   heavy.cause_loss = heavy.effect_loss = 0.10;
   heavy.cause_spurious = heavy.effect_spurious = 0.10;
