@@ -197,11 +197,13 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
     const auto names = file_pair_names(inputs);
     const auto& scenario = names.scenario;
     // The interference filter (--min-pulse) needs each edge's kind, which the bare read has not: the
-    // events' path below then, which names a file that holds one kind only.
+    // events' path below then, which names a file that holds one kind only (and no thread is started).
     const bool read_bare = selection.min_pulse.count() == 0;
-    auto effect_read = std::async(std::launch::async, [&]() -> std::optional<LeanSide> {
-      return read_bare ? lean_side(inputs.effect_file, format, names.effect, selection.effect) : std::nullopt;
-    });
+    auto effect_read =
+        std::async(read_bare ? std::launch::async : std::launch::deferred, [&]() -> std::optional<LeanSide> {
+          if (!read_bare) return std::nullopt;
+          return lean_side(inputs.effect_file, format, names.effect, selection.effect);
+        });
     auto cause =
         read_bare ? lean_side(inputs.cause_file, format, names.cause, selection.cause) : std::nullopt;
     auto effect = effect_read.get();
