@@ -66,16 +66,21 @@ std::span<const store::ClockSample> BoardRecord::of(const std::string& node) con
   return it == samples.end() ? std::span<const store::ClockSample>{} : std::span(it->second);
 }
 
+void BoardRecord::add(const std::string& node, store::ClockSample sample) {
+  if (auto lines = store::unknown_clock_of(sample))
+    unknown_clock[node].push_back(std::move(*lines));
+  else
+    samples[node].push_back(std::move(sample));
+}
+
 BoardRecord read_board_record(const store::Store& store, const ScenarioInput& in) {
   BoardRecord record;
   std::map<std::pair<std::string, std::string>, LossCount> losses;
   for (const auto& session : store.sessions()) {
     if (session.scenario != in.scenario) continue;
     if (session.node != in.cause_ref.node && session.node != in.effect_ref.node) continue;
-    auto part = store.clock_samples(session.id);
-    auto& node_samples = record.samples[session.node];
-    node_samples.insert(node_samples.end(), std::make_move_iterator(part.begin()),
-                        std::make_move_iterator(part.end()));
+    record.samples[session.node];  // a node without samples is still a node of the record
+    for (auto& sample : store.clock_samples(session.id)) record.add(session.node, std::move(sample));
     for (const auto& l : store.losses(session.id)) {
       auto& count = losses[{session.node, l.kind}];
       count.node = session.node;

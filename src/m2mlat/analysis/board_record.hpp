@@ -11,6 +11,7 @@
 
 #include "m2mlat/analysis/uncertainty.hpp"
 #include "m2mlat/stats/summary.hpp"
+#include "m2mlat/store/clock_step.hpp"
 #include "m2mlat/store/store.hpp"
 
 namespace m2mlat::analysis {
@@ -43,7 +44,13 @@ struct BoardRecord {
   // By node: what its kernel log's stamps showed of a clock slewing faster than the steps' bound
   // (kernel_log_steps.hpp): places, and the size below which a step may hide there, ns.
   std::map<std::string, std::pair<std::size_t, std::int64_t>> fast_slewing;
+  // By node: the stamps of its log lines on no known clock (store/clock_step.hpp), whose events are
+  // left out before pairing; kept apart from `samples`, which describe the clock.
+  std::map<std::string, std::vector<store::UnknownClock>> unknown_clock;
   std::span<const store::ClockSample> of(const std::string& node) const;  // empty if none
+  // Adds a stored or carried clock sample of `node`: an "unknown_clock" record to unknown_clock, any
+  // other to samples.
+  void add(const std::string& node, store::ClockSample sample);
 };
 // The clock samples and losses of the scenario's sessions on its cause and effect nodes (one pass
 // over the store).

@@ -34,6 +34,36 @@ std::int64_t add_bound(std::int64_t a, std::int64_t b) {
 
 }  // namespace
 
+void leave_out_unknown_clock(ScenarioInput& input,
+                             const std::map<std::string, std::vector<store::UnknownClock>>& unknown) {
+  const auto side = [&](store::Timestamps& t, const std::string& node, UnknownClockCounts& counts) {
+    const auto it = unknown.find(node);
+    if (it == unknown.end() || t.t_ns.empty()) return;
+    std::vector<bool> out(t.t_ns.size(), false);
+    for (const auto& lines : it->second) {
+      const auto lo = std::lower_bound(t.t_ns.begin(), t.t_ns.end(), lines.from_ns);
+      const auto hi = std::upper_bound(lo, t.t_ns.end(), lines.to_ns);
+      for (auto k = lo; k != hi; ++k) {
+        auto&& left = out[static_cast<std::size_t>(k - t.t_ns.begin())];
+        if (left) continue;
+        left = true;
+        ++(lines.reason == "before_sync" ? counts.before_sync : counts.outlier);
+      }
+    }
+    if (counts.total() == 0) return;
+    if (t.seq.empty()) {  // ids were positions: keep them as they were
+      t.seq.resize(t.t_ns.size());
+      std::iota(t.seq.begin(), t.seq.end(), std::int64_t{0});
+    }
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < t.t_ns.size(); ++k)
+      if (!out[k]) t.t_ns[kept] = t.t_ns[k], t.seq[kept] = t.seq[k], ++kept;
+    t.t_ns.resize(kept), t.seq.resize(kept);
+  };
+  side(input.cause, input.cause_ref.node, input.cause_unknown_clock);
+  side(input.effect, input.effect_ref.node, input.effect_unknown_clock);
+}
+
 std::uint32_t pair_flags(StepMark mark) {
   switch (mark) {
     case StepMark::corrected: return pairing::kPairStepCorrected;

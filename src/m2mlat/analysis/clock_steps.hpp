@@ -20,6 +20,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <span>
 #include <string>
 #include <vector>
@@ -31,6 +32,13 @@
 #include "m2mlat/store/records.hpp"
 
 namespace m2mlat::analysis {
+
+// Leaves out of each side the events whose stamps `unknown` (by node) puts on no known clock, and
+// counts them by reason in input.cause_unknown_clock / effect_unknown_clock. Ids stay the events'
+// own (a side whose ids were positions gets its seq column). Runs before correct_scenario: the ranges
+// are raw stamps.
+void leave_out_unknown_clock(ScenarioInput& input,
+                             const std::map<std::string, std::vector<store::UnknownClock>>& unknown);
 
 // Values are shown in exports: never renumber.
 enum class StepMark : std::uint8_t { none = 0, corrected = 1, unknown = 2 };

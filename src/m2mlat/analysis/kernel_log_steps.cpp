@@ -101,11 +101,30 @@ std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> rea
   return kernel_log_clock(realtime_ns, log_time_us, options).steps;
 }
 
+namespace {
+
+constexpr std::int64_t kClockSetNs = 946'684'800'000'000'000;  // 2000-01-01: stamps before it are a clock never set
+
+// One segment's lines (increasing monotonic stamps) as levels: runs of lines whose d agrees with the
+// line before, the short ones (fewer than `confirm` lines) classified against the confirmed runs
+// around them (rules in kernel_log_steps.hpp).
+struct Levels {
+  struct Level {
+    std::vector<std::size_t> lines;  // its kept lines, in order
+  };
+  std::vector<Level> levels;
+  // Per step between levels k and k + 1: the lines between them that lie between both levels
+  // (stamped while the clock moved: kept, placed by the step's window).
+  std::vector<std::vector<std::size_t>> between;
+};
+
+}  // namespace
+
 KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::span<const std::int64_t> log_time_us,
                                 const KernelLogStepOptions& options) {
   KernelLogClock out;
   auto& steps = out.steps;
-  std::vector<std::int64_t> step_mono;  // per step: its last jump's line's monotonic stamp, ns
+  std::vector<std::int64_t> step_mono;  // per step: its new level's first line's monotonic stamp, ns
   const std::size_t n = std::min(realtime_ns.size(), log_time_us.size());
   if (n < 2) return out;
   // Computed per line, not stored: a log of 10^7 lines costs no further columns.
@@ -127,85 +146,176 @@ KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::
   // allows at more than one line pair in 4, and nothing is said.
   if (jitter > options.threshold_ns) return out;
   const std::int64_t threshold = std::max(options.threshold_ns, 8 * jitter);
+  const auto agree = [&](std::size_t a, std::size_t b) {
+    return std::llabs(d_at(b) - d_at(a)) <= threshold + log_slew(options.slew_ppm, mono(b) - mono(a));
+  };
   std::size_t beyond = 0;
-  for (std::size_t k = 0; k < jumps.size(); ++k)
-    if (jumps[k] > threshold + log_slew(options.slew_ppm, mono(lines[k]) - mono(lines[k] - 1))) ++beyond;
+  for (const std::size_t line : lines) beyond += !agree(line - 1, line);
   if (beyond * 4 > jumps.size() && beyond > 2) return out;
   const std::size_t w = std::max<std::size_t>(options.window, 1);
+  const std::size_t confirm = std::max<std::size_t>(options.confirm, 2);
+  const auto leave_out = [&](std::size_t line, LineFault why) { out.left_out.emplace_back(line, why); };
 
-  std::size_t segment = 0;  // first line of the current run of increasing monotonic stamps
-  std::size_t last_step = 0;
-  struct Open {  // the last step, while a next jump may continue it
-    bool active = false;
-    std::size_t line = 0;
-    std::int64_t size = 0, before_median = 0, before_range = 0, lo_mono = 0;
-  };
-  Open open;
-  for (std::size_t i = 1; i < n; ++i) {
-    if (mono(i) < mono(i - 1)) {
-      segment = last_step = i;
-      open.active = false;
-      continue;
+  for (std::size_t segment = 0; segment < n;) {
+    std::size_t end = segment + 1;  // one past the segment's last line
+    while (end < n && mono(end) >= mono(end - 1)) ++end;
+    // Runs: lines whose d agrees with the line before.
+    std::vector<std::pair<std::size_t, std::size_t>> runs;  // [begin, end)
+    for (std::size_t i = segment; i < end; ++i)
+      if (i == segment || !agree(i - 1, i))
+        runs.emplace_back(i, i + 1);
+      else
+        runs.back().second = i + 1;
+    const auto confirmed = [&](const auto& r) { return r.second - r.first >= confirm; };
+    const bool from_boot = mono(segment) <= options.first_sync_within_ns;
+    // Lines of short runs before the first confirmed run: no level says which clock stamped them.
+    const auto unplaced = [&](std::size_t line) {
+      leave_out(line, from_boot && mono(line) <= options.first_sync_within_ns ? LineFault::before_sync
+                                                                              : LineFault::outlier);
+    };
+    Levels lv;
+    std::vector<std::size_t> pending;  // lines of short runs since the last confirmed run
+    for (const auto& run : runs) {
+      if (!confirmed(run)) {
+        for (std::size_t i = run.first; i < run.second; ++i) pending.push_back(i);
+        continue;
+      }
+      std::vector<std::size_t> next;  // lines between that are of this new level
+      if (lv.levels.empty()) {
+        // Before the first level: lines that agree with it are of it, the others unplaced.
+        for (const std::size_t i : pending) agree(i, run.first) ? next.push_back(i) : unplaced(i);
+      } else {
+        auto& before = lv.levels.back().lines;
+        const std::size_t last = before.back();
+        if (agree(last, run.first)) {
+          // The same level on both sides: of the lines between, those that disagree are outliers.
+          for (const std::size_t i : pending) agree(last, i) ? before.push_back(i) : leave_out(i, LineFault::outlier);
+          for (std::size_t i = run.first; i < run.second; ++i) before.push_back(i);
+          pending.clear();
+          continue;
+        }
+        // A step: of the lines between, those that agree with one level are of it, those between the
+        // two levels were stamped while the clock moved (in that order), the others are outliers.
+        const std::int64_t lo = std::min(d_at(last), d_at(run.first)) - threshold;
+        const std::int64_t hi = std::max(d_at(last), d_at(run.first)) + threshold;
+        std::vector<std::size_t> moving;
+        for (const std::size_t i : pending) {
+          if (agree(i, run.first))
+            next.push_back(i);
+          else if (next.empty() && moving.empty() && agree(last, i))
+            before.push_back(i);
+          else if (next.empty() && d_at(i) >= lo && d_at(i) <= hi)
+            moving.push_back(i);
+          else
+            leave_out(i, LineFault::outlier);
+        }
+        lv.between.push_back(std::move(moving));
+      }
+      lv.levels.push_back({std::move(next)});
+      for (std::size_t i = run.first; i < run.second; ++i) lv.levels.back().lines.push_back(i);
+      pending.clear();
     }
-    const std::int64_t allowance = threshold + log_slew(options.slew_ppm, mono(i) - mono(i - 1));
-    if (std::llabs(d_at(i) - d_at(i - 1)) <= allowance) continue;
-    // The windows: up to w lines each side, within this segment and not across the last step.
-    const std::size_t lo = std::max({segment, last_step, i >= w ? i - w : std::size_t{0}});
-    std::size_t hi = i;
-    while (hi < n && hi - i < w && (hi == i || mono(hi) >= mono(hi - 1))) ++hi;
-    // Kept by the lines on both sides: most lines after the jump lie on the far side of the midpoint
-    // between the two lines, and most lines before it on the near side. One late printk (one low d)
-    // is kept by one side only. The jump itself already exceeds what slewing can do between its two
-    // lines, so this only tells a level that stays from one that comes back. (The rule before: the
-    // windows' medians had to differ by more than the slewing over both windows, 500 ppm over ~8
-    // gaps: where the lines are seconds apart that hid steps of up to ~10 ms.)
-    const std::int64_t way = d_at(i) > d_at(i - 1) ? 1 : -1;
-    const std::int64_t mid2 = d_at(i - 1) + d_at(i);  // twice the midpoint, ns
-    std::size_t after_kept = 0, before_kept = 0;
-    for (std::size_t k = i; k < hi; ++k) after_kept += way * (2 * d_at(k) - mid2) > 0;
-    for (std::size_t k = lo; k < i; ++k) before_kept += way * (mid2 - 2 * d_at(k)) > 0;
-    if (2 * after_kept <= hi - i || 2 * before_kept <= i - lo) continue;  // one late printk
-    std::vector<std::int64_t> before, after;
-    for (std::size_t k = lo; k < i; ++k) before.push_back(d_at(k));
-    for (std::size_t k = i; k < hi; ++k) after.push_back(d_at(k));
-    const std::int64_t size = log_median(after) - log_median(before);
-    const std::int64_t span = mono(hi - 1) - mono(lo);
-    const auto [bmin, bmax] = std::minmax_element(before.begin(), before.end());
-    const auto [amin, amax] = std::minmax_element(after.begin(), after.end());
-    // A jump within `window` lines of the last step, the same way, continues it: a clock slewed
-    // faster than the kernel's 500 ppm (a daemon catching up with a stepped reference) moves over a
-    // few lines. One step from before the first jump to after the last; the lines between are
-    // neither here nor there (stamped while it moved): at_ns = the last jump's stamp + size puts
-    // them in the overlap correct_side flags.
-    if (open.active && i - open.line <= w && (size > 0) == (open.size > 0)) {
-      auto& merged = steps.back();
-      const std::int64_t total = log_median(after) - open.before_median;
-      const std::int64_t total_span = mono(hi - 1) - open.lo_mono;
-      merged.size_ns = total;
-      merged.at_ns = realtime_ns[i] + total;
-      merged.size_max_ns = open.before_range + (*amax - *amin) + log_slew(options.slew_ppm, total_span);
-      // Its size is then known only to the slewing's extent: as uniform within that bound.
-      merged.size_est_ns = std::max(merged.size_est_ns,
-                                    static_cast<std::int64_t>(std::ceil(static_cast<double>(merged.size_max_ns) / std::sqrt(3.0))));
-      step_mono.back() = mono(i);
-      open.line = i;
-      open.size = total;
-      last_step = i;
-      continue;
+    // Short runs after the last level: no later line confirms them. (A segment without a confirmed
+    // level says nothing of its lines.)
+    if (!lv.levels.empty()) {
+      for (const std::size_t i : pending) {
+        if (agree(lv.levels.back().lines.back(), i))
+          lv.levels.back().lines.push_back(i);
+        else
+          leave_out(i, LineFault::outlier);
+      }
     }
-    store::ClockStep step;
-    step.at_ns = realtime_ns[i];
-    step.earliest_ns = realtime_ns[i];  // the lines' order places it: between line i-1 and line i
-    step.size_ns = size;
-    step.size_max_ns = (*bmax - *bmin) + (*amax - *amin) + log_slew(options.slew_ppm, span);
-    step.size_est_ns = (3 * jitter + 1) / 2;
-    step.origin = "kernel_log";
-    steps.push_back(step);
-    step_mono.push_back(mono(i));
-    open = Open{true, i, size, log_median(before), *bmax - *bmin, mono(lo)};
-    last_step = i;
+
+    // The first synchronisation: the segment's first level before its first step is a clock not yet
+    // set when the segment starts at boot and that level ends within first_sync_within_ns of it, or
+    // when its stamps lie before 2000 (a board without a real-time clock counts from 1970).
+    std::size_t first_level = 0;
+    if (lv.levels.size() == 1 && realtime_ns[lv.levels.front().lines.back()] < kClockSetNs)
+      for (const std::size_t i : lv.levels.front().lines) leave_out(i, LineFault::before_sync);
+    if (lv.levels.size() > 1) {
+      const auto& l0 = lv.levels.front().lines;
+      if ((from_boot && mono(l0.back()) <= options.first_sync_within_ns) || realtime_ns[l0.back()] < kClockSetNs) {
+        for (const std::size_t i : l0) leave_out(i, LineFault::before_sync);
+        for (const std::size_t i : lv.between.front()) leave_out(i, LineFault::before_sync);
+        first_level = 1;
+      }
+    }
+    for (std::size_t k = first_level; k + 1 < lv.levels.size(); ++k) {
+      const auto& a = lv.levels[k].lines;
+      const auto& b = lv.levels[k + 1].lines;
+      const auto& moving = lv.between[k];
+      std::vector<std::int64_t> before, after;
+      for (std::size_t j = a.size() > w ? a.size() - w : 0; j < a.size(); ++j) before.push_back(d_at(a[j]));
+      for (std::size_t j = 0; j < b.size() && j < w; ++j) after.push_back(d_at(b[j]));
+      const std::int64_t size = log_median(after) - log_median(before);
+      const std::size_t window_first = a[a.size() > w ? a.size() - w : 0];
+      const std::size_t window_last = b[std::min(b.size(), w) - 1];
+      const auto [bmin, bmax] = std::minmax_element(before.begin(), before.end());
+      const auto [amin, amax] = std::minmax_element(after.begin(), after.end());
+      store::ClockStep step;
+      const std::size_t first_after = moving.empty() ? b.front() : moving.front();
+      step.earliest_ns = realtime_ns[first_after];  // the lines' order places it: after the old level's last line
+      step.size_ns = size;
+      step.size_max_ns = (*bmax - *bmin) + (*amax - *amin) + log_slew(options.slew_ppm, mono(window_last) - mono(window_first));
+      step.size_est_ns = (3 * jitter + 1) / 2;
+      if (moving.empty()) {
+        step.at_ns = realtime_ns[b.front()];
+      } else {
+        // The clock moved over several lines (a daemon slewing faster than the kernel's 500 ppm): the
+        // lines between are neither here nor there; at_ns = the new level's first stamp + size puts
+        // them in the overlap correct_side flags. Its size is then known only to the slewing's extent:
+        // as uniform within that bound.
+        step.at_ns = realtime_ns[b.front()] + size;
+        step.size_est_ns = std::max(step.size_est_ns, static_cast<std::int64_t>(std::ceil(
+                                                          static_cast<double>(step.size_max_ns) / std::sqrt(3.0))));
+      }
+      step.origin = "kernel_log";
+      steps.push_back(step);
+      step_mono.push_back(mono(b.front()));
+    }
+    segment = end;
   }
+  std::sort(out.left_out.begin(), out.left_out.end());
   drop_fast_slewing(out, step_mono, options);
+  return out;
+}
+
+std::vector<store::UnknownClock> unknown_clock_runs(std::span<const std::int64_t> realtime_ns,
+                                                    std::span<const std::pair<std::size_t, LineFault>> left_out) {
+  std::vector<store::UnknownClock> out;
+  if (left_out.empty()) return out;
+  // The kept lines' stamps, sorted: a range of left-out stamps may not hold one (else line by line).
+  std::vector<std::int64_t> kept;
+  kept.reserve(realtime_ns.size() - left_out.size());
+  for (std::size_t i = 0, k = 0; i < realtime_ns.size(); ++i) {
+    if (k < left_out.size() && left_out[k].first == i) {
+      ++k;
+      continue;
+    }
+    kept.push_back(realtime_ns[i]);
+  }
+  std::sort(kept.begin(), kept.end());
+  const auto holds_kept = [&](std::int64_t from, std::int64_t to) {
+    const auto it = std::lower_bound(kept.begin(), kept.end(), from);
+    return it != kept.end() && *it <= to;
+  };
+  const auto reason = [](LineFault f) { return f == LineFault::outlier ? "outlier" : "before_sync"; };
+  for (std::size_t k = 0; k < left_out.size();) {
+    // A run of consecutive lines of one reason.
+    std::size_t e = k + 1;
+    while (e < left_out.size() && left_out[e].first == left_out[e - 1].first + 1 && left_out[e].second == left_out[k].second) ++e;
+    std::int64_t from = realtime_ns[left_out[k].first], to = from;
+    for (std::size_t j = k; j < e; ++j) from = std::min(from, realtime_ns[left_out[j].first]), to = std::max(to, realtime_ns[left_out[j].first]);
+    if (!holds_kept(from, to)) {
+      out.push_back({from, to, static_cast<std::int64_t>(e - k), reason(left_out[k].second)});
+    } else {
+      for (std::size_t j = k; j < e; ++j) {
+        const std::int64_t t = realtime_ns[left_out[j].first];
+        if (!holds_kept(t, t)) out.push_back({t, t, 1, reason(left_out[j].second)});  // a stamp also kept stays
+      }
+    }
+    k = e;
+  }
   return out;
 }
 

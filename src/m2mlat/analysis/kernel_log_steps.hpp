@@ -7,19 +7,30 @@
 // consecutive lines beyond that, which the next lines keep (a single late printk is no step), is a
 // step of CLOCK_REALTIME between the two lines.
 //
-// The jitter J is measured from the lines themselves: the median of |d[i] - d[i-1]| over the log.
-// A step is a jump of more than max(threshold, 8 J) + slew_ppm * (time between the lines), confirmed
-// by up to `window` lines on each side: most lines after it on the far side of the midpoint between
-// its two lines, most lines before it on the near side (a late printk's single low d comes back).
-// Its size is the difference of the two windows' medians; the size's bound is the
-// spread (max - min of d) of both windows plus slew_ppm over the time between the windows' first and
-// last lines, its standard uncertainty 1.5 J (one line's d has a
-// standard deviation of about J / 0.95 for a normal jitter; a difference of two is sqrt(2) that).
-// The step lies between the two lines: the first line after it is the first stamp surely after it.
-// Jumps the same way within `window` lines of each other are one step (a clock slewed faster than
-// 500 ppm, e.g. a daemon catching up with a stepped reference, moves over a few lines): its size from
-// before the first to after the last, the lines between flagged (at_ns = last jump's stamp + size,
-// see clock_steps.hpp), its standard uncertainty its bound / sqrt(3).
+// The model: d is a level that holds (up to the jitter and the slewing) until a step moves it, plus
+// lines that belong to no level. The jitter J is measured from the lines themselves: the median of
+// |d[i] - d[i-1]| over the log. Two lines agree when their d differ by at most
+// max(threshold, 8 J) + slew_ppm * (time between them). Lines that agree with the line before form a
+// run; a run of at least `confirm` lines is a level. Between two levels:
+//   - when they agree, the lines between are outliers (a line of another clock, a late printk): their
+//     events are left out (reason "outlier", LineFault), and they never move another event;
+//   - else the clock stepped between them: the lines between that lie between both levels were
+//     stamped while it moved (a daemon slewing faster than 500 ppm catches up over a few lines), the
+//     others are outliers.
+// Short runs before a segment's first level or after its last are confirmed by no level on one side:
+// left out ("before_sync" when stamped within first_sync_within_ns of boot, else "outlier").
+// A log that begins before the board's first synchronisation: when a segment starts at boot and its
+// first level ends within first_sync_within_ns of uptime (chronyd's makestep acts in its first
+// updates after boot), or that level's stamps lie before 2000 (a board without a real-time clock
+// counts from 1970), that first level is a clock not yet set: its lines are left out ("before_sync")
+// and the step is none (the later stamps are on the set clock, and nothing is shifted by it).
+// A step's size is the difference of the medians of up to `window` lines of each level beside it; the
+// size's bound is the spread (max - min of d) of both windows plus slew_ppm over the time between the
+// windows' first and last lines, its standard uncertainty 1.5 J (one line's d has a standard
+// deviation of about J / 0.95 for a normal jitter; a difference of two is sqrt(2) that). The step lies
+// between the old level's last line and the next line: that next line is the first stamp surely after
+// it. A step over lines stamped while the clock moved: at_ns = the new level's first stamp + size (the
+// lines between are flagged, see clock_steps.hpp), its standard uncertainty its bound / sqrt(3).
 // Stamps that are no clock beside the realtime ones (J above the threshold, or jumps beyond what
 // slewing allows at more than one line pair in 4: a script's "[ 1.000000]" counter) give no steps.
 // A clock that breaks the slewing bound is no clock to find steps of its size with either: a daemon
@@ -37,6 +48,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "m2mlat/formats/imported.hpp"
@@ -50,7 +62,12 @@ struct KernelLogStepOptions {
   std::size_t window = 4;                 // lines on each side that confirm a step and measure it
   std::int64_t undone_within_ns = 60'000'000'000;  // a "step" undone within this is slewing, ns (monotonic)
   std::size_t fast_places_min = 4;                 // slewing "steps" that show the bound broken
+  std::size_t confirm = 3;                         // lines in a row that make a level (at least 2)
+  std::int64_t first_sync_within_ns = 600'000'000'000;  // a first level ending this soon after boot precedes the first sync, ns
 };
+
+// Why a line's event is left out (kernel_log_steps.hpp's model).
+enum class LineFault : std::uint8_t { outlier, before_sync };
 
 // A kernel log's two stamps per GPIO line, in file order.
 struct LogStamps {
@@ -65,12 +82,18 @@ struct KernelLogClock {
   std::vector<store::ClockStep> steps;
   std::size_t fast_slew_places = 0;  // places d moved faster than slew_ppm: not steps (0: bound held)
   std::int64_t hidden_below_ns = 0;  // steps up to this size cannot be told from that slewing, ns
+  std::vector<std::pair<std::size_t, LineFault>> left_out;  // lines (index, reason) whose clock is unknown, in order
 };
 
 // realtime_ns and log_time_us: one entry per line, in file order (same length). Lines whose
 // monotonic stamp goes back (a reboot, two logs joined) start afresh: no step is seen across them.
 KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::span<const std::int64_t> log_time_us,
                                 const KernelLogStepOptions& options = {});
+// A clock's left-out lines as the store's records: runs of consecutive lines of one reason as one
+// range of stamps when no kept line's stamp lies in it, else line by line (a left-out line whose very
+// stamp a kept line has too stays in: its event cannot be told from the kept one).
+std::vector<store::UnknownClock> unknown_clock_runs(std::span<const std::int64_t> realtime_ns,
+                                                    std::span<const std::pair<std::size_t, LineFault>> left_out);
 // The note stats, report and import give for a clock that broke the bound: "the kernel log's realtime
 // clock slews faster than 500 ppm at K places: ...".
 std::string fast_slewing_note(std::size_t places, std::int64_t hidden_below_ns, double slew_ppm = 500);

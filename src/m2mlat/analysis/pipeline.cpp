@@ -39,11 +39,12 @@ LogClock add_file_clock(BoardRecord& record, const formats::ImportedFile& file, 
   LogClock log;
   const auto* events = std::get_if<formats::EventImport>(&file.content);
   if (events == nullptr) return log;
-  for (const auto& r : events->clock_records) record.samples[r.node].push_back(to_clock_sample(r));
+  for (const auto& r : events->clock_records) record.add(r.node, to_clock_sample(r));
   log.stamps = log_stamps(events->kernel_records);
   if (log.stamps.realtime_ns.empty()) return log;
   const auto clock = kernel_log_clock(log.stamps.realtime_ns, log.stamps.log_time_us);
   for (const auto& step : clock.steps) record.samples[node].push_back(store::step_clock_sample(step));
+  for (auto& lines : unknown_clock_runs(log.stamps.realtime_ns, clock.left_out)) record.unknown_clock[node].push_back(std::move(lines));
   if (clock.fast_slew_places != 0) record.fast_slewing[node] = {clock.fast_slew_places, clock.hidden_below_ns};
   log.steps = clock.steps;
   return log;
@@ -64,6 +65,7 @@ void add_followed(BoardRecord& record, const std::string& cause_node, const LogC
 // Pairs and summarises `input` after its boards' clock steps (clock_steps.hpp), then attaches what
 // `record` holds (clock series, losses, per-sample uncertainty) when it holds anything.
 ScenarioResult analyse_with_record(ScenarioInput input, const BoardRecord& record, const PipelineOptions& options) {
+  leave_out_unknown_clock(input, record.unknown_clock);
   auto steps = correct_scenario(input, record.of(input.cause_ref.node), record.of(input.effect_ref.node));
   for (auto [side, node] : {std::pair{&steps.cause, &input.cause_ref.node}, std::pair{&steps.effect, &input.effect_ref.node}})
     if (const auto it = record.fast_slewing.find(*node); it != record.fast_slewing.end())
@@ -121,6 +123,7 @@ ScenarioResult as_given(std::string scenario, const formats::PairedImport& paire
 struct LeanSide {
   SideInput side;
   std::vector<store::ClockSample> steps;  // the kernel log's clock steps (kernel_log_steps.hpp)
+  std::vector<store::UnknownClock> unknown;  // its lines on no known clock
   std::pair<std::size_t, std::int64_t> fast_slewing{0, 0};  // KernelLogClock's places, hidden_below_ns
   LogClock log;  // the log's printk stamps and its steps (its realtime stamps are side.t_ns)
 };
@@ -137,6 +140,7 @@ std::optional<LeanSide> lean_side(const std::string& path, std::optional<formats
   LeanSide lean;
   const auto clock = kernel_log_clock(only.ns, only.log_time_us);
   for (const auto& step : clock.steps) lean.steps.push_back(store::step_clock_sample(step));
+  lean.unknown = unknown_clock_runs(only.ns, clock.left_out);
   lean.fast_slewing = {clock.fast_slew_places, clock.hidden_below_ns};
   lean.log.steps = clock.steps;
   lean.log.stamps.log_time_us = std::move(only.log_time_us);
@@ -211,6 +215,8 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
     if (cause && effect) {
       record.samples[names.cause] = std::move(cause->steps);
       record.samples[names.effect] = std::move(effect->steps);
+      if (!cause->unknown.empty()) record.unknown_clock[names.cause] = std::move(cause->unknown);
+      if (!effect->unknown.empty()) record.unknown_clock[names.effect] = std::move(effect->unknown);
       // The logs' realtime stamps are the sides' own: lent and moved back (no copy of 10^7 stamps),
       // and the printk stamps freed before the pairing.
       cause->log.stamps.realtime_ns = std::move(cause->side.t_ns);

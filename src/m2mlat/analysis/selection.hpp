@@ -32,6 +32,13 @@ struct Glitches {
   std::int64_t cause = 0, effect = 0;
 };
 
+// Events left out before pairing because their stamp is on no known clock (store::UnknownClock: a
+// kernel log's outlier lines, and the lines stamped before its board's first synchronisation).
+struct UnknownClockCounts {
+  std::int64_t outlier = 0, before_sync = 0;
+  std::int64_t total() const { return outlier + before_sync; }
+};
+
 // One scenario's two sides, ready for the matcher. `seq` says where each timestamp came from: the
 // store's sequence number, or the index in an imported file's events. An empty `seq` beside a
 // non-empty `t_ns` means "the position itself" (a file whose timestamps were already in time order):
@@ -46,6 +53,7 @@ struct ScenarioInput {
   // or "index" (0-based position in an imported file's events).
   std::string id_kind = "seq";
   std::optional<Glitches> glitches;  // set when the interference filter ran
+  UnknownClockCounts cause_unknown_clock, effect_unknown_clock;  // left out, not counted in the sides
 };
 
 // The source id of one side's timestamp at `index` (its position after sorting, as the matcher's

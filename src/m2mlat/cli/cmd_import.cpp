@@ -6,6 +6,7 @@
 // (formats/chrony_log.hpp) to the sessions of --node.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -114,6 +115,16 @@ std::map<std::string, std::vector<store::ClockSample>> clock_of(const formats::E
   if (stamps.realtime_ns.empty()) return out;
   const auto clock = analysis::kernel_log_clock(stamps.realtime_ns, stamps.log_time_us);
   for (const auto& step : clock.steps) out[node].push_back(store::step_clock_sample(step));
+  for (const auto& lines : analysis::unknown_clock_runs(stamps.realtime_ns, clock.left_out))
+    out[node].push_back(store::unknown_clock_sample(lines));
+  if (!clock.left_out.empty()) {
+    const auto outliers = std::count_if(clock.left_out.begin(), clock.left_out.end(),
+                                        [](const auto& l) { return l.second == analysis::LineFault::outlier; });
+    warn(fmt::format("{}: {} GPIO lines are stamped on no known clock ({} outliers: their realtime stamp "
+                     "disagrees with the lines on both sides; {} before the board's first synchronisation): "
+                     "their events are stored and left out of pairing (docs/sync.md)",
+                     path, clock.left_out.size(), outliers, clock.left_out.size() - static_cast<std::size_t>(outliers)));
+  }
   if (clock.fast_slew_places != 0)
     warn(fmt::format("{}: {}", path, analysis::fast_slewing_note(clock.fast_slew_places, clock.hidden_below_ns)));
   log = std::move(stamps);

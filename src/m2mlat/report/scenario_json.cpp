@@ -72,6 +72,12 @@ nlohmann::json pairing_json(const analysis::ScenarioResult& r) {
   // Only with --min-pulse: edges dropped before pairing, not counted in cause_events / effect_events.
   if (const auto& g = r.input.glitches)
     j["glitches"] = {{"min_pulse_ns", g->min_pulse.count()}, {"cause", g->cause}, {"effect", g->effect}};
+  // Only when a kernel log had lines on no known clock: their events, left out before pairing.
+  const auto& c = r.input.cause_unknown_clock;
+  const auto& e = r.input.effect_unknown_clock;
+  if (c.total() + e.total() != 0)
+    j["unknown_clock"] = {{"cause", {{"outlier", c.outlier}, {"before_sync", c.before_sync}}},
+                          {"effect", {{"outlier", e.outlier}, {"before_sync", e.before_sync}}}};
   return j;
 }
 

@@ -73,12 +73,21 @@ std::string pairing_table(std::span<const analysis::ScenarioResult> results) {
                    std::to_string(count_unmatched(m, Side::cause, UnmatchedReason::bounce) +
                                   count_unmatched(m, Side::effect, UnmatchedReason::bounce))});
   }
-  std::string notes;  // the interference filter's drops, before pairing (--min-pulse)
+  std::string notes;  // what was left out before pairing: interference (--min-pulse), no known clock
   for (const auto& r : results)
     if (const auto& g = r.input.glitches)
       notes += fmt::format(
           "{}: {} cause and {} effect edges started no pulse of {} ms (dropped as interference)\n",
           r.input.scenario, g->cause, g->effect, ms_text(static_cast<double>(g->min_pulse.count()) / 1e6, 3));
+  for (const auto& r : results) {  // the events on no known clock, before pairing (docs/sync.md)
+    const auto& c = r.input.cause_unknown_clock;
+    const auto& e = r.input.effect_unknown_clock;
+    if (c.total() + e.total() != 0)
+      notes += fmt::format(
+          "{}: {} cause and {} effect events left out, their stamps on no known clock ({} outliers that disagree "
+          "with the lines on both sides, {} before the board's first synchronisation)\n",
+          r.input.scenario, c.total(), e.total(), c.outlier + e.outlier, c.before_sync + e.before_sync);
+  }
   return table.render() + notes;
 }
 

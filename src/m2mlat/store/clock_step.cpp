@@ -60,4 +60,30 @@ std::optional<ClockStep> clock_step_of(const ClockSample& sample) {
   return step;
 }
 
+ClockSample unknown_clock_sample(const UnknownClock& lines, core::Clock clock) {
+  ClockSample sample;
+  sample.time = core::TimePoint::from_ns(clock, lines.from_ns);
+  sample.source = std::string(kUnknownClockSource);
+  sample.synchronised = false;
+  sample.detail_json = nlohmann::json{{"to_ns", lines.to_ns}, {"lines", lines.lines}, {"reason", lines.reason}}.dump();
+  return sample;
+}
+
+std::optional<UnknownClock> unknown_clock_of(const ClockSample& sample) {
+  if (sample.source != kUnknownClockSource) return std::nullopt;
+  const auto detail = nlohmann::json::parse(sample.detail_json, nullptr, false);
+  if (!detail.is_object()) return std::nullopt;
+  const auto to = detail.find("to_ns");
+  const auto lines = detail.find("lines");
+  const auto reason = detail.find("reason");
+  if (to == detail.end() || !to->is_number_integer() || reason == detail.end() || !reason->is_string())
+    return std::nullopt;
+  UnknownClock out;
+  out.from_ns = sample.time.ns();
+  out.to_ns = std::max(out.from_ns, to->get<std::int64_t>());
+  out.lines = lines != detail.end() && lines->is_number_integer() ? lines->get<std::int64_t>() : 1;
+  out.reason = reason->get<std::string>();
+  return out;
+}
+
 }  // namespace m2mlat::store

@@ -43,6 +43,22 @@ struct ClockStep {
   friend bool operator==(const ClockStep&, const ClockStep&) = default;
 };
 
+// Lines of a log whose realtime stamps are on no clock the analysis can place (kernel_log_steps.hpp):
+// one line that disagrees with the lines on both sides of it ("outlier"), or the lines a board
+// stamped before its clock was first set ("before_sync"). Their events are left out before pairing,
+// counted by reason; stored as a clock sample of source "unknown_clock" (time = from_ns, detail
+// {"to_ns", "lines", "reason"}) so that an imported log keeps them, and merge and export carry them.
+// No stamp of a kept line of the log lies in [from_ns, to_ns].
+inline constexpr std::string_view kUnknownClockSource = "unknown_clock";
+struct UnknownClock {
+  std::int64_t from_ns = 0, to_ns = 0;  // the lines' realtime stamps, ns (inclusive)
+  std::int64_t lines = 0;               // lines in the range
+  std::string reason;                   // "outlier" or "before_sync"
+  friend bool operator==(const UnknownClock&, const UnknownClock&) = default;
+};
+ClockSample unknown_clock_sample(const UnknownClock& lines, core::Clock clock = core::Clock::realtime);
+std::optional<UnknownClock> unknown_clock_of(const ClockSample& sample);
+
 // The step as a clock sample on `clock` (session_id 0: the caller sets it).
 ClockSample step_clock_sample(const ClockStep& step, core::Clock clock = core::Clock::realtime);
 // The step a "step" sample records; nullopt for any other sample or a detail that is not a step's.

@@ -70,7 +70,11 @@ TEST(KernelLogSteps, SlewingAndOneLatePrintkAreNoStep) {
   EXPECT_TRUE(kernel_log_steps(make_log(40, 0, 0, 450).realtime_ns, make_log(40, 0, 0, 450).log_time_us).empty());
   auto log = make_log(40, 0, 0);
   log.log_time_us[12] += 30'000;  // one message printed 30 ms late (console lock)
-  EXPECT_TRUE(kernel_log_steps(log.realtime_ns, log.log_time_us).empty());
+  const auto clock = kernel_log_clock(log.realtime_ns, log.log_time_us);
+  EXPECT_TRUE(clock.steps.empty());
+  // Its two stamps disagree with the lines on both sides: its event is left out, not trusted.
+  ASSERT_EQ(clock.left_out.size(), 1u);
+  EXPECT_EQ(clock.left_out[0], (std::pair{std::size_t{12}, LineFault::outlier}));
 }
 
 TEST(KernelLogSteps, StampsThatAreNoClockGiveNoSteps) {
@@ -139,6 +143,105 @@ TEST(KernelLogSteps, AGenuineStepStandsOutOfFastSlewing) {
   KernelLogStepOptions trusting;
   trusting.fast_places_min = 1000;
   EXPECT_EQ(kernel_log_steps(log.realtime_ns, log.log_time_us, trusting).size(), 10u);
+}
+
+// The lines kernel_log_clock leaves out, as indices, and their reasons.
+std::vector<std::size_t> left_out_lines(const KernelLogClock& clock, LineFault why) {
+  std::vector<std::size_t> out;
+  for (const auto& [line, fault] : clock.left_out)
+    if (fault == why) out.push_back(line);
+  return out;
+}
+
+TEST(KernelLogSteps, ALineOfAnotherClockIsAnOutlierAndMovesNothing) {
+  for (const std::size_t at : {std::size_t{0}, std::size_t{1}, std::size_t{20}, std::size_t{39}}) {
+    for (const std::int64_t off : {-37'000'000 * kMs, 90 * kMs, -kRealtimeAtBoot}) {  // hours, 90 ms, ktime_get_ns
+      auto log = make_log(40, 0, 0);
+      log.realtime_ns[at] += off;
+      const auto clock = kernel_log_clock(log.realtime_ns, log.log_time_us);
+      EXPECT_TRUE(clock.steps.empty()) << at << " " << off;
+      EXPECT_EQ(left_out_lines(clock, LineFault::outlier), std::vector<std::size_t>{at}) << at << " " << off;
+    }
+  }
+  // The same beside a genuine step: the step is found with its size, the outlier alone left out.
+  auto log = make_log(40, 40 * kMs, 20);
+  log.realtime_ns[21] -= 37'000'000 * kMs;
+  log.log_time_us[10] += 40'000'000'000;  // a printk stamp far off: the same line fault
+  const auto clock = kernel_log_clock(log.realtime_ns, log.log_time_us);
+  ASSERT_EQ(clock.steps.size(), 1u);
+  EXPECT_EQ(clock.steps[0].at_ns, log.realtime_ns[20]);
+  EXPECT_LT(std::llabs(*clock.steps[0].size_ns - 40 * kMs), 200'000);
+  EXPECT_EQ(left_out_lines(clock, LineFault::outlier), (std::vector<std::size_t>{10, 21}));
+}
+
+TEST(KernelLogSteps, TwoLinesAtALevelOfTheirOwnAreNoStep) {
+  auto log = make_log(40, 0, 0);
+  log.realtime_ns[15] += 5'000 * kMs;
+  log.realtime_ns[16] += 5'000 * kMs;
+  const auto clock = kernel_log_clock(log.realtime_ns, log.log_time_us);
+  EXPECT_TRUE(clock.steps.empty());
+  EXPECT_EQ(left_out_lines(clock, LineFault::outlier), (std::vector<std::size_t>{15, 16}));
+  // Three lines make a level: two steps, there and back (and nothing left out).
+  log.realtime_ns[17] += 5'000 * kMs;
+  const auto three = kernel_log_clock(log.realtime_ns, log.log_time_us);
+  EXPECT_EQ(three.steps.size(), 2u);
+  EXPECT_TRUE(three.left_out.empty());
+}
+
+// A log from boot: `before` edges 3..30 s after boot on a clock not yet set (`unset_ns` from the
+// right time), the clock set at 45 s, then the run from 1000 s of uptime.
+Log boot_log(int before, std::int64_t unset_ns) {
+  auto run = make_log(40, 0, 0);
+  Log log;
+  for (int i = 0; i < before; ++i) {
+    const std::int64_t mono_ns = (3'000 + i * 2'500) * kMs;
+    log.realtime_ns.push_back(kRealtimeAtBoot + mono_ns + unset_ns);
+    log.log_time_us.push_back(mono_ns / 1000 + 50);
+  }
+  log.realtime_ns.insert(log.realtime_ns.end(), run.realtime_ns.begin(), run.realtime_ns.end());
+  log.log_time_us.insert(log.log_time_us.end(), run.log_time_us.begin(), run.log_time_us.end());
+  return log;
+}
+
+TEST(KernelLogSteps, EdgesBeforeTheFirstSynchronisationAreLeftOutAndShiftNothing) {
+  for (const int before : {1, 2, 5}) {
+    for (const std::int64_t unset : {-kRealtimeAtBoot, -3 * 86'400'000 * kMs, 2'000 * kMs}) {  // 1970, fake-hwclock, an RTC
+      const auto log = boot_log(before, unset);
+      const auto clock = kernel_log_clock(log.realtime_ns, log.log_time_us);
+      EXPECT_TRUE(clock.steps.empty()) << before << " " << unset;  // the first synchronisation is no step
+      std::vector<std::size_t> want(static_cast<std::size_t>(before));
+      for (std::size_t i = 0; i < want.size(); ++i) want[i] = i;
+      EXPECT_EQ(left_out_lines(clock, LineFault::before_sync), want) << before << " " << unset;
+      EXPECT_TRUE(left_out_lines(clock, LineFault::outlier).empty());
+    }
+  }
+  // A board that never set its clock: every line counts from 1970.
+  auto never = make_log(40, 0, 0);
+  for (auto& t : never.realtime_ns) t -= kRealtimeAtBoot;
+  EXPECT_EQ(left_out_lines(kernel_log_clock(never.realtime_ns, never.log_time_us), LineFault::before_sync).size(), 40u);
+}
+
+TEST(KernelLogSteps, AStepLongAfterBootIsCorrectedNotTakenForTheFirstSynchronisation) {
+  auto log = boot_log(4, -3 * 86'400'000 * kMs);
+  for (std::size_t i = 24; i < log.realtime_ns.size(); ++i) log.realtime_ns[i] += 3'600'000 * kMs;  // +1 h at line 24
+  const auto clock = kernel_log_clock(log.realtime_ns, log.log_time_us);
+  ASSERT_EQ(clock.steps.size(), 1u);
+  EXPECT_EQ(clock.steps[0].at_ns, log.realtime_ns[24]);
+  EXPECT_LT(std::llabs(*clock.steps[0].size_ns - 3'600'000 * kMs), 200'000);
+  EXPECT_EQ(left_out_lines(clock, LineFault::before_sync), (std::vector<std::size_t>{0, 1, 2, 3}));
+}
+
+TEST(KernelLogSteps, LeftOutLinesAreStoredAsRangesThatHoldNoKeptStamp) {
+  auto log = boot_log(3, -3 * 86'400'000 * kMs);
+  log.realtime_ns[20] -= 37'000'000 * kMs;
+  const auto clock = kernel_log_clock(log.realtime_ns, log.log_time_us);
+  const auto runs = unknown_clock_runs(log.realtime_ns, clock.left_out);
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_EQ(runs[0], (store::UnknownClock{log.realtime_ns[0], log.realtime_ns[2], 3, "before_sync"}));
+  EXPECT_EQ(runs[1], (store::UnknownClock{log.realtime_ns[20], log.realtime_ns[20], 1, "outlier"}));
+  // Through a clock sample and back, as a store keeps them.
+  EXPECT_EQ(store::unknown_clock_of(store::unknown_clock_sample(runs[0])), runs[0]);
+  EXPECT_FALSE(store::clock_step_of(store::unknown_clock_sample(runs[0])));
 }
 
 // The other board stepped by `size` before line 20 of a log of `lines` lines (1.3 s apart): its step

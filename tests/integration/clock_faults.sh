@@ -1,0 +1,84 @@
+# Kernel logs with clock faults that m2mlat's simulator does not make (tests/integration/clock_faults.py):
+# one line of another clock (first, middle, last line; either board), a printk stamp far off, a board
+# that stamped edges before its first synchronisation (1970 or a fake-hwclock time), genuine steps of
+# +-5 ms .. +-1 h, and all of them together. Each faulted pair of logs, read as files and through a
+# store, must pair as the clean logs do: the same pairs, latencies within the step's measured size,
+# the same flags (a corrected step's aside), the faulted lines' events left out and counted, nothing else.
+HERE=$(cd "$(dirname "$0")" && pwd)
+source "$HERE/lib.bash"
+
+"$M2MLAT" simulate --scenario static_5g --manoeuvres 150 --seed 7 --out-dir clean --format kernel-log >/dev/null
+"$M2MLAT" pair --cause-file clean/operator.log --effect-file clean/vehicle.log -o clean.csv >/dev/null
+
+# same FAULTED_DIR PAIRS_CSV STATS_JSON: the pairs of PAIRS_CSV are the clean ones (rules above).
+same() {
+  "$PY" - clean clean.csv "$@" <<'PYEOF'
+import csv, json, re, sys
+clean_dir, clean_csv, faulted_dir, pairs_csv, stats_json = sys.argv[1:6]
+faults = json.load(open(f"{faulted_dir}/faults.json"))
+def stamps(path):
+    return [int(l.rsplit(":", 1)[1]) for l in open(path) if "GPIO_" in l]
+lost = {side: {stamps(f"{clean_dir}/{side}.log")[i] for i in faults["left_out"][side]}
+        for side in ("operator", "vehicle")}
+def pairs(path):
+    return [(int(r["cause_time_ns"]), int(r["effect_time_ns"]), int(r["latency_ns"]), int(r["flag_bits"]) & ~256)
+            for r in csv.DictReader(l for l in open(path) if not l.startswith("#"))]
+want = [p for p in pairs(clean_csv) if p[0] not in lost["operator"] and p[1] not in lost["vehicle"]]
+got = pairs(pairs_csv)
+# A step's size is measured from the printk stamps: corrected stamps lie within 0.5 ms of the clean.
+near = lambda a, b: abs(a[0] - b[0]) < 500_000 and abs(a[1] - b[1]) < 500_000 and abs(a[2] - b[2]) < 500_000
+# A step back's first event is stamped where the old and new readings overlap: flagged "after clock
+# step" (512) and left out of the statistics, never wrong. At most one such pair a step.
+unplaced = [q for q in got if q[3] & 512]
+if len(unplaced) > faults["steps"]:
+    sys.exit(f"{faulted_dir}: {len(unplaced)} pairs flagged after a clock step: {unplaced[:3]}")
+got = [q for q in got if not q[3] & 512]
+want = [p for p in want if not any(p[0] == q[0] or p[1] == q[1] for q in unplaced)]
+missing = [p for p in want if not any(near(p, q) for q in got)]
+extra = [q for q in got if not any(near(p, q) for p in want)]
+# The neighbours of a lost event may pair differently (its partner is now alone): at most 2 a loss.
+allowed = 2 * sum(len(v) for v in faults["left_out"].values())
+if len(missing) + len(extra) > allowed:
+    sys.exit(f"{faulted_dir}: {len(missing)} clean pairs missing, {len(extra)} pairs not in the clean log "
+             f"(allowed {allowed}): {missing[:3]} {extra[:3]}")
+moved = [q for q in got if any(near(p, q) and p[3] != q[3] for p in want)]
+if len(moved) > allowed:
+    sys.exit(f"{faulted_dir}: {len(moved)} pairs with other flags: {moved[:3]}")
+s = json.load(open(stats_json))["scenarios"][0]
+left = s["pairing"].get("unknown_clock", {"cause": {"outlier": 0, "before_sync": 0}, "effect": {"outlier": 0, "before_sync": 0}})
+counted = {"operator": sum(left["cause"].values()), "vehicle": sum(left["effect"].values())}
+expected = {side: len(faults["left_out"][side]) + faults["prefix"][side] for side in counted}
+if counted != expected:
+    sys.exit(f"{faulted_dir}: left out {counted}, expected {expected}")
+print(f"{faulted_dir}: {len(got)} pairs, left out {counted}")
+PYEOF
+}
+
+n=0
+for faults in outlier:vehicle:middle outlier:operator:first outlier:vehicle:last outlier:operator:1 \
+              printk:operator:40 printk:vehicle:last boot:vehicle:1:epoch boot:operator:6:fakehw \
+              boot:vehicle:3:epoch step:vehicle:5000000:70 step:vehicle:-5000000:70 step:operator:40000000:50 \
+              step:vehicle:-40000000:120 step:vehicle:1000000000:60 step:operator:-1000000000:60 \
+              step:vehicle:3600000000000:80 step:vehicle:-3600000000000:80 \
+              "outlier:vehicle:20,outlier:vehicle:21,outlier:operator:90" \
+              "boot:vehicle:4:fakehw,outlier:vehicle:30,step:vehicle:-40000000:90,outlier:operator:60" \
+              "boot:operator:2:epoch,step:operator:3600000000000:40,step:vehicle:5000000:100,printk:vehicle:110,outlier:operator:last"; do
+  n=$((n + 1))
+  mkdir "f$n"
+  "$PY" "$HERE/clock_faults.py" clean "f$n" "$faults" "$n"
+  "$M2MLAT" pair --cause-file "f$n/operator.log" --effect-file "f$n/vehicle.log" -o "f$n.csv" >/dev/null
+  "$M2MLAT" stats --cause-file "f$n/operator.log" --effect-file "f$n/vehicle.log" --json >"f$n.json"
+  same "f$n" "f$n.csv" "f$n.json" || fail "files faulted with $faults"
+  # The same through a store: the left-out lines are stored with the events and left out again.
+  "$M2MLAT" import --store "f$n.db" "f$n/operator.log" --node operator --role cause --scenario s 2>/dev/null
+  "$M2MLAT" import --store "f$n.db" "f$n/vehicle.log" --node vehicle --role effect --scenario s 2>"f$n.err"
+  "$M2MLAT" pair "f$n.db" -o "f$n-store.csv" >/dev/null
+  "$M2MLAT" stats "f$n.db" --json >"f$n-store.json"
+  same "f$n" "f$n-store.csv" "f$n-store.json" || fail "store of logs faulted with $faults"
+done
+
+# What stats says of the left-out events, and import's warning naming the file.
+"$M2MLAT" stats --cause-file f1/operator.log --effect-file f1/vehicle.log >f1.txt
+grep -q "0 cause and 1 effect events left out, their stamps on no known clock (1 outliers" f1.txt || { cat f1.txt; fail "no note of the outlier"; }
+grep -q "f1/vehicle.log: 1 GPIO lines are stamped on no known clock (1 outliers" f1.err || { cat f1.err; fail "import said nothing"; }
+echo "clock faults: $n faulted pairs of logs pair as the clean ones"
