@@ -10,10 +10,11 @@ source "$HERE/lib.bash"
 "$M2MLAT" simulate --scenario static_5g --manoeuvres 150 --seed 7 --out-dir clean --format kernel-log >/dev/null
 "$M2MLAT" pair --cause-file clean/operator.log --effect-file clean/vehicle.log -o clean.csv >/dev/null
 
-# same FAULTED_DIR PAIRS_CSV STATS_JSON: the pairs of PAIRS_CSV are the clean ones (rules above).
+# same CLEAN_DIR CLEAN_CSV FAULTED_DIR PAIRS_CSV STATS_JSON: the pairs of PAIRS_CSV are the clean
+# ones (rules above).
 same() {
-  "$PY" - clean clean.csv "$@" <<'PYEOF'
-import csv, json, re, sys
+  "$PY" - "$@" <<'PYEOF'
+import csv, json, sys
 clean_dir, clean_csv, faulted_dir, pairs_csv, stats_json = sys.argv[1:6]
 faults = json.load(open(f"{faulted_dir}/faults.json"))
 def stamps(path):
@@ -54,6 +55,23 @@ print(f"{faulted_dir}: {len(got)} pairs, left out {counted}")
 PYEOF
 }
 
+# faulted CLEAN_DIR N FAULTS: writes fN from CLEAN_DIR with FAULTS and checks it, as files and
+# through a store.
+faulted() {
+  local clean=$1 dir=f$2 faults=$3
+  mkdir "$dir"
+  "$PY" "$HERE/clock_faults.py" "$clean" "$dir" "$faults" "$2"
+  "$M2MLAT" pair --cause-file "$dir/operator.log" --effect-file "$dir/vehicle.log" -o "$dir.csv" >/dev/null
+  "$M2MLAT" stats --cause-file "$dir/operator.log" --effect-file "$dir/vehicle.log" --json >"$dir.json"
+  same "$clean" "$clean.csv" "$dir" "$dir.csv" "$dir.json" || fail "files faulted with $faults"
+  # The same through a store: the left-out lines are stored with the events and left out again.
+  "$M2MLAT" import --store "$dir.db" "$dir/operator.log" --node operator --role cause --scenario s 2>/dev/null >/dev/null
+  "$M2MLAT" import --store "$dir.db" "$dir/vehicle.log" --node vehicle --role effect --scenario s 2>"$dir.err" >/dev/null
+  "$M2MLAT" pair "$dir.db" -o "$dir-store.csv" >/dev/null
+  "$M2MLAT" stats "$dir.db" --json >"$dir-store.json"
+  same "$clean" "$clean.csv" "$dir" "$dir-store.csv" "$dir-store.json" || fail "store of logs faulted with $faults"
+}
+
 n=0
 for faults in outlier:vehicle:middle outlier:operator:first outlier:vehicle:last outlier:operator:1 \
               printk:operator:40 printk:vehicle:last boot:vehicle:1:epoch boot:operator:6:fakehw \
@@ -64,18 +82,34 @@ for faults in outlier:vehicle:middle outlier:operator:first outlier:vehicle:last
               "boot:vehicle:4:fakehw,outlier:vehicle:30,step:vehicle:-40000000:90,outlier:operator:60" \
               "boot:operator:2:epoch,step:operator:3600000000000:40,step:vehicle:5000000:100,printk:vehicle:110,outlier:operator:last"; do
   n=$((n + 1))
-  mkdir "f$n"
-  "$PY" "$HERE/clock_faults.py" clean "f$n" "$faults" "$n"
-  "$M2MLAT" pair --cause-file "f$n/operator.log" --effect-file "f$n/vehicle.log" -o "f$n.csv" >/dev/null
-  "$M2MLAT" stats --cause-file "f$n/operator.log" --effect-file "f$n/vehicle.log" --json >"f$n.json"
-  same "f$n" "f$n.csv" "f$n.json" || fail "files faulted with $faults"
-  # The same through a store: the left-out lines are stored with the events and left out again.
-  "$M2MLAT" import --store "f$n.db" "f$n/operator.log" --node operator --role cause --scenario s 2>/dev/null
-  "$M2MLAT" import --store "f$n.db" "f$n/vehicle.log" --node vehicle --role effect --scenario s 2>"f$n.err"
-  "$M2MLAT" pair "f$n.db" -o "f$n-store.csv" >/dev/null
-  "$M2MLAT" stats "f$n.db" --json >"f$n-store.json"
-  same "f$n" "f$n-store.csv" "f$n-store.json" || fail "store of logs faulted with $faults"
+  faulted clean $n "$faults"
 done
+
+# A published run of the reference rig (beside the checkout, not part of it): its rows as the two
+# boards' kernel logs with printk stamps (the board's offset from boot, a delay of 20-200 us), faulted.
+UPSTREAM=$(realpath -m "$HERE/../../../shared/data/upstream-results")
+if [ -f "$UPSTREAM/Static_5G.csv" ]; then
+  mkdir rig
+  "$PY" - "$UPSTREAM/Static_5G.csv" rig <<'PYEOF'
+import csv, random, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+rng = random.Random(3)
+for side, s, ns, boot in (("operator", "remote_station_s", "remote_station_ns", 1_762_870_000),
+                          ("vehicle", "vehicle_s", "vehicle_ns", 1_762_869_500)):
+    with open(f"{sys.argv[2]}/{side}.log", "w") as f:
+        for r in rows:
+            t = int(r[s]) * 10**9 + int(r[ns])
+            us = (t - boot * 10**9 + rng.randrange(20_000, 200_000)) // 1000
+            f.write(f"[{us // 1_000_000:5d}.{us % 1_000_000:06d}] GPIO_16_IRQ:{t}\n")
+PYEOF
+  "$M2MLAT" pair --cause-file rig/operator.log --effect-file rig/vehicle.log -o rig.csv >/dev/null
+  [ "$(grep -c ',0$' rig.csv)" -ge 55 ] || fail "the published run's logs pair as $(grep -c ',0$' rig.csv) clean pairs"
+  for faults in outlier:vehicle:middle outlier:operator:first "boot:vehicle:2:fakehw,step:vehicle:40000000:30" \
+                "outlier:operator:10,step:operator:-40000000:25,outlier:vehicle:40,boot:operator:3:epoch"; do
+    n=$((n + 1))
+    faulted rig $n "$faults"
+  done
+fi
 
 # What stats says of the left-out events, and import's warning naming the file.
 "$M2MLAT" stats --cause-file f1/operator.log --effect-file f1/vehicle.log >f1.txt
