@@ -38,6 +38,7 @@ BOARD = [
     (r"^m2mlat bag (station|vehicle)\.mcap\b", 66, "reads a ROS 2 bag the stack recorded"),
     (r"^m2mlat schedtest --core 2\b", 2, "this machine has no CPU 2"),
     (r"^m2mlat report Static_Wifi\.csv Static_5G\.csv", 66, "the reference study's own paired CSVs"),
+    (r"^m2mlat mark ", 74, "no agent's marker port listens here: mark says its mark is lost"),
 ]
 ALWAYS = lambda: True
 SKIP = [

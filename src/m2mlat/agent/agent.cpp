@@ -68,6 +68,7 @@ void Agent::mark_loop(int wake_fd) {
     }
     std::vector<store::MarkerRecord> rows;
     std::vector<std::string> senders;
+    std::vector<markers::ReceivedMark> stored;  // acknowledged once committed
     bool drained = false;
     while (rows.size() < kMarksPerCommit) {
       auto got = marks_->receive();
@@ -77,6 +78,7 @@ void Agent::mark_loop(int wake_fd) {
       }
       if (!got->marker) {
         refuse_mark(got->reason, got->detail);
+        marks_->acknowledge(*got, fmt::format("refused {}: {}", got->reason, got->detail));
         continue;
       }
       std::optional<std::int64_t> session;
@@ -86,20 +88,27 @@ void Agent::mark_loop(int wake_fd) {
       }
       if (!session) {
         refuse_mark("session", fmt::format("{}: no session open", got->marker->origin));
+        marks_->acknowledge(*got, "refused session: no session open");
         continue;
       }
       rows.push_back(markers::to_record(*got->marker, *session));
       senders.push_back(got->marker->origin);
+      stored.push_back(std::move(*got));
     }
     if (!rows.empty()) {
       try {
         store.append_markers(rows);
-        std::lock_guard lock(mutex_);
-        mark_status_.stored += rows.size();
+        {
+          std::lock_guard lock(mutex_);
+          mark_status_.stored += rows.size();
+        }
+        for (std::size_t k = 0; k < stored.size(); ++k)
+          marks_->acknowledge(stored[k], fmt::format("stored {}", rows[k].session_id));
       } catch (const core::Error& e) {
         // The session ended between the read and the commit, or the store refused: nothing of the
         // batch is stored, and each datagram is counted as refused.
         for (const auto& sender : senders) refuse_mark("store", fmt::format("{}: {}", sender, e.what()));
+        for (const auto& m : stored) marks_->acknowledge(m, fmt::format("refused store: {}", e.what()));
       }
     }
     // Stopping: only once what had arrived is stored.

@@ -243,7 +243,9 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
       add_followed(record, names.cause, cause_log, names.effect, effect_log);
       cause_log = {};
       effect_log = {};
-      results.push_back(analyse_with_record(from_events(scenario, causes, effects, selection), record, options));
+      results.push_back(analyse_with_record(
+          from_events(scenario, causes, effects, selection, {inputs.cause_file, inputs.effect_file, {}}), record,
+          options));
     }
   }
   for (const auto& path : inputs.inputs) {
@@ -274,21 +276,11 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
     BoardRecord record;
     add_file_clock(record, file, import_options.node);
     const auto events = events_of(std::move(file), path);
-    auto input = from_events(scenario, events, events, sel);
-    if (input.cause.t_ns.empty() || input.effect.t_ns.empty()) {
-      std::set<std::string> nodes;
-      for (const auto& e : events) nodes.insert(e.node);
-      const bool no_cause = input.cause.t_ns.empty();
-      throw core::Error(
-          core::ErrorKind::data,
-          fmt::format("{}: no {} events of node '{}' (the file has: {}): a data file is one scenario with both "
-                      "boards' edges; pair one file per board with --cause-file and --effect-file, or name "
-                      "the nodes with --cause and --effect",
-                      path, no_cause ? "cause" : "effect",
-                      no_cause ? input.cause_ref.node : input.effect_ref.node,
-                      nodes.empty() ? "none" : fmt::format("{}", fmt::join(nodes, ", "))));
-    }
-    results.push_back(analyse_with_record(std::move(input), record, options));
+    constexpr std::string_view advice =
+        ": a data file is one scenario with both boards' edges; pair one file per board with --cause-file and "
+        "--effect-file, or name the nodes with --cause and --effect";
+    results.push_back(analyse_with_record(from_events(scenario, events, events, sel, {path, path, advice}), record,
+                                          options));
   }
   return results;
 }

@@ -52,6 +52,7 @@ ScenarioResult analyse(ScenarioInput input, ScenarioSteps steps, const pairing::
   result.input = std::move(input);
   result.include_ambiguous = include_ambiguous;
   summarize(result, summary_options);
+  result.warnings = sanity_warnings(result, match_options);
   return result;
 }
 

@@ -9,6 +9,7 @@
 #include "m2mlat/analysis/board_record.hpp"
 #include "m2mlat/analysis/breakdown.hpp"
 #include "m2mlat/analysis/clock_steps.hpp"
+#include "m2mlat/analysis/sanity.hpp"
 #include "m2mlat/analysis/selection.hpp"
 #include "m2mlat/analysis/uncertainty.hpp"
 #include "m2mlat/pairing/matcher.hpp"
@@ -40,6 +41,8 @@ struct ScenarioResult {
   // Where the time goes, stage by stage, when a stage rule and markers were given
   // (scenario_breakdown.hpp): over the pairs in_statistics.
   std::optional<Breakdown> breakdown;
+  // What makes the figures implausible, with its evidence (sanity.hpp): every output shows them.
+  std::vector<SanityWarning> warnings;
   StepMark step_mark(const pairing::Pair& p) const;  // the worse of the pair's two events
   std::size_t pairs_marked(StepMark mark) const;     // unknown ones are flagged, out of the statistics
   // Whether match.pairs[i] is one of the pairs the summary is over (not ambiguous unless

@@ -9,8 +9,10 @@
 #include <limits>
 #include <numeric>
 #include <set>
+#include <tuple>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/nearest.hpp"
 #include "m2mlat/pairing/glitch_filter.hpp"
 
 namespace m2mlat::analysis {
@@ -39,6 +41,37 @@ void sort_by_time(store::Timestamps& t) {
     sorted.t_ns.push_back(t.t_ns[k]);
   }
   t = std::move(sorted);
+}
+
+// What an input holds of one channel: its events by edge.
+struct Present {
+  std::string ref;  // node/channel
+  std::int64_t edges[2] = {0, 0};  // by core::Edge
+};
+void count_present(std::vector<Present>& present, const std::string& ref, core::Edge edge, std::int64_t n) {
+  auto it = std::find_if(present.begin(), present.end(), [&](const Present& p) { return p.ref == ref; });
+  if (it == present.end()) it = present.insert(present.end(), Present{ref});
+  it->edges[static_cast<int>(edge)] += n;
+}
+
+// A selection that names nothing: data error listing what the input has and the nearest name.
+[[noreturn]] void throw_nothing_selected(std::string_view where, std::string_view side, const core::ChannelRef& want,
+                                         std::optional<core::Edge> edge, const std::vector<Present>& present,
+                                         std::string_view advice = {}) {
+  std::vector<std::string> names, listed;
+  for (const auto& p : present) {
+    names.push_back(p.ref);
+    std::vector<std::string> counts;
+    for (const auto e : {core::Edge::falling, core::Edge::rising})
+      if (p.edges[static_cast<int>(e)] != 0) counts.push_back(fmt::format("{} {}", p.edges[static_cast<int>(e)], core::to_string(e)));
+    listed.push_back(fmt::format("{} ({})", p.ref, fmt::join(counts, ", ")));
+  }
+  const std::string wanted = want.channel.empty() ? want.node : core::to_string(want);
+  const std::string edges = edge ? fmt::format(", {} edges", core::to_string(*edge)) : std::string{};
+  throw core::Error(core::ErrorKind::data,
+                    fmt::format("{}: no {} events of {}{}; it has {}{}{}", where, side, wanted, edges,
+                                listed.empty() ? std::string("none") : fmt::format("{}", fmt::join(listed, ", ")),
+                                core::did_you_mean(wanted, names), advice));
 }
 
 // Loads one side: every session of the scenario on `node`, the chosen channel (or the node's only
@@ -146,12 +179,16 @@ std::string side_node(const std::vector<store::Session>& sessions, const std::st
   std::set<std::string> nodes;
   for (const auto& s : sessions)
     if (given ? s.node == given->node : s.role == role) nodes.insert(s.node);
-  if (nodes.empty())
+  if (nodes.empty()) {
+    std::vector<std::string> all;
+    for (const auto& s : sessions)
+      if (std::find(all.begin(), all.end(), s.node) == all.end()) all.push_back(s.node);
     throw core::Error(core::ErrorKind::data,
-                      given
-                          ? fmt::format("scenario '{}' has no session of node '{}'", scenario, given->node)
-                          : fmt::format("scenario '{}' has no {} session (record or import one with role {})",
-                                        scenario, side, side));
+                      given ? fmt::format("scenario '{}' has no session of node '{}'; its nodes are {}{}", scenario,
+                                          given->node, fmt::join(all, ", "), core::did_you_mean(given->node, all))
+                            : fmt::format("scenario '{}' has no {} session (record or import one with role {})",
+                                          scenario, side, side));
+  }
   if (nodes.size() > 1)
     throw core::Error(
         core::ErrorKind::data,
@@ -167,13 +204,51 @@ std::vector<std::string> scenarios(const store::Store& store) {
   return names;
 }
 
+namespace {
+
+// An empty side of a store's scenario whose node has events of another channel or edge: the
+// selection named nothing that exists (a node without any events is left alone: nothing to choose).
+void check_something_selected(const store::Store& store, const std::vector<store::Session>& sessions,
+                              const std::string& scenario, const core::ChannelRef& ref,
+                              std::optional<core::Edge> edge, std::string_view side) {
+  std::vector<Present> present;
+  bool node_has_events = false;
+  for (const auto& s : sessions)
+    for (const auto& channel : store.channels(s.id))
+      for (const auto e : {core::Edge::falling, core::Edge::rising}) {
+        store::EventFilter filter;
+        filter.session_id = s.id;
+        filter.channel = channel;
+        filter.edge = e;
+        std::int64_t n = 0;
+        for (auto clock : kClocks)
+          n += static_cast<std::int64_t>(
+              store.timestamps(core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::min()),
+                               core::TimePoint::from_ns(clock, std::numeric_limits<std::int64_t>::max()), filter)
+                  .t_ns.size());
+        if (n == 0) continue;
+        count_present(present, s.node + "/" + channel, e, n);
+        node_has_events = node_has_events || s.node == ref.node;
+      }
+  if (node_has_events)
+    throw_nothing_selected(fmt::format("{}: scenario '{}'", store.path(), scenario), side, ref, edge, present,
+                           fmt::format(": choose with --{} node/channel or --edge", side));
+}
+
+}  // namespace
+
 ScenarioInput load_scenario(const store::Store& store, const std::string& scenario,
                             const Selection& selection) {
   std::vector<store::Session> sessions;
   for (auto& s : store.sessions())
     if (s.scenario == scenario) sessions.push_back(std::move(s));
-  if (sessions.empty())
-    throw core::Error(core::ErrorKind::data, fmt::format("{}: no scenario '{}'", store.path(), scenario));
+  if (sessions.empty()) {
+    const auto names = scenarios(store);
+    throw core::Error(core::ErrorKind::data,
+                      fmt::format("{}: no scenario '{}'; it has {}{}", store.path(), scenario,
+                                  names.empty() ? std::string("none") : fmt::format("{}", fmt::join(names, ", ")),
+                                  core::did_you_mean(scenario, names)));
+  }
 
   ScenarioInput input;
   input.scenario = scenario;
@@ -184,6 +259,8 @@ ScenarioInput load_scenario(const store::Store& store, const std::string& scenar
   check_min_pulse(selection);
   input.cause = load_side(store, sessions, scenario, input.cause_ref, selection.edge);
   input.effect = load_side(store, sessions, scenario, input.effect_ref, selection.edge);
+  for (auto [side, ref, name] : {std::tuple{&input.cause, &input.cause_ref, "cause"}, std::tuple{&input.effect, &input.effect_ref, "effect"}})
+    if (side->t_ns.empty()) check_something_selected(store, sessions, scenario, *ref, selection.edge, name);
   if (selection.min_pulse.count() > 0) {
     const auto other = opposite(*selection.edge);
     Glitches g{selection.min_pulse};
@@ -215,14 +292,15 @@ ScenarioInput from_timestamps(std::string scenario, SideInput cause, SideInput e
 }
 
 ScenarioInput from_events(std::string scenario, std::span<const core::Event> causes,
-                          std::span<const core::Event> effects, const Selection& selection) {
+                          std::span<const core::Event> effects, const Selection& selection, const InputNames& names) {
   ScenarioInput input;
   input.scenario = std::move(scenario);
   input.id_kind = "index";
   check_min_pulse(selection);
   const bool filter = selection.min_pulse.count() > 0;
   auto take = [&](std::span<const core::Event> events, const std::optional<core::ChannelRef>& want,
-                  core::ChannelRef& ref, store::Timestamps& out, const char* side) -> std::int64_t {
+                  core::ChannelRef& ref, store::Timestamps& out, const char* side,
+                  std::string_view where) -> std::int64_t {
     std::optional<core::Clock> seen;
     std::vector<std::size_t> others;  // the other kind of edge, for the interference filter
     for (std::size_t k = 0; k < events.size(); ++k) {
@@ -247,6 +325,11 @@ ScenarioInput from_events(std::string scenario, std::span<const core::Event> cau
       out.t_ns.push_back(e.time.ns());
     }
     if (want && ref.node.empty()) ref = *want;
+    if (out.t_ns.empty() && !events.empty()) {
+      std::vector<Present> present;
+      for (const auto& e : events) count_present(present, e.node + "/" + e.channel, e.edge, 1);
+      throw_nothing_selected(where, side, want.value_or(ref), selection.edge, present, names.advice);
+    }
     out.clock = seen.value_or(core::Clock::realtime);
     sort_by_time(out);
     if (!filter) return 0;
@@ -257,8 +340,8 @@ ScenarioInput from_events(std::string scenario, std::span<const core::Event> cau
     std::sort(idle_ns.begin(), idle_ns.end());
     return drop_glitches(out, idle_ns, *selection.edge, selection.min_pulse, ref);
   };
-  const auto cause_glitches = take(causes, selection.cause, input.cause_ref, input.cause, "cause");
-  const auto effect_glitches = take(effects, selection.effect, input.effect_ref, input.effect, "effect");
+  const auto cause_glitches = take(causes, selection.cause, input.cause_ref, input.cause, "cause", names.cause);
+  const auto effect_glitches = take(effects, selection.effect, input.effect_ref, input.effect, "effect", names.effect);
   if (filter) input.glitches = Glitches{selection.min_pulse, cause_glitches, effect_glitches};
   input.clock = input.cause.clock;
   check_clocks(input);

@@ -87,8 +87,14 @@ struct SideInput {
 ScenarioInput from_timestamps(std::string scenario, SideInput cause, SideInput effect);
 
 // The same from events in memory (e.g. imported files): filters by selection and sorts by time;
-// the same errors as load_scenario.
+// the same errors as load_scenario, and a data error when the selection keeps no event of a side
+// that has events (naming `names`' input, listing what it has, the nearest name and `advice`).
+struct InputNames {
+  std::string_view cause = "the cause input", effect = "the effect input";
+  std::string_view advice;  // appended to the message of a selection that names nothing
+};
 ScenarioInput from_events(std::string scenario, std::span<const core::Event> causes,
-                          std::span<const core::Event> effects, const Selection& selection);
+                          std::span<const core::Event> effects, const Selection& selection,
+                          const InputNames& names = {});
 
 }  // namespace m2mlat::analysis

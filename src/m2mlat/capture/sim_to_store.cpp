@@ -32,6 +32,7 @@ RecordedRun record_simulation(store::Store& store, const sim::RigConfig& config,
                               const ChunkObserver& observer) {
   sim::Generator generator(config);
   RecordedRun run;
+  store::WholeWrite whole(store);  // the scenario whole or not at all (an observer may throw to stop)
   auto begin = [&](const std::string& node, core::Role role) {
     store::Session s;
     s.label = label;
@@ -67,6 +68,7 @@ RecordedRun record_simulation(store::Store& store, const sim::RigConfig& config,
   }
   store.end_session(run.cause_session, last);
   store.end_session(run.effect_session, last);
+  whole.commit();
   return run;
 }
 
@@ -138,6 +140,7 @@ RecordedFullLoop record_full_loop(store::Store& store, const sim::FullLoopRun& r
     return s;
   };
   RecordedFullLoop out;
+  store::WholeWrite whole(store);  // the boards' sessions whole or not at all
   if (boards != FullLoopBoards::vehicle) {
     std::vector<core::Event> photo;
     for (const auto& m : run.manoeuvres)
@@ -161,6 +164,7 @@ RecordedFullLoop record_full_loop(store::Store& store, const sim::FullLoopRun& r
     out.led_session =
         record_board(store, run, false, session("vehicle", core::Role::effect, json), nullptr, led);
   }
+  whole.commit();
   return out;
 }
 

@@ -27,7 +27,9 @@ using ChunkObserver = std::function<void(const sim::Chunk&, std::int64_t events_
 
 // Streams the run of `config` into `store` (bounded memory whatever the run's length). `label` names
 // the sessions; the scenario is config.scenario. `observer`, if set, sees every chunk (e.g. to keep
-// the truth). Sessions are closed at the last event's time.
+// the truth) and may throw to stop the run. Sessions are closed at the last event's time. The run is
+// one transaction (store::WholeWrite): recorded whole, or not at all when anything throws or the
+// process is killed.
 RecordedRun record_simulation(store::Store& store, const sim::RigConfig& config, const std::string& label,
                               const ChunkObserver& observer = {});
 

@@ -3,13 +3,16 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <iostream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/heap.hpp"
+#include "m2mlat/core/nearest.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/core/version.hpp"
 
@@ -23,6 +26,14 @@ std::string_view subcommand_named(int argc, char** argv) {
   for (int i = 1; i < argc; ++i)
     if (argv[i][0] != '-') return argv[i];
   return {};
+}
+
+// Every long option of `app`, with those of its option groups (unnamed sub-apps), as "--name".
+void long_options(const CLI::App& app, std::vector<std::string>& out) {
+  for (const auto* option : app.get_options())
+    for (const auto& name : option->get_lnames()) out.push_back("--" + name);
+  for (const auto* group : app.get_subcommands([](const CLI::App* a) { return a->get_name().empty(); }))
+    long_options(*group, out);
 }
 
 }  // namespace
@@ -45,6 +56,15 @@ int run(int argc, char** argv) {
     if (command.name == named) runners.emplace_back(sub, command.attach(*sub));
   }
 
+  if (!named.empty()) {
+    std::vector<std::string> names;
+    for (const auto& command : commands()) names.emplace_back(command.name);
+    if (std::find(names.begin(), names.end(), named) == names.end()) {
+      std::cerr << "m2mlat: error: '" << core::printable(named) << "' is not a subcommand"
+                << core::printable(core::did_you_mean(named, names)) << "; `m2mlat help` lists them\n";
+      return core::exit_code(core::ErrorKind::usage);
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -53,6 +73,18 @@ int run(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
+  } catch (const CLI::ExtrasError& e) {
+    // An option or argument the subcommand has not: name it, and the nearest option it has.
+    app.exit(e);
+    if (!runners.empty()) {
+      std::vector<std::string> options;
+      long_options(*runners.front().first, options);
+      for (int i = 1; i < argc; ++i)
+        if (const std::string_view arg = argv[i]; arg.starts_with("--"))
+          if (const auto best = core::nearest(arg.substr(0, arg.find('=')), options))
+            std::cerr << "did you mean '" << *best << "' for '" << core::printable(arg) << "'?\n";
+    }
+    return core::exit_code(core::ErrorKind::usage);
   } catch (const CLI::ParseError& e) {
     app.exit(e);  // prints the usage error
     return core::exit_code(core::ErrorKind::usage);

@@ -26,6 +26,7 @@
 #include "m2mlat/formats/import_file.hpp"
 #include "m2mlat/formats/input_text.hpp"
 #include "m2mlat/formats/rate_trace_csv.hpp"
+#include "m2mlat/store/already_stored.hpp"
 #include "m2mlat/store/clock_step.hpp"
 #include "m2mlat/store/rate_block.hpp"
 #include "m2mlat/store/store.hpp"
@@ -55,6 +56,8 @@ struct PendingSession {
   std::vector<store::ClockSample> clock;  // session_id set when written
   std::optional<core::RateTrace> trace;   // an m2mlat-gyro/1 file's samples, on channel `gyro_channel`
   std::string gyro_channel;
+  std::string file;                              // the file it came from
+  std::size_t report_file = 0, report_entry = 0;  // its place in the import's report
 };
 
 core::Role role_for(const ImportCommand& c, const std::string& node);  // below
@@ -193,6 +196,11 @@ std::vector<PendingSession> sessions_of(const ImportCommand& c, const std::strin
   return out;
 }
 
+// Stores what run_import read and checked (below it).
+int write_import(const ImportCommand& c, std::vector<PendingSession>& pending,
+                 std::map<std::size_t, analysis::LogStamps>& logs, nlohmann::json& report,
+                 const nlohmann::json& clock_logs);
+
 int run_import(const ImportCommand& c) {
   if (c.files.empty() && c.clock_log.empty())
     throw core::Error(core::ErrorKind::usage, "nothing to import: give files and/or --clock-log");
@@ -261,6 +269,11 @@ int run_import(const ImportCommand& c) {
     for (auto& s : sessions)
       if (const auto it = clock.find(s.session.node); it != clock.end()) s.clock = it->second;
     entry["sessions"] = nlohmann::json::array();
+    for (std::size_t k = 0; k < sessions.size(); ++k) {
+      sessions[k].file = path;
+      sessions[k].report_file = report.size();
+      sessions[k].report_entry = k;
+    }
     for (const auto& s : sessions)
       entry["sessions"].push_back({{"node", s.session.node},
                                    {"role", core::to_string(s.session.role)},
@@ -300,12 +313,40 @@ int run_import(const ImportCommand& c) {
     clock_logs.push_back(entry);
   }
 
-  // Then write: one transaction per session.
+  // Then write, all in one transaction: a failed or interrupted import leaves the store as it was.
+  const bool existed = std::filesystem::exists(c.store_path);
+  try {
+    return write_import(c, pending, logs, report, clock_logs);
+  } catch (const core::Error&) {
+    if (!existed) store::remove_store_files(c.store_path);
+    throw;
+  }
+}
+
+int write_import(const ImportCommand& c, std::vector<PendingSession>& pending,
+                 std::map<std::size_t, analysis::LogStamps>& logs, nlohmann::json& report,
+                 const nlohmann::json& clock_logs) {
   auto store = store::Store::open(c.store_path);
+  store::WholeWrite whole(store);
   std::set<std::string> scenarios;
   std::map<std::int64_t, analysis::LogStamps> stamps;  // the kernel logs', by session id
   for (std::size_t k = 0; k < pending.size(); ++k) {
     auto& p = pending[k];
+    if (!p.events.empty()) {
+      // A file given twice (or a copy): its events are not stored again.
+      const auto held = store::already_stored(store, p.events);
+      const auto again = static_cast<std::size_t>(std::count(held.begin(), held.end(), true));
+      auto& said = report[p.report_file]["sessions"][p.report_entry];
+      said["already_stored"] = again;
+      said["events"] = p.events.size() - again;
+      if (again == p.events.size()) continue;
+      if (again != 0) {
+        std::size_t kept = 0;
+        for (std::size_t i = 0; i < p.events.size(); ++i)
+          if (!held[i]) p.events[kept++] = std::move(p.events[i]);
+        p.events.resize(kept);
+      }
+    }
     const auto end = *p.session.end;
     p.session.end.reset();
     const auto id = store.begin_session(p.session);
@@ -321,6 +362,7 @@ int run_import(const ImportCommand& c) {
   }
   // And the steps one board took over from another's (import_follow.hpp), each as a session.
   const auto follow = analysis::take_over_steps(store, scenarios, stamps, "import", c.label);
+  whole.commit();
   for (const auto& note : follow.notes) warn(note);
   nlohmann::json followed = nlohmann::json::array();
   for (const auto& f : follow.followed) followed.push_back(analysis::to_json(f));
@@ -341,11 +383,19 @@ int run_import(const ImportCommand& c) {
                      s["samples"].get<std::size_t>(), core::printable(s["node"].get<std::string>()),
                      core::printable(s["channel"].get<std::string>()),
                      core::printable(s["scenario"].get<std::string>()));
+        else if (s.value("already_stored", std::size_t{0}) != 0 && s["events"].get<std::size_t>() == 0)
+          fmt::print("{} ({}): its {} events of {} are already in the store: not imported again\n",
+                     core::printable(f["file"].get<std::string>()), f["format"].get<std::string>(),
+                     s["already_stored"].get<std::size_t>(), core::printable(s["node"].get<std::string>()));
         else
-          fmt::print("{} ({}): {} events of {} ({}) -> scenario '{}'\n",
-                   core::printable(f["file"].get<std::string>()), f["format"].get<std::string>(),
-                   s["events"].get<std::size_t>(), core::printable(s["node"].get<std::string>()),
-                   s["role"].get<std::string>(), core::printable(s["scenario"].get<std::string>()));
+          fmt::print("{} ({}): {} events of {} ({}) -> scenario '{}'{}\n",
+                     core::printable(f["file"].get<std::string>()), f["format"].get<std::string>(),
+                     s["events"].get<std::size_t>(), core::printable(s["node"].get<std::string>()),
+                     s["role"].get<std::string>(), core::printable(s["scenario"].get<std::string>()),
+                     s.value("already_stored", std::size_t{0}) == 0
+                         ? std::string{}
+                         : fmt::format(" ({} already in the store, not imported again)",
+                                       s["already_stored"].get<std::size_t>()));
     for (const auto& f : follow.followed) fmt::print("{}\n", core::printable(analysis::followed_line(f)));
   }
   return 0;

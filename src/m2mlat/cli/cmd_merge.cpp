@@ -3,8 +3,10 @@
 // kernel logs were imported into stores of their own meet here first: a board that followed the
 // other's clock step is read then (analysis/import_follow.hpp).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -12,6 +14,7 @@
 #include "m2mlat/analysis/import_follow.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
+#include "m2mlat/core/error.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/store/merge.hpp"
 #include "m2mlat/store/store.hpp"
@@ -26,13 +29,22 @@ struct MergeCommand {
   bool json = false;
 };
 
-int run_merge(const MergeCommand& c) {
+// The merge itself, one transaction; printed only once it is committed.
+int merge_into(const MergeCommand& c) {
   auto campaign = store::Store::open(c.campaign);
+  store::WholeWrite whole(campaign);
   std::int64_t before = 0;  // the largest session id before the merge
   for (const auto& s : campaign.sessions()) before = std::max(before, s.id);
+  std::vector<store::MergeResult> merged;
+  for (const auto& board : c.boards) merged.push_back(store::merge_store(campaign, board));
+  std::set<std::string> scenarios;
+  for (const auto& s : campaign.sessions())
+    if (s.id > before) scenarios.insert(s.scenario);
+  const auto follow = analysis::take_over_steps(campaign, scenarios, {}, "merge");
+  whole.commit();
+
   nlohmann::json report = nlohmann::json::array();
-  for (const auto& board : c.boards) {
-    const auto r = store::merge_store(campaign, board);
+  for (const auto& r : merged) {
     report.push_back({{"store", r.path},
                       {"origin", r.origin},
                       {"nodes", r.nodes},
@@ -46,10 +58,6 @@ int run_merge(const MergeCommand& c) {
                  core::printable(r.path), core::printable(fmt::format("{}", fmt::join(r.nodes, ", "))),
                  r.events, r.clock_samples, r.losses, r.rate_blocks, r.markers);
   }
-  std::set<std::string> scenarios;
-  for (const auto& s : campaign.sessions())
-    if (s.id > before) scenarios.insert(s.scenario);
-  const auto follow = analysis::take_over_steps(campaign, scenarios, {}, "merge");
   for (const auto& note : follow.notes) warn(note);
   nlohmann::json followed = nlohmann::json::array();
   for (const auto& f : follow.followed) {
@@ -62,6 +70,21 @@ int run_merge(const MergeCommand& c) {
     print_json(doc);
   }
   return 0;
+}
+
+int run_merge(const MergeCommand& c) {
+  // Every board store is checked before the campaign store is opened (or made): a missing one leaves
+  // nothing behind. A campaign store the merge made goes again if it fails.
+  for (const auto& board : c.boards)
+    if (!std::filesystem::exists(board))
+      throw core::Error(core::ErrorKind::no_input, fmt::format("{}: no such store", board));
+  const bool existed = std::filesystem::exists(c.campaign);
+  try {
+    return merge_into(c);
+  } catch (const core::Error&) {
+    if (!existed) store::remove_store_files(c.campaign);
+    throw;
+  }
 }
 
 }  // namespace

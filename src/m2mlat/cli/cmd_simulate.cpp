@@ -3,13 +3,16 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <memory>
+#include <span>
 
 #include "m2mlat/analysis/clock_records.hpp"
 #include "m2mlat/analysis/sim_markers.hpp"
 #include "m2mlat/capture/sim_source.hpp"
 #include "m2mlat/capture/sim_to_store.hpp"
+#include "m2mlat/capture/stop_signal.hpp"
 #include "m2mlat/cli/command.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
@@ -61,6 +64,17 @@ void write_stage_markers(const sim::RigConfig& config, const std::string& dir, d
              markers.size(), stages.chains.size(), stages.dropped);
 }
 
+// A run into a scenario the store holds already would overlap it in time (the simulator's runs start
+// at the configuration's start): its copies would pair as bounces. Refused, naming what is there.
+void refuse_recorded(const store::Store& store, const std::string& scenario, std::span<const std::string> nodes) {
+  for (const auto& s : store.sessions())
+    if (s.scenario == scenario && std::find(nodes.begin(), nodes.end(), s.node) != nodes.end())
+      throw core::Error(core::ErrorKind::data,
+                        fmt::format("{}: scenario '{}' already has a session of {} (session {}): record the run "
+                                    "under another scenario name (--set scenario=NAME) or into another store",
+                                    store.path(), scenario, s.node, s.id));
+}
+
 // The full-loop presets (sim/full_loop.hpp): the run recorded as the boards would record it, into a
 // store per board (--board station|vehicle, the same --seed for both) or both in one.
 int full_loop_into_store(const SimulateCommand& c, sim::FullLoopConfig config) {
@@ -80,6 +94,10 @@ int full_loop_into_store(const SimulateCommand& c, sim::FullLoopConfig config) {
         fmt::format("{} has no gyroscopes: run it with `demo --scenario {}`", c.preset, c.preset));
   const auto run = sim::simulate_full_loop(config);
   auto store = store::Store::open(c.store_path);
+  std::vector<std::string> nodes;
+  if (boards != capture::FullLoopBoards::vehicle) nodes.emplace_back("station");
+  if (boards != capture::FullLoopBoards::station) nodes.emplace_back("vehicle");
+  refuse_recorded(store, c.preset, nodes);
   const auto rec = capture::record_full_loop(store, run, boards, c.label, c.preset);
   fmt::print(
       "{}: scenario {} recorded: {} manoeuvres, sessions station {}, vehicle {}, led {} (0: not here)\n",
@@ -218,11 +236,24 @@ int run_simulate(const SimulateCommand& c) {
     throw core::Error(core::ErrorKind::usage, "--format: kernel-log, events-csv or events-jsonl");
 
   if (!c.store_path.empty()) {
-    auto store = store::Store::open(c.store_path);
-    const auto run =
-        capture::record_simulation(store, config, c.label, [](const sim::Chunk&, std::int64_t events) {
-          progress(fmt::format("recording: {} events", events));
-        });
+    // Ctrl-C (or SIGTERM) ends the run with nothing of it stored; a store this run made goes with it.
+    capture::StopSignal stop;
+    const bool existed = std::filesystem::exists(c.store_path);
+    capture::RecordedRun run;
+    try {
+      auto store = store::Store::open(c.store_path);
+      refuse_recorded(store, config.scenario, std::array{config.cause_node, config.effect_node});
+      run = capture::record_simulation(store, config, c.label, [&](const sim::Chunk&, std::int64_t events) {
+        progress(fmt::format("recording: {} events", events));
+        if (const auto signal = stop.take(); !signal.empty())
+          throw core::Error(core::ErrorKind::interrupted,
+                            fmt::format("{}: {} before the run was recorded: nothing of it stored", c.store_path, signal));
+      });
+    } catch (const core::Error&) {
+      progress_done();
+      if (!existed) store::remove_store_files(c.store_path);
+      throw;
+    }
     progress_done();
     fmt::print("{}: scenario {} recorded: {} events on {} (session {}), {} on {} (session {})\n",
                core::printable(c.store_path), core::printable(config.scenario), run.cause_events,

@@ -3,6 +3,8 @@
 // with --dashboard, the web dashboard, refreshed until SIGINT/SIGTERM or --duration; then the final
 // numbers (those of `m2mlat stats` on the store).
 #include <fmt/format.h>
+
+#include <filesystem>
 #include <poll.h>
 
 #include <cerrno>
@@ -33,6 +35,11 @@ int run_watch(const WatchCommand& c) {
   if (refresh.count() < 10) throw core::Error(core::ErrorKind::usage, "--refresh must be at least 10ms");
   std::optional<core::Duration> duration;
   if (!c.duration.empty()) duration = core::parse_duration(c.duration);
+  if (!std::filesystem::exists(c.store_path))
+    throw core::Error(core::ErrorKind::no_input,
+                      fmt::format("{}: no such store (watch reads a store that `record`, `agent` or `collect` "
+                                  "writes: start it first)",
+                                  c.store_path));
   auto options = c.live.options(c.store_path, "", true);
 
   capture::StopSignal stop;  // before any thread starts: they inherit the blocked signals

@@ -12,6 +12,7 @@ int exit_code(ErrorKind kind) {
     case ErrorKind::no_input: return 66;
     case ErrorKind::io: return 74;
     case ErrorKind::internal: return 70;
+    case ErrorKind::interrupted: return 130;
   }
   return 70;
 }

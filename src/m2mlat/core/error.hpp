@@ -12,6 +12,7 @@ enum class ErrorKind {
   no_input,  // a file or store that does not exist (exit 66)
   io,        // the operating system refused (exit 74)
   internal,  // a bug (exit 70)
+  interrupted,  // a signal (SIGINT, SIGTERM) ended the command before it was done: nothing of it kept (exit 130)
 };
 
 class Error : public std::runtime_error {

@@ -108,6 +108,8 @@ std::optional<ReceivedMark> MarkReceiver::receive() {
     }
   }
   ReceivedMark out;
+  out.from = from;
+  out.from_length = message.msg_namelen;
   const std::string sender = sender_text(from);
   const auto size = static_cast<std::size_t>(got);
   MarkParse parsed;
@@ -133,6 +135,13 @@ std::optional<ReceivedMark> MarkReceiver::receive() {
   m.origin = fmt::format("udp {}", sender);
   out.marker = std::move(m);
   return out;
+}
+
+void MarkReceiver::acknowledge(const ReceivedMark& mark, std::string_view text) const {
+  if (mark.from_length == 0) return;
+  const std::string datagram = std::string(kMarkAckPrefix) + std::string(text);
+  ::sendto(fd_.get(), datagram.data(), datagram.size(), MSG_DONTWAIT, reinterpret_cast<const sockaddr*>(&mark.from),
+           mark.from_length);
 }
 
 }  // namespace m2mlat::markers

@@ -12,6 +12,8 @@
 #include <string>
 #include <string_view>
 
+#include <sys/socket.h>
+
 #include "m2mlat/core/fd.hpp"
 #include "m2mlat/markers/marker.hpp"
 
@@ -22,7 +24,13 @@ struct ReceivedMark {
   std::optional<Marker> marker;  // node empty: the receiver does not know it
   std::string_view reason;       // empty when accepted
   std::string detail;            // "<sender address>: <what was wrong>"
+  sockaddr_storage from{};       // the sender, for the acknowledgement
+  socklen_t from_length = 0;
 };
+
+// The acknowledgement a receiver sends back to a mark's sender, one datagram:
+// "m2mlat-mark-ack/1 stored <session id>" or "m2mlat-mark-ack/1 refused <reason>: <detail>".
+inline constexpr std::string_view kMarkAckPrefix = "m2mlat-mark-ack/1 ";
 
 class MarkReceiver {
  public:
@@ -38,6 +46,9 @@ class MarkReceiver {
 
   // Reads one waiting datagram without blocking; nullopt when none waits.
   std::optional<ReceivedMark> receive();
+  // Sends `text` (after kMarkAckPrefix) back to the sender of `mark`, without blocking; a sender that
+  // does not read acknowledgements (any program may send marks) loses nothing.
+  void acknowledge(const ReceivedMark& mark, std::string_view text) const;
 
  private:
   core::Fd fd_;

@@ -72,6 +72,11 @@ nlohmann::json pairing_json(const analysis::ScenarioResult& r) {
   // Only with --min-pulse: edges dropped before pairing, not counted in cause_events / effect_events.
   if (const auto& g = r.input.glitches)
     j["glitches"] = {{"min_pulse_ns", g->min_pulse.count()}, {"cause", g->cause}, {"effect", g->effect}};
+  // Only when the sanity verdict has something to say (analysis/sanity.hpp).
+  if (!r.warnings.empty()) {
+    auto& w = j["warnings"] = nlohmann::json::array();
+    for (const auto& x : r.warnings) w.push_back({{"code", x.code}, {"text", x.text}});
+  }
   // Only when a kernel log had lines on no known clock: their events, left out before pairing.
   const auto& c = r.input.cause_unknown_clock;
   const auto& e = r.input.effect_unknown_clock;

@@ -79,6 +79,8 @@ std::string pairing_table(std::span<const analysis::ScenarioResult> results) {
       notes += fmt::format(
           "{}: {} cause and {} effect edges started no pulse of {} ms (dropped as interference)\n",
           r.input.scenario, g->cause, g->effect, ms_text(static_cast<double>(g->min_pulse.count()) / 1e6, 3));
+  for (const auto& r : results)
+    for (const auto& w : r.warnings) notes += fmt::format("warning: {}: {}\n", r.input.scenario, w.text);
   for (const auto& r : results) {  // the events on no known clock, before pairing (docs/sync.md)
     const auto& c = r.input.cause_unknown_clock;
     const auto& e = r.input.effect_unknown_clock;

@@ -26,7 +26,8 @@ struct MergeResult {
 };
 
 // Takes into `campaign` what the store at `board_path` holds beyond the campaign's cursor for it,
-// in chunks of `chunk` events (and chunk / 256 raw rate blocks; each chunk one transaction: an interrupted merge resumes). Throws
+// in chunks of `chunk` events (and chunk / 256 raw rate blocks; each chunk one transaction, so an
+// interrupted merge resumes; or all of them one, in a store::WholeWrite, as `m2mlat merge` has it). Throws
 // core::Error naming the file if it is not a current m2mlat store or is the campaign itself.
 MergeResult merge_store(store::Store& campaign, const std::string& board_path, std::size_t chunk = 50'000);
 

@@ -215,17 +215,20 @@ std::span<const std::uint8_t> Statement::column_blob(int column) const {
 
 // --- Transaction --------------------------------------------------------------------------------
 
-Transaction::Transaction(Database& db) : db_(db) { db_.exec("BEGIN IMMEDIATE"); }
+Transaction::Transaction(Database& db) : db_(db), nested_(db.in_transaction()) {
+  db_.exec(nested_ ? "SAVEPOINT m2mlat_write" : "BEGIN IMMEDIATE");
+}
 
 Transaction::~Transaction() {
   if (!done_ && db_.in_transaction()) {
     // Nothing useful can be done if ROLLBACK itself fails; SQLite rolls back on close anyway.
-    sqlite3_exec(db_.handle(), "ROLLBACK", nullptr, nullptr, nullptr);
+    sqlite3_exec(db_.handle(), nested_ ? "ROLLBACK TO m2mlat_write; RELEASE m2mlat_write" : "ROLLBACK", nullptr,
+                 nullptr, nullptr);
   }
 }
 
 void Transaction::commit() {
-  db_.exec("COMMIT");
+  db_.exec(nested_ ? "RELEASE m2mlat_write" : "COMMIT");
   done_ = true;
 }
 

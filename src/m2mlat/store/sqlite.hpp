@@ -98,7 +98,8 @@ class Statement {
 };
 
 // BEGIN IMMEDIATE on construction (takes the write lock at once, so two writers never deadlock
-// upgrading from a read); ROLLBACK in the destructor unless commit() succeeded.
+// upgrading from a read); ROLLBACK in the destructor unless commit() succeeded. Inside a transaction
+// already open (store::WholeWrite) it is a savepoint of it: released by commit(), else rolled back to.
 class Transaction {
  public:
   explicit Transaction(Database& db);
@@ -110,6 +111,7 @@ class Transaction {
 
  private:
   Database& db_;
+  bool nested_ = false;
   bool done_ = false;
 };
 

@@ -762,4 +762,15 @@ bool is_sqlite_database(const std::string& path) {
   }
 }
 
+void remove_store_files(const std::string& path) { remove_new(path); }
+
+struct WholeWrite::Impl {
+  explicit Impl(sqlite::Database& db) : transaction(db) {}
+  sqlite::Transaction transaction;
+};
+
+WholeWrite::WholeWrite(Store& store) : impl_(std::make_unique<Impl>(store.impl_->db)) {}
+WholeWrite::~WholeWrite() = default;
+void WholeWrite::commit() { impl_->transaction.commit(); }
+
 }  // namespace m2mlat::store

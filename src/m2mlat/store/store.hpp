@@ -138,8 +138,26 @@ class Store {
   bool integrity_ok() const;
 
  private:
+  friend class WholeWrite;
   struct Impl;
   explicit Store(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// Makes everything a Store writes from construction to commit() one transaction (each write's own
+// transaction inside it becomes a savepoint): a command that fails, or is interrupted (SIGINT,
+// SIGKILL, a power cut), before commit() leaves the store as it was. Readers see none of it until
+// then. Move-only; at most one per Store at a time.
+class WholeWrite {
+ public:
+  explicit WholeWrite(Store& store);
+  WholeWrite(const WholeWrite&) = delete;
+  WholeWrite& operator=(const WholeWrite&) = delete;
+  ~WholeWrite();
+  void commit();
+
+ private:
+  struct Impl;
   std::unique_ptr<Impl> impl_;
 };
 
@@ -147,5 +165,9 @@ class Store {
 // a store from a data file). Checked by stat() and a read-only SQLite connection, never a raw
 // open(), so it is safe in a process that holds connections to that very file.
 bool is_sqlite_database(const std::string& path);
+
+// Removes a store a failed command made (the file, its -wal, -shm and -journal; unlink() opens
+// nothing). Only for a store no connection of this process is open on.
+void remove_store_files(const std::string& path);
 
 }  // namespace m2mlat::store
