@@ -31,7 +31,19 @@ Agent::~Agent() { server_->stop(); }
 
 void Agent::start() {
   // The store must exist before the server's threads open it read-only.
-  { auto store = store::Store::open(options_.store_path, options_.store_options); }
+  {
+    auto store = store::Store::open(options_.store_path, options_.store_options);
+    // A session of this node still open was cut when the agent was killed: the first session goes on
+    // with its run (label and scenario) unless the configuration names a scenario.
+    const auto& first = options_.recorder.session;
+    const auto sessions = store.sessions();
+    const bool named = !first.scenario.empty() && first.scenario != store::kUnnamedScenario;
+    for (auto it = sessions.rbegin(); it != sessions.rend() && !named; ++it)
+      if (it->node == first.node) {
+        if (!it->end) resumed_ = net::SessionRequest{it->label, it->scenario};
+        break;
+      }
+  }
   server_->start();
   if (options_.marks) {
     marks_ = std::make_unique<markers::MarkReceiver>(options_.marks->address, options_.marks->port);
@@ -171,7 +183,7 @@ capture::RecordCounters Agent::run(int stop_fd, const std::function<std::string(
     });
   // The first session, through the same path as the API's.
   try {
-    begin_session({options_.recorder.session.label, options_.recorder.session.scenario});
+    begin_session(resumed_.value_or(net::SessionRequest{options_.recorder.session.label, options_.recorder.session.scenario}));
   } catch (
       const std::exception&) {  // NOLINT(bugprone-empty-catch): the recorder stopped first; run() reports why
   }

@@ -88,6 +88,7 @@ class Agent final : public net::AgentBackend {
   std::mutex mutex_;          // guards the snapshot below
   capture::RecordCounters counters_;
   std::optional<store::Session> open_;
+  std::optional<net::SessionRequest> resumed_;  // the run a killed agent's cut session was in
   net::MarkStatus mark_status_;  // the marker port's counters (when it has one)
 };
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <set>
 
 #include "m2mlat/core/saturating.hpp"
 
@@ -105,17 +106,10 @@ namespace {
 
 constexpr std::int64_t kClockSetNs = 946'684'800'000'000'000;  // 2000-01-01: stamps before it are a clock never set
 
-// One segment's lines (increasing monotonic stamps) as levels: runs of lines whose d agrees with the
-// line before, the short ones (fewer than `confirm` lines) classified against the confirmed runs
-// around them (rules in kernel_log_steps.hpp).
-struct Levels {
-  struct Level {
-    std::vector<std::size_t> lines;  // its kept lines, in order
-  };
-  std::vector<Level> levels;
-  // Per step between levels k and k + 1: the lines between them that lie between both levels
-  // (stamped while the clock moved: kept, placed by the step's window).
-  std::vector<std::vector<std::size_t>> between;
+// A level of one segment: the lines [first, last] but those left out (kept as ranges, so that a log
+// of 10^7 lines costs no column of line numbers).
+struct Level {
+  std::size_t first = 0, last = 0;
 };
 
 }  // namespace
@@ -154,124 +148,152 @@ KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::
   if (beyond * 4 > jumps.size() && beyond > 2) return out;
   const std::size_t w = std::max<std::size_t>(options.window, 1);
   const std::size_t confirm = std::max<std::size_t>(options.confirm, 2);
-  const auto leave_out = [&](std::size_t line, LineFault why) { out.left_out.emplace_back(line, why); };
+
+  std::set<std::size_t> out_lines;  // the lines left out so far: skipped inside a level's range
+  const auto leave_out = [&](std::size_t line, LineFault why) {
+    out.left_out.emplace_back(line, why);
+    out_lines.insert(line);
+  };
+  // Up to w kept lines of a level from its end (back) or its start, d of each.
+  const auto window = [&](const Level& l, bool from_end, std::size_t& far_line) {
+    std::vector<std::int64_t> d;
+    for (std::size_t k = 0; k <= l.last - l.first && d.size() < w; ++k) {
+      const std::size_t i = from_end ? l.last - k : l.first + k;
+      if (out_lines.contains(i)) continue;
+      d.push_back(d_at(i));
+      far_line = i;
+    }
+    return d;
+  };
 
   for (std::size_t segment = 0; segment < n;) {
     std::size_t end = segment + 1;  // one past the segment's last line
     while (end < n && mono(end) >= mono(end - 1)) ++end;
-    // Runs: lines whose d agrees with the line before.
-    std::vector<std::pair<std::size_t, std::size_t>> runs;  // [begin, end)
-    for (std::size_t i = segment; i < end; ++i)
-      if (i == segment || !agree(i - 1, i))
-        runs.emplace_back(i, i + 1);
-      else
-        runs.back().second = i + 1;
-    const auto confirmed = [&](const auto& r) { return r.second - r.first >= confirm; };
     const bool from_boot = mono(segment) <= options.first_sync_within_ns;
     // Lines of short runs before the first confirmed run: no level says which clock stamped them.
     const auto unplaced = [&](std::size_t line) {
       leave_out(line, from_boot && mono(line) <= options.first_sync_within_ns ? LineFault::before_sync
                                                                               : LineFault::outlier);
     };
-    Levels lv;
-    std::vector<std::size_t> pending;  // lines of short runs since the last confirmed run
-    for (const auto& run : runs) {
-      if (!confirmed(run)) {
-        for (std::size_t i = run.first; i < run.second; ++i) pending.push_back(i);
-        continue;
+    std::vector<Level> levels;
+    std::vector<std::pair<std::size_t, std::size_t>> moving;  // per step between levels k and k + 1: [first, last), may be empty
+    std::vector<std::size_t> pending;  // lines of short runs since the last level
+    // Runs: lines whose d agrees with the line before; each run, once complete, is placed.
+    const auto place = [&](std::size_t first, std::size_t past) {
+      if (past - first < confirm) {
+        for (std::size_t i = first; i < past; ++i) pending.push_back(i);
+        return;
       }
-      std::vector<std::size_t> next;  // lines between that are of this new level
-      if (lv.levels.empty()) {
+      Level next{first, past - 1};
+      if (levels.empty()) {
         // Before the first level: lines that agree with it are of it, the others unplaced.
-        for (const std::size_t i : pending) agree(i, run.first) ? next.push_back(i) : unplaced(i);
+        for (const std::size_t i : pending) {
+          if (agree(i, first))
+            next.first = std::min(next.first, i);
+          else
+            unplaced(i);
+        }
+        // A line that agrees before one that does not: the later one is an outlier inside the level.
       } else {
-        auto& before = lv.levels.back().lines;
-        const std::size_t last = before.back();
-        if (agree(last, run.first)) {
+        auto& before = levels.back();
+        const std::size_t last = before.last;
+        if (agree(last, first)) {
           // The same level on both sides: of the lines between, those that disagree are outliers.
-          for (const std::size_t i : pending) agree(last, i) ? before.push_back(i) : leave_out(i, LineFault::outlier);
-          for (std::size_t i = run.first; i < run.second; ++i) before.push_back(i);
+          for (const std::size_t i : pending)
+            if (!agree(last, i)) leave_out(i, LineFault::outlier);
+          before.last = past - 1;
           pending.clear();
-          continue;
+          return;
         }
         // A step: of the lines between, those that agree with one level are of it, those between the
         // two levels were stamped while the clock moved (in that order), the others are outliers.
-        const std::int64_t lo = std::min(d_at(last), d_at(run.first)) - threshold;
-        const std::int64_t hi = std::max(d_at(last), d_at(run.first)) + threshold;
-        std::vector<std::size_t> moving;
+        const std::int64_t lo = std::min(d_at(last), d_at(first)) - threshold;
+        const std::int64_t hi = std::max(d_at(last), d_at(first)) + threshold;
+        std::pair<std::size_t, std::size_t> moved{0, 0};
+        bool in_next = false;
         for (const std::size_t i : pending) {
-          if (agree(i, run.first))
-            next.push_back(i);
-          else if (next.empty() && moving.empty() && agree(last, i))
-            before.push_back(i);
-          else if (next.empty() && d_at(i) >= lo && d_at(i) <= hi)
-            moving.push_back(i);
-          else
+          if (agree(i, first)) {
+            if (!in_next) next.first = i;
+            in_next = true;
+          } else if (!in_next && moved.second == 0 && agree(last, i)) {
+            before.last = i;
+          } else if (!in_next && d_at(i) >= lo && d_at(i) <= hi) {
+            if (moved.second == 0) moved.first = i;
+            moved.second = i + 1;
+          } else {
             leave_out(i, LineFault::outlier);
+          }
         }
-        lv.between.push_back(std::move(moving));
+        // Lines in the ranges that the classes above did not take are outliers already.
+        moving.push_back(moved);
       }
-      lv.levels.push_back({std::move(next)});
-      for (std::size_t i = run.first; i < run.second; ++i) lv.levels.back().lines.push_back(i);
+      levels.push_back(next);
       pending.clear();
-    }
+    };
+    std::size_t run_first = segment;
+    for (std::size_t i = segment + 1; i <= end; ++i)
+      if (i == end || !agree(i - 1, i)) {
+        place(run_first, i);
+        run_first = i;
+      }
     // Short runs after the last level: no later line confirms them. (A segment without a confirmed
     // level says nothing of its lines.)
-    if (!lv.levels.empty()) {
+    if (!levels.empty()) {
       for (const std::size_t i : pending) {
-        if (agree(lv.levels.back().lines.back(), i))
-          lv.levels.back().lines.push_back(i);
+        if (agree(levels.back().last, i))
+          levels.back().last = i;
         else
           leave_out(i, LineFault::outlier);
       }
     }
+    const auto leave_out_level = [&](const Level& l, LineFault why) {
+      for (std::size_t i = l.first; i <= l.last; ++i)
+        if (!out_lines.contains(i)) leave_out(i, why);
+    };
 
     // The first synchronisation: the segment's first level before its first step is a clock not yet
     // set when the segment starts at boot and that level ends within first_sync_within_ns of it, or
     // when its stamps lie before 2000 (a board without a real-time clock counts from 1970).
     std::size_t first_level = 0;
-    if (lv.levels.size() == 1 && realtime_ns[lv.levels.front().lines.back()] < kClockSetNs)
-      for (const std::size_t i : lv.levels.front().lines) leave_out(i, LineFault::before_sync);
-    if (lv.levels.size() > 1) {
-      const auto& l0 = lv.levels.front().lines;
-      if ((from_boot && mono(l0.back()) <= options.first_sync_within_ns) || realtime_ns[l0.back()] < kClockSetNs) {
-        for (const std::size_t i : l0) leave_out(i, LineFault::before_sync);
-        for (const std::size_t i : lv.between.front()) leave_out(i, LineFault::before_sync);
+    if (levels.size() == 1 && realtime_ns[levels.front().last] < kClockSetNs)
+      leave_out_level(levels.front(), LineFault::before_sync);
+    if (levels.size() > 1) {
+      const auto& l0 = levels.front();
+      if ((from_boot && mono(l0.last) <= options.first_sync_within_ns) || realtime_ns[l0.last] < kClockSetNs) {
+        leave_out_level(l0, LineFault::before_sync);
+        if (moving.front().second != 0)
+          leave_out_level({moving.front().first, moving.front().second - 1}, LineFault::before_sync);
         first_level = 1;
       }
     }
-    for (std::size_t k = first_level; k + 1 < lv.levels.size(); ++k) {
-      const auto& a = lv.levels[k].lines;
-      const auto& b = lv.levels[k + 1].lines;
-      const auto& moving = lv.between[k];
-      std::vector<std::int64_t> before, after;
-      for (std::size_t j = a.size() > w ? a.size() - w : 0; j < a.size(); ++j) before.push_back(d_at(a[j]));
-      for (std::size_t j = 0; j < b.size() && j < w; ++j) after.push_back(d_at(b[j]));
+    for (std::size_t k = first_level; k + 1 < levels.size(); ++k) {
+      const auto& moved = moving[k];
+      std::size_t window_first = 0, window_last = 0;
+      const auto before = window(levels[k], true, window_first);
+      const auto after = window(levels[k + 1], false, window_last);
       const std::int64_t size = log_median(after) - log_median(before);
-      const std::size_t window_first = a[a.size() > w ? a.size() - w : 0];
-      const std::size_t window_last = b[std::min(b.size(), w) - 1];
       const auto [bmin, bmax] = std::minmax_element(before.begin(), before.end());
       const auto [amin, amax] = std::minmax_element(after.begin(), after.end());
       store::ClockStep step;
-      const std::size_t first_after = moving.empty() ? b.front() : moving.front();
+      const std::size_t first_after = moved.second == 0 ? levels[k + 1].first : moved.first;
       step.earliest_ns = realtime_ns[first_after];  // the lines' order places it: after the old level's last line
       step.size_ns = size;
       step.size_max_ns = (*bmax - *bmin) + (*amax - *amin) + log_slew(options.slew_ppm, mono(window_last) - mono(window_first));
       step.size_est_ns = (3 * jitter + 1) / 2;
-      if (moving.empty()) {
-        step.at_ns = realtime_ns[b.front()];
+      if (moved.second == 0) {
+        step.at_ns = realtime_ns[levels[k + 1].first];
       } else {
         // The clock moved over several lines (a daemon slewing faster than the kernel's 500 ppm): the
         // lines between are neither here nor there; at_ns = the new level's first stamp + size puts
         // them in the overlap correct_side flags. Its size is then known only to the slewing's extent:
         // as uniform within that bound.
-        step.at_ns = realtime_ns[b.front()] + size;
+        step.at_ns = realtime_ns[levels[k + 1].first] + size;
         step.size_est_ns = std::max(step.size_est_ns, static_cast<std::int64_t>(std::ceil(
                                                           static_cast<double>(step.size_max_ns) / std::sqrt(3.0))));
       }
       step.origin = "kernel_log";
       steps.push_back(step);
-      step_mono.push_back(mono(b.front()));
+      step_mono.push_back(mono(levels[k + 1].first));
     }
     segment = end;
   }

@@ -18,6 +18,7 @@
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/collect/coordinator.hpp"
 #include "m2mlat/collect/live_view.hpp"
+#include "m2mlat/store/records.hpp"
 #include "m2mlat/core/clock_read.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/printable.hpp"
@@ -112,6 +113,10 @@ int run_collect(const CollectCommand& c) {
   // The live views' flags are read (a stage rule parsed) before anything is created or begun: a bad
   // one is a usage error that leaves no store and no session behind.
   auto live_options = c.live.options(c.store_path, options.client.token, !c.json);
+  // The run begun here is what the live views show, whatever session an agent that restarts opens
+  // before it rejoins the run.
+  if (c.start_session && live_options.pairing.scenario.empty())
+    live_options.pairing.scenario = c.scenario.empty() ? store::kUnnamedScenario : c.scenario;
   collect::Coordinator coordinator(options, on_error);
 
   if (c.once) {

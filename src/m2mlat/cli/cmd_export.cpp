@@ -15,6 +15,7 @@
 #include "m2mlat/analysis/pairs_file.hpp"
 #include "m2mlat/cli/analysis_options.hpp"
 #include "m2mlat/cli/command.hpp"
+#include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/core/output_file.hpp"
 #include "m2mlat/formats/import_file.hpp"
@@ -117,6 +118,8 @@ int run_export(const ExportCommand& c) {
     inputs.inputs = {c.store_path};
     inputs.scenarios = c.scenarios;
     const auto results = analysis::analyse_inputs(inputs, pipeline);
+    for (const auto& r : results)  // the sanity verdict: the file holds the pairs, stderr says what is wrong
+      for (const auto& w : r.warnings) warn(fmt::format("{}: {}", r.input.scenario, w.text));
     const auto format = formats::parse_format(c.format.empty() ? "pairs-csv" : c.format);
     analysis::write_pairs_file(c.out, format, results, analysis::store_pair_sessions(c.store_path, results));
     return 0;

@@ -29,6 +29,7 @@ Coordinator::Coordinator(CoordinatorOptions options, ErrorSink on_error)
     po.durability = options_.durability;
     po.poll_interval = options_.poll_interval;
     po.page = options_.page;
+    if (options_.start_session) po.run_session = std::pair{options_.start_session->label, options_.start_session->scenario};
     auto tracker = std::make_shared<NodeTracker>(url, options_.stale_after);
     auto puller = std::make_unique<Puller>(po, tracker, on_error_);
     if (!seen.insert(puller->url()).second)

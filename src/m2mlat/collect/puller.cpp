@@ -122,8 +122,22 @@ void Puller::note_status(const net::Status& status) {
   if (status.clock)
     clock = ClockState{status.clock->offset_ns, status.clock->max_error_ns, status.clock->synchronised};
   tracker_->status(status.node, status.role, status.lost, status.last_seq, clock, core::now_ns(CLOCK_REALTIME));
-  const std::optional<std::int64_t> open =
+  std::optional<std::int64_t> open =
       status.session ? std::optional<std::int64_t>(status.session->id) : std::nullopt;
+  if (const auto& run = options_.run_session; run && !stopping() && !draining_ &&
+                                              (!status.session || status.session->label != run->first ||
+                                               status.session->scenario != run->second)) {
+    // The agent restarted (or another client changed its session): it rejoins the run.
+    const auto rejoined = control_.start_session(run->first, run->second);
+    open = rejoined.id;
+    if (on_error_)
+      on_error_(control_.url(), fmt::format("{}: its session {} is not the run's: rejoined the run as session {} "
+                                            "(scenario '{}', label '{}')",
+                                            control_.url(),
+                                            status.session ? std::to_string(status.session->id) : "none",
+                                            rejoined.id, run->second, run->first));
+    sync_sessions();
+  }
   // The open session changed (started, stopped or replaced): the sessions' ends changed too.
   if (open != open_session_ && !sessions_.empty()) sync_sessions();
   open_session_ = open;

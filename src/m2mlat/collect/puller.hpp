@@ -26,6 +26,7 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "m2mlat/collect/health.hpp"
@@ -49,6 +50,10 @@ struct PullerOptions {
   std::chrono::milliseconds side_interval{1000};  // status, clock samples, losses while following
   // 0: follow the event stream (SSE); otherwise poll /v1/events at this interval instead.
   std::chrono::milliseconds poll_interval{0};
+  // The run's session the coordinator began on every agent (collect --start-session): an agent that
+  // restarts opens a session of its own configuration; the puller then begins the run's session on it
+  // again (same label and scenario), so the run goes on in one scenario. Unset: agents keep their own.
+  std::optional<std::pair<std::string, std::string>> run_session;  // label, scenario
 };
 
 // Told about every failed pull: the agent's URL and what went wrong (the message names the URL).

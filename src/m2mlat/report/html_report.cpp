@@ -510,6 +510,18 @@ std::string distribution_sections(const Report& report) {
                    "cause unmatched (bounce / no candidate / outmatched)",
                    "effect unmatched (bounce / no candidate / outmatched)", "recorded losses"},
                   lrows, "losses");
+  // The sanity verdict (analysis/sanity.hpp) and the events left out on no known clock, in words.
+  for (const auto& s : report.scenarios) {
+    const auto& in = s.result.input;
+    for (const auto& w : s.result.warnings)
+      h += "<p class=\"note-text\"><strong>warning:</strong> " + xml_escape(in.scenario + ": " + w.text) + "</p>\n";
+    if (const auto left = in.cause_unknown_clock.total() + in.effect_unknown_clock.total(); left != 0)
+      h += "<p class=\"note-text\">" +
+           xml_escape(fmt::format("{}: {} events left out before pairing, their stamps on no known clock "
+                                  "(docs/sync.md)",
+                                  in.scenario, left)) +
+           "</p>\n";
+  }
   // Clock steps (docs/sync.md): only where a board's clock stepped.
   std::vector<std::vector<std::string>> srows;
   std::vector<std::string> slew_notes;

@@ -129,7 +129,7 @@ class AgentTwin {
     store_->append_markers(std::span<const store::MarkerRecord>(&m, 1));
   }
   // Ends the open session and begins another (as POST /v1/sessions does).
-  std::int64_t new_session(const std::string& label) {
+  std::int64_t new_session(const std::string& label, const std::string& scenario = {}) {
     std::lock_guard lock(store_mutex_);
     store_->end_session(session_, core::TimePoint::from_ns(core::Clock::realtime,
                                                            1'700'000'000'000'000'000 + n_ * 1'000'000));
@@ -137,6 +137,7 @@ class AgentTwin {
     s.node = node_;
     s.role = role_;
     s.label = label;
+    s.scenario = scenario;
     s.start = core::TimePoint::from_ns(core::Clock::realtime, 1'700'000'000'000'000'000 + n_ * 1'000'000 + 1);
     session_ = store_->begin_session(s);
     return session_;
@@ -242,7 +243,7 @@ class AgentTwin {
       take_fault(req.path);
       if (!authorised(req, res)) return;
       const auto body = nlohmann::json::parse(req.body);
-      const auto id = new_session(body.value("label", ""));
+      const auto id = new_session(body.value("label", ""), body.value("scenario", ""));
       std::lock_guard lock(store_mutex_);
       res.status = 201;
       res.set_content(nlohmann::json{{"session", net::to_json(*store_->session(id))}}.dump(),

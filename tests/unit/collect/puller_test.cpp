@@ -339,6 +339,36 @@ TEST(Coordinator, PullsTwoAgentsStartsAndStopsTheirSessions) {
   EXPECT_EQ(errors.count(), 0u);
 }
 
+TEST(Coordinator, AnAgentWhoseSessionIsNotTheRunsRejoinsIt) {
+  TempDir dir;
+  AgentTwin op(dir.file("operator.db"), "operator", core::Role::cause);
+  AgentTwin veh(dir.file("vehicle.db"), "vehicle", core::Role::effect);
+  CoordinatorOptions o;
+  o.agents = {op.url(), veh.url()};
+  o.store_path = dir.file("campaign.db");
+  o.client.read_timeout = std::chrono::seconds(30);
+  o.start_session = NewSession{"run-1", "bench"};
+  Errors errors;
+  Coordinator coordinator(o, errors.sink());
+  ASSERT_EQ(coordinator.start().size(), 2u);
+  const auto run_session = veh.session();
+  veh.append(3);  // (the twin's clock moves with its events)
+  veh.new_session("", "unnamed");  // the vehicle's agent restarted with a session of its own
+  veh.append(3);
+  const auto own = veh.session();
+  // Within a side poll (1 s) the puller begins the run's session on it again, and says so.
+  ASSERT_TRUE(eventually([&] { return veh.session() != own; }));
+  coordinator.stop();
+  const auto store = store::Store::open(dir.file("vehicle.db"), {store::Durability::normal, false});
+  const auto now = store.session(veh.session());
+  ASSERT_TRUE(now);
+  EXPECT_EQ(now->label, "run-1");
+  EXPECT_EQ(now->scenario, "bench");
+  EXPECT_NE(veh.session(), run_session);
+  ASSERT_EQ(errors.count(), 1u);
+  EXPECT_NE(errors.lines[0].find("is not the run's: rejoined the run as session"), std::string::npos) << errors.lines[0];
+}
+
 TEST(Coordinator, RefusesNoAgentsAndTheSameAgentTwice) {
   CoordinatorOptions o;
   o.store_path = "x.db";

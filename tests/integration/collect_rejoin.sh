@@ -1,0 +1,54 @@
+# Sessions survive their agents: two simulated agents and `collect --start-session` as real processes;
+# the vehicle's agent is killed (SIGKILL) mid-run and started again on its store. It goes on with the
+# run's session (scenario and label) at once, the campaign holds every event of both agents exactly
+# once, and the run is one scenario: every vehicle session after the start is in it, none "unnamed".
+# A second time its store is replaced by a new one (nothing to resume from): the coordinator sees a
+# session that is not the run's and begins the run's session on it again.
+HERE=$(cd "$(dirname "$0")" && pwd)
+source "$HERE/lib.bash"
+source "$HERE/collect_lib.bash"
+
+start_agent operator cause 7 operator.db 127.0.0.1:0 --sim-paced
+OP=$AGENT_PORT
+start_agent vehicle effect 7 vehicle.db 127.0.0.1:0 --sim-paced
+VE=$AGENT_PORT
+VEHICLE_PID=$AGENT_PID
+
+"$M2MLAT" collect --agent "http://127.0.0.1:$OP" --agent "http://127.0.0.1:$VE" --store campaign.db \
+  --start-session --label run-1 --scenario track --stop-session --duration 9s --json >collect.json 2>collect.err &
+COLLECT_PID=$!
+sleep 2.5
+kill -KILL "$VEHICLE_PID"
+wait "$VEHICLE_PID" 2>/dev/null || true
+sleep 0.5
+start_agent vehicle effect 8 vehicle.db "127.0.0.1:$VE" --sim-paced  # resumes the cut session's run
+sleep 2.5
+kill -KILL "$AGENT_PID"
+wait "$AGENT_PID" 2>/dev/null || true
+start_agent vehicle effect 9 vehicle2.db "127.0.0.1:$VE" --sim-paced  # a new store: the coordinator rejoins it
+wait "$COLLECT_PID" || { cat collect.err >&2; fail "collect failed"; }
+grep -q "rejoined the run as session" collect.err || { cat collect.err >&2; fail "collect did not rejoin the new agent"; }
+
+$PY - campaign.db <<'PY'
+import sqlite3, sys
+db = sqlite3.connect(sys.argv[1])
+rows = db.execute("select id, node, scenario, label from sessions order by id").fetchall()
+first_run = min(i for i, n, s, l in rows if s == "track")
+later = [(i, n, s, l) for i, n, s, l in rows if i > first_run]
+bad = [r for r in later if r[2] != "track" and r[2] != "unnamed" or r[3] != "run-1" and r[2] == "track"]
+vehicle_track = [r for r in rows if r[1] == "vehicle" and r[2] == "track"]
+assert len(vehicle_track) >= 3, f"the vehicle's run is not in 3 sessions of 'track': {rows}"
+resumed = [r for r in later if r[1] == "vehicle" and r[2] == "unnamed"]
+assert len(resumed) <= 1, f"the restarted vehicle opened sessions outside the run: {rows}"
+assert not bad, f"sessions of another run: {bad}"
+print(f"ok: {len(rows)} sessions, the vehicle's run in {len(vehicle_track)} sessions of 'track'")
+PY
+expect_exactly_once campaign.db operator.db operator
+# The run is one scenario: all of its events, the restarted agent's with them.
+"$M2MLAT" stats campaign.db --scenario track --json >stats.json
+$PY - stats.json <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))["scenarios"][0]["pairing"]
+assert s["effect_events"] > 0 and s["cause_events"] > 0, s
+print(f"ok: the run holds {s['cause_events']} cause and {s['effect_events']} effect events")
+PY
