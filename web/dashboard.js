@@ -269,9 +269,11 @@
   function apply(snap) {
     const s = snap.summary;
     setText('scenario', s.scenario ? `${s.scenario}: ${s.cause || '?'} \u2192 ${s.effect || '?'}` : '-');
+    // Not ok: why; ok: the sanity verdict's warnings (roles that look swapped, no pairs), if any.
     const message = $('message');
-    message.hidden = s.state === 'ok' || !s.message;
-    setText('message', s.state === 'ok' ? '' : `${s.state}: ${s.message}`);
+    const warnings = s.warnings || [];
+    message.hidden = s.state === 'ok' ? !warnings.length : !s.message;
+    setText('message', s.state === 'ok' ? warnings.map((w) => 'warning: ' + w).join(' \u00b7 ') : `${s.state}: ${s.message}`);
     setText('samples', fmtCount(s.samples));
     setText('last', s.last ? fmtMs(nsToMs(s.last.latency_ns)) : '-');
     setText('median', fmtMs(s.median_ms));

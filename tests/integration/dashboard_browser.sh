@@ -45,6 +45,8 @@ for side in "operator cause" "vehicle effect"; do
     > "record-$node.txt" 2>&1 &
   recorders+=($!)
 done
+# watch reads a store that exists (a missing one is an error): the recorders make it first.
+for _ in $(seq 200); do [ -s store.db ] && break; sleep 0.05; done
 "$M2MLAT" watch store.db --dashboard 127.0.0.1:0 --refresh 200ms --duration 90s > watch.txt 2> watch.err &
 watcher=$!
 

@@ -56,7 +56,6 @@ struct PendingSession {
   std::vector<store::ClockSample> clock;  // session_id set when written
   std::optional<core::RateTrace> trace;   // an m2mlat-gyro/1 file's samples, on channel `gyro_channel`
   std::string gyro_channel;
-  std::string file;                              // the file it came from
   std::size_t report_file = 0, report_entry = 0;  // its place in the import's report
 };
 
@@ -270,7 +269,6 @@ int run_import(const ImportCommand& c) {
       if (const auto it = clock.find(s.session.node); it != clock.end()) s.clock = it->second;
     entry["sessions"] = nlohmann::json::array();
     for (std::size_t k = 0; k < sessions.size(); ++k) {
-      sessions[k].file = path;
       sessions[k].report_file = report.size();
       sessions[k].report_entry = k;
     }

@@ -53,6 +53,7 @@ nlohmann::json summary_json(const LiveSummary& s) {
   return {{"full_loop", loop_json(s.loop)},
           {"state", to_string(s.state)},
           {"message", s.message},
+          {"warnings", s.warnings},
           {"scenario", s.scenario},
           {"cause", s.cause_ref.node.empty() ? "" : core::to_string(s.cause_ref)},
           {"effect", s.effect_ref.node.empty() ? "" : core::to_string(s.effect_ref)},

@@ -188,6 +188,7 @@ void LivePairing::repair(bool final) {
   s.bounces = count_unmatched(r.match, pairing::Side::cause, true) +
               count_unmatched(r.match, pairing::Side::effect, true);
   s.summary = std::move(r.summary);
+  for (const auto& w : r.warnings) s.warnings.push_back(w.text);
   const auto& pairs = r.match.pairs;
   const auto keep = std::min(pairs.size(), options_.recent_samples);
   s.recent.reserve(keep);

@@ -113,6 +113,7 @@ struct LiveSummary {
   std::vector<LiveSample> recent;       // the newest pairs, oldest first, at most recent_samples
   std::vector<HistogramBin> histogram;  // of the statistics' latencies, contiguous bins
   std::optional<LiveLoop> loop;         // set for a scenario with gyroscope traces (then no pairs)
+  std::vector<std::string> warnings;    // the sanity verdict's (analysis/sanity.hpp), with their evidence
   // With a stage rule: the breakdown of the pairs in the statistics (its per-event rows left out:
   // the summary is copied at every refresh; complete + incomplete counts them).
   std::optional<analysis::Breakdown> breakdown;

@@ -62,6 +62,7 @@ std::vector<std::string> render_block(const LiveSummary& s, const std::vector<No
       lines.push_back(fmt::format("{:.0f} % CI: median {:.1f}-{:.1f} ms, IQR {:.1f}-{:.1f} ms", ci.level * 100,
                                   ci.median_ms.lower, ci.median_ms.upper, ci.iqr_ms.lower, ci.iqr_ms.upper));
     }
+    for (const auto& w : s.warnings) lines.push_back("warning: " + w);
     if (s.breakdown) {
       // The live stage breakdown (--stages): each stage's median and share of the M2M.
       const auto& b = *s.breakdown;
