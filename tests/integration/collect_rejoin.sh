@@ -54,3 +54,9 @@ s = json.load(open(sys.argv[1]))["scenarios"][0]["pairing"]
 assert s["effect_events"] > 0 and s["cause_events"] > 0, s
 print(f"ok: the run holds {s['cause_events']} cause and {s['effect_events']} effect events")
 PY
+# What the agents recorded before the run began is no scenario beside it: said, not analysed.
+"$M2MLAT" stats campaign.db --bootstrap 0 >all.txt
+grep -q "events were recorded outside any run" all.txt || { cat all.txt; fail "no word of the events outside the run"; }
+grep -q "^unnamed " all.txt && { cat all.txt; fail "the events outside any run shown as a scenario"; }
+"$M2MLAT" stats campaign.db --scenario unnamed --bootstrap 0 | grep -q "^unnamed " || fail "--scenario unnamed analyses nothing"
+echo "collect_rejoin: ok"

@@ -255,10 +255,26 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
       store::Options read;
       read.read_only = true;
       const auto store = store::Store::open(path, read);
-      const auto names = inputs.scenarios.empty() ? scenarios(store) : inputs.scenarios;
+      auto names = inputs.scenarios.empty() ? scenarios(store) : inputs.scenarios;
+      // Events recorded outside any run (an agent's first session, before a coordinator began one;
+      // an agent given no scenario) are no scenario of their own beside the runs: said, not analysed.
+      const auto outside = std::find(names.begin(), names.end(), store::kUnnamedScenario);
+      std::int64_t outside_events = 0;
+      if (inputs.scenarios.empty() && names.size() > 1 && outside != names.end()) {
+        names.erase(outside);
+        for (const auto& session : store.sessions())
+          if (session.scenario == store::kUnnamedScenario) outside_events += store.event_count(session.id);
+      }
+      const auto first = results.size();
       for (const auto& name : names)
         if (std::find(inputs.skip.begin(), inputs.skip.end(), std::pair{path, name}) == inputs.skip.end())
           results.push_back(analyse_store_scenario(store, name, options));
+      if (outside_events != 0 && results.size() > first)
+        results[first].warnings.push_back(
+            {"outside_runs", fmt::format("{}: {} events were recorded outside any run (before a session began, or by "
+                                         "an agent given no --scenario; stored as scenario '{}'): they are in "
+                                         "none of these figures (--scenario {} analyses them)",
+                                         path, outside_events, store::kUnnamedScenario, store::kUnnamedScenario)});
       continue;
     }
     const auto scenario = std::filesystem::path(path).stem().string();

@@ -23,7 +23,7 @@ namespace m2mlat::analysis {
 struct ScenarioResult;
 
 struct SanityWarning {
-  std::string code;  // "roles_swapped", "no_pairs"
+  std::string code;  // "roles_swapped", "no_pairs"; "outside_runs" (pipeline.hpp: a store's events outside any run)
   std::string text;  // one sentence with its evidence
   friend bool operator==(const SanityWarning&, const SanityWarning&) = default;
 };
