@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
-#include <set>
 
 #include "m2mlat/core/saturating.hpp"
 
@@ -149,17 +148,17 @@ KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::
   const std::size_t w = std::max<std::size_t>(options.window, 1);
   const std::size_t confirm = std::max<std::size_t>(options.confirm, 2);
 
-  std::set<std::size_t> out_lines;  // the lines left out so far: skipped inside a level's range
+  std::vector<bool> out_lines(n, false);  // the lines left out so far: skipped inside a level's range (n bits)
   const auto leave_out = [&](std::size_t line, LineFault why) {
     out.left_out.emplace_back(line, why);
-    out_lines.insert(line);
+    out_lines[line] = true;
   };
   // Up to w kept lines of a level from its end (back) or its start, d of each.
   const auto window = [&](const Level& l, bool from_end, std::size_t& far_line) {
     std::vector<std::int64_t> d;
     for (std::size_t k = 0; k <= l.last - l.first && d.size() < w; ++k) {
       const std::size_t i = from_end ? l.last - k : l.first + k;
-      if (out_lines.contains(i)) continue;
+      if (out_lines[i]) continue;
       d.push_back(d_at(i));
       far_line = i;
     }
@@ -248,7 +247,7 @@ KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::
     }
     const auto leave_out_level = [&](const Level& l, LineFault why) {
       for (std::size_t i = l.first; i <= l.last; ++i)
-        if (!out_lines.contains(i)) leave_out(i, why);
+        if (!out_lines[i]) leave_out(i, why);
     };
 
     // The first synchronisation: the segment's first level before its first step is a clock not yet
