@@ -72,11 +72,12 @@ for step in 40ms -40ms; do
     counts=$(check_pairs pairs.csv "$cause" "csv$step/truth.csv" 40) || fail "$input, step $step: $counts"
     read -r corrected flagged <<<"$counts"
     "$M2MLAT" stats "${args[@]}" >stats.txt
-    # The step table names the stepped board and the counts the pairs file holds.
-    grep -Eq "^[^ ]+ +0 +1 +$corrected +$flagged\$" stats.txt ||
+    # The step table names the stepped board and the counts the pairs file holds (a kernel log may
+    # show a small level change of the clock after the step too: kernel_log_fine_steps.hpp).
+    grep -Eq "^[^ ]+ +0 +[1-9][0-9]* +$corrected +$flagged\$" stats.txt ||
       { cat stats.txt >&2; fail "$input, step $step: stats does not count $corrected corrected, $flagged flagged"; }
     "$M2MLAT" stats --json "${args[@]}" >stats.json
-    "$PY" -c 'import json,sys; s=json.load(open("stats.json"))["scenarios"][0]; c=s["clock_steps"]; sys.exit(0 if c["effect_steps"]==1 and c["pairs_corrected"]==int(sys.argv[1]) else 1)' "$corrected" ||
+    "$PY" -c 'import json,sys; s=json.load(open("stats.json"))["scenarios"][0]; c=s["clock_steps"]; sys.exit(0 if c["effect_steps"]>=1 and c["pairs_corrected"]==int(sys.argv[1]) else 1)' "$corrected" ||
       fail "$input, step $step: stats --json lacks the clock steps"
   done
 done
@@ -147,12 +148,13 @@ counts=$(check_pairs pairs.csv opk40ms/operator.log opk40ms/truth.csv 0 40000000
 [ "${counts#* }" -ge 20 ] || fail "import, log gone: only ${counts#* } pairs left out"
 
 # Imported into a store: a kernel log's steps and an events file's clock records go with the
-# sessions, and the first event after the step is flagged.
+# sessions, and the first event after each step is flagged.
 "$M2MLAT" import klog-40ms/operator.log --node operator --scenario k --store imported.db >/dev/null
 "$M2MLAT" import klog-40ms/vehicle.log --node vehicle --scenario k --store imported.db >/dev/null
 "$M2MLAT" pair imported.db --out pairs.csv >/dev/null
 check_pairs pairs.csv klog-40ms/operator.log csv-40ms/truth.csv 40 >/dev/null || fail "imported kernel logs"
-"$PY" -c 'import sqlite3,sys; c=sqlite3.connect(sys.argv[1]); sys.exit(0 if c.execute("select count(*) from events where flags & 8").fetchone()[0] == 1 else 1)' imported.db ||
+"$PY" -c 'import sqlite3,sys; c=sqlite3.connect(sys.argv[1]); q=lambda s: c.execute(s).fetchone()[0]
+sys.exit(0 if q("select count(*) from events where flags & 8") == q("select count(*) from clock_samples where source = \"step\"") >= 1 else 1)' imported.db ||
   fail "imported kernel log: the first event after the step is not flagged"
 
 # chronyd's log brings the step into a store whose events file has no step record.

@@ -183,10 +183,15 @@ capture::RecordCounters Agent::run(int stop_fd, const std::function<std::string(
     });
   // The first session, through the same path as the API's.
   try {
-    begin_session(resumed_.value_or(net::SessionRequest{options_.recorder.session.label, options_.recorder.session.scenario}));
+    open_session(resumed_.value_or(net::SessionRequest{options_.recorder.session.label, options_.recorder.session.scenario}));
   } catch (
       const std::exception&) {  // NOLINT(bugprone-empty-catch): the recorder stopped first; run() reports why
   }
+  {
+    std::lock_guard lock(mutex_);
+    first_done_ = true;
+  }
+  first_cv_.notify_all();
   thread.join();
   {
     std::lock_guard lock(mutex_);
@@ -235,7 +240,18 @@ net::Status Agent::live_status() {
   return s;
 }
 
+void Agent::await_first_session() {
+  std::unique_lock lock(mutex_);
+  if (!first_cv_.wait_for(lock, options_.server.session_timeout, [this] { return first_done_; }))
+    throw net::RequestError(503, "the recorder has not begun its first session yet");
+}
+
 store::Session Agent::begin_session(const net::SessionRequest& request) {
+  await_first_session();
+  return open_session(request);
+}
+
+store::Session Agent::open_session(const net::SessionRequest& request) {
   std::lock_guard serial(request_mutex_);
   auto next = options_.recorder.session;
   next.label = request.label;
@@ -250,6 +266,7 @@ store::Session Agent::begin_session(const net::SessionRequest& request) {
 }
 
 std::optional<store::Session> Agent::stop_session() {
+  await_first_session();
   std::lock_guard serial(request_mutex_);
   const auto ticket = control_.request_stop();
   const auto outcome = control_.wait(ticket, options_.server.session_timeout);

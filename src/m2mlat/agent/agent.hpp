@@ -11,6 +11,7 @@
 // session, the marker thread stores what it read, then the server stops.
 #pragma once
 
+#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -76,6 +77,8 @@ class Agent final : public net::AgentBackend {
   // mark in the open session (its own store connection), counts the refused ones by reason.
   void mark_loop(int wake_fd);
   void refuse_mark(std::string_view reason, const std::string& detail);
+  void await_first_session();  // throws net::RequestError(503) after the session timeout
+  store::Session open_session(const net::SessionRequest& request);  // begin_session without the wait
 
   AgentOptions options_;
   capture::Source& source_;
@@ -89,6 +92,10 @@ class Agent final : public net::AgentBackend {
   capture::RecordCounters counters_;
   std::optional<store::Session> open_;
   std::optional<net::SessionRequest> resumed_;  // the run a killed agent's cut session was in
+  // The first session is begun (or the recorder stopped first): the API's session requests wait
+  // for it, so that one sent right after start-up is never replaced by the first session.
+  bool first_done_ = false;
+  std::condition_variable first_cv_;
   net::MarkStatus mark_status_;  // the marker port's counters (when it has one)
 };
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "m2mlat/analysis/kernel_log_steps.hpp"
 #include "m2mlat/analysis/uncertainty.hpp"
 #include "m2mlat/stats/summary.hpp"
 #include "m2mlat/store/clock_step.hpp"
@@ -41,9 +42,8 @@ struct LossCount {
 struct BoardRecord {
   std::map<std::string, std::vector<store::ClockSample>> samples;  // by node, in session (file) order
   std::vector<LossCount> losses;                                   // by node, then kind
-  // By node: what its kernel log's stamps showed of a clock slewing faster than the steps' bound
-  // (kernel_log_steps.hpp): places, and the size below which a step may hide there, ns.
-  std::map<std::string, std::pair<std::size_t, std::int64_t>> fast_slewing;
+  // By node: the steps its kernel log cannot show (kernel_log_steps.hpp), when there is a note to give.
+  std::map<std::string, LogClockLimits> log_limits;
   // By node: the stamps of its log lines on no known clock (store/clock_step.hpp), whose events are
   // left out before pairing; kept apart from `samples`, which describe the clock.
   std::map<std::string, std::vector<store::UnknownClock>> unknown_clock;

@@ -27,6 +27,7 @@
 
 #include "m2mlat/core/event.hpp"
 
+#include "m2mlat/analysis/kernel_log_steps.hpp"
 #include "m2mlat/analysis/selection.hpp"
 #include "m2mlat/store/clock_step.hpp"
 #include "m2mlat/store/records.hpp"
@@ -62,10 +63,8 @@ struct SideSteps {
   std::size_t steps = 0;                  // steps of this board
   std::size_t corrected = 0, unknown = 0;  // events so marked
   std::vector<std::int64_t> first_after;   // per step: the seq of the first event recorded after it (-1: none)
-  // Places the board's kernel log showed its realtime clock slewing faster than 500 ppm, taken for no
-  // step, and the size below which a step cannot be told from that slewing, ns (kernel_log_steps.hpp).
-  std::size_t fast_slew_places = 0;
-  std::int64_t hidden_below_ns = 0;
+  // The steps the board's kernel log cannot show (kernel_log_steps.hpp).
+  LogClockLimits limits;
   StepMark at(std::size_t i) const { return i < mark.size() ? mark[i] : StepMark::none; }
   // The bounds of event i when it is corrected, else {0, 0}.
   Bound bound(std::size_t i) const {
@@ -103,7 +102,8 @@ std::vector<store::ClockStep> followed_steps(std::span<const store::ClockStep> s
 struct ScenarioSteps {
   SideSteps cause, effect;
   std::size_t steps() const { return cause.steps + effect.steps; }
-  std::size_t fast_slew_places() const { return cause.fast_slew_places + effect.fast_slew_places; }
+  std::size_t fast_slew_places() const { return cause.limits.fast_slew_places + effect.limits.fast_slew_places; }
+  bool limited() const { return cause.limits.any() || effect.limits.any(); }  // a note to give
 };
 ScenarioSteps correct_scenario(ScenarioInput& input, std::span<const store::ClockSample> cause_samples,
                                std::span<const store::ClockSample> effect_samples);

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <limits>
 
+#include "m2mlat/analysis/kernel_log_fine_steps.hpp"
 #include "m2mlat/core/saturating.hpp"
 
 namespace m2mlat::analysis {
@@ -81,8 +82,8 @@ void drop_fast_slewing(KernelLogClock& out, std::span<const std::int64_t> step_m
       ++places;
   }
   steps = std::move(kept);
-  out.fast_slew_places = places;
-  out.hidden_below_ns = hidden;
+  out.limits.fast_slew_places = places;
+  out.limits.hidden_below_ns = hidden;
 }
 
 }  // namespace
@@ -93,6 +94,16 @@ std::string fast_slewing_note(std::size_t places, std::int64_t hidden_below_ns, 
       "slewing (none corrected up to {:.1f} ms; the pairs keep their stamps); chrony's maxslewrate {:g} "
       "makes them visible",
       slew_ppm, places, static_cast<double>(hidden_below_ns) / 1e6, slew_ppm);
+}
+
+std::vector<std::string> log_clock_notes(const LogClockLimits& limits) {
+  std::vector<std::string> out;
+  if (limits.fast_slew_places != 0) out.push_back(fast_slewing_note(limits.fast_slew_places, limits.hidden_below_ns));
+  else if (limits.any())
+    out.push_back(fmt::format("the kernel log's realtime clock wanders between its lines: steps below {:.1f} ms may go "
+                              "unseen (from that size on 95 % are found; closer lines or a steadier clock show smaller ones)",
+                              static_cast<double>(limits.wander_floor_ns) / 1e6));
+  return out;
 }
 
 std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> realtime_ns,
@@ -148,6 +159,12 @@ KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::
   const std::size_t w = std::max<std::size_t>(options.window, 1);
   const std::size_t confirm = std::max<std::size_t>(options.confirm, 2);
 
+  // Steps inside a level (kernel_log_fine_steps.hpp), each with the index in steps it goes before.
+  std::vector<std::pair<std::size_t, store::ClockStep>> fine;
+  FineStepOptions fine_options;
+  std::size_t floor_lines = 0;  // the kept lines of the level wander_floor_ns is of
+  fine_options.min_size_ns = options.threshold_ns / 2;
+  fine_options.slew_ppm = options.slew_ppm;
   std::vector<bool> out_lines(n, false);  // the lines left out so far: skipped inside a level's range (n bits)
   const auto leave_out = [&](std::size_t line, LineFault why) {
     out.left_out.emplace_back(line, why);
@@ -265,7 +282,26 @@ KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::
         first_level = 1;
       }
     }
-    for (std::size_t k = first_level; k + 1 < levels.size(); ++k) {
+    const auto within = [&](const Level& l) {
+      std::vector<std::size_t> kept;
+      std::vector<std::int64_t> m, d;
+      for (std::size_t i = l.first; i <= l.last; ++i)
+        if (!out_lines[i]) kept.push_back(i), m.push_back(mono(i)), d.push_back(d_at(i));
+      const auto found = fine_steps(m, d, fine_options);
+      if (kept.size() > floor_lines && found.floor_ns != 0) floor_lines = kept.size(), out.limits.wander_floor_ns = found.floor_ns;
+      for (const auto& f : found.steps) {
+        store::ClockStep step;
+        step.earliest_ns = step.at_ns = realtime_ns[kept[f.line]];
+        step.size_ns = f.size_ns;
+        step.size_est_ns = f.sd_ns;
+        step.size_max_ns = 4 * f.sd_ns;
+        step.origin = "kernel_log";
+        fine.emplace_back(steps.size(), step);
+      }
+    };
+    for (std::size_t k = first_level; k < levels.size(); ++k) {
+      within(levels[k]);
+      if (k + 1 == levels.size()) break;
       const auto& moved = moving[k];
       std::size_t window_first = 0, window_last = 0;
       const auto before = window(levels[k], true, window_first);
@@ -298,6 +334,17 @@ KernelLogClock kernel_log_clock(std::span<const std::int64_t> realtime_ns, std::
   }
   std::sort(out.left_out.begin(), out.left_out.end());
   drop_fast_slewing(out, step_mono, options);
+  // A clock slewing beyond the bound hides its small steps too.
+  if (out.limits.fast_slew_places == 0 && !fine.empty()) {
+    std::vector<store::ClockStep> merged;
+    merged.reserve(steps.size() + fine.size());
+    std::size_t next = 0;
+    for (std::size_t k = 0; k <= steps.size(); ++k) {
+      for (; next < fine.size() && fine[next].first == k; ++next) merged.push_back(fine[next].second);
+      if (k < steps.size()) merged.push_back(steps[k]);
+    }
+    steps = std::move(merged);
+  }
   return out;
 }
 

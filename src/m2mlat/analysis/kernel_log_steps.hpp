@@ -42,6 +42,8 @@
 // slewing; smaller ones cannot be told from it and are counted as slewing places too). The pairs keep
 // their stamps uncorrected and unflagged (no step of unknown size: that would drop every later pair);
 // the caller reports the places and the size below which a step may hide.
+// Inside each level (its kept lines), steps too small for the agreement test are sought by a model of
+// d (kernel_log_fine_steps.hpp); they go with the others. A clock that breaks the bound keeps none.
 #pragma once
 
 #include <cstddef>
@@ -77,11 +79,22 @@ struct LogStamps {
 // own stamp (then nothing to compare the realtime stamps with).
 LogStamps log_stamps(std::span<const formats::KernelLogRecord> records);
 
+// The steps a kernel log cannot show: hidden in a clock slewing beyond the bound, or in its wander.
+struct LogClockLimits {
+  std::size_t fast_slew_places = 0;  // places d moved faster than slew_ppm: not steps (0: bound held)
+  std::int64_t hidden_below_ns = 0;  // steps up to this size cannot be told from that slewing, ns
+  // Inside its longest level, steps from this size on are found 95 % of the time (kernel_log_fine_steps.hpp), ns.
+  std::int64_t wander_floor_ns = 0;
+  // Something to say: the bound broken, or a floor above the smallest step reported (threshold_ns).
+  bool any(std::int64_t threshold_ns = KernelLogStepOptions{}.threshold_ns) const {
+    return fast_slew_places != 0 || wander_floor_ns > threshold_ns;
+  }
+};
+
 // What a kernel log's stamps say about its realtime clock.
 struct KernelLogClock {
   std::vector<store::ClockStep> steps;
-  std::size_t fast_slew_places = 0;  // places d moved faster than slew_ppm: not steps (0: bound held)
-  std::int64_t hidden_below_ns = 0;  // steps up to this size cannot be told from that slewing, ns
+  LogClockLimits limits;
   std::vector<std::pair<std::size_t, LineFault>> left_out;  // lines (index, reason) whose clock is unknown, in order
 };
 
@@ -97,6 +110,9 @@ std::vector<store::UnknownClock> unknown_clock_runs(std::span<const std::int64_t
 // The note stats, report and import give for a clock that broke the bound: "the kernel log's realtime
 // clock slews faster than 500 ppm at K places: ...".
 std::string fast_slewing_note(std::size_t places, std::int64_t hidden_below_ns, double slew_ppm = 500);
+// The notes of LogClockLimits::any(): the fast slewing's, and "the kernel log's realtime clock wanders
+// between its lines: steps below X ms may go unseen ...".
+std::vector<std::string> log_clock_notes(const LogClockLimits& limits);
 // kernel_log_clock's steps alone.
 std::vector<store::ClockStep> kernel_log_steps(std::span<const std::int64_t> realtime_ns,
                                                std::span<const std::int64_t> log_time_us,

@@ -45,7 +45,7 @@ LogClock add_file_clock(BoardRecord& record, const formats::ImportedFile& file, 
   const auto clock = kernel_log_clock(log.stamps.realtime_ns, log.stamps.log_time_us);
   for (const auto& step : clock.steps) record.samples[node].push_back(store::step_clock_sample(step));
   for (auto& lines : unknown_clock_runs(log.stamps.realtime_ns, clock.left_out)) record.unknown_clock[node].push_back(std::move(lines));
-  if (clock.fast_slew_places != 0) record.fast_slewing[node] = {clock.fast_slew_places, clock.hidden_below_ns};
+  if (clock.limits.any()) record.log_limits[node] = clock.limits;
   log.steps = clock.steps;
   return log;
 }
@@ -68,8 +68,7 @@ ScenarioResult analyse_with_record(ScenarioInput input, const BoardRecord& recor
   leave_out_unknown_clock(input, record.unknown_clock);
   auto steps = correct_scenario(input, record.of(input.cause_ref.node), record.of(input.effect_ref.node));
   for (auto [side, node] : {std::pair{&steps.cause, &input.cause_ref.node}, std::pair{&steps.effect, &input.effect_ref.node}})
-    if (const auto it = record.fast_slewing.find(*node); it != record.fast_slewing.end())
-      std::tie(side->fast_slew_places, side->hidden_below_ns) = it->second;
+    if (const auto it = record.log_limits.find(*node); it != record.log_limits.end()) side->limits = it->second;
   auto result = analyse(std::move(input), std::move(steps), options.match, options.summary, options.include_ambiguous);
   if (!record.samples.empty() || !record.losses.empty())
     attach_board_record(result, record, options.uncertainty, options.summary);
@@ -124,7 +123,7 @@ struct LeanSide {
   SideInput side;
   std::vector<store::ClockSample> steps;  // the kernel log's clock steps (kernel_log_steps.hpp)
   std::vector<store::UnknownClock> unknown;  // its lines on no known clock
-  std::pair<std::size_t, std::int64_t> fast_slewing{0, 0};  // KernelLogClock's places, hidden_below_ns
+  LogClockLimits limits;  // the steps the log cannot show
   LogClock log;  // the log's printk stamps and its steps (its realtime stamps are side.t_ns)
 };
 std::optional<LeanSide> lean_side(const std::string& path, std::optional<formats::Format> format,
@@ -141,7 +140,7 @@ std::optional<LeanSide> lean_side(const std::string& path, std::optional<formats
   const auto clock = kernel_log_clock(only.ns, only.log_time_us);
   for (const auto& step : clock.steps) lean.steps.push_back(store::step_clock_sample(step));
   lean.unknown = unknown_clock_runs(only.ns, clock.left_out);
-  lean.fast_slewing = {clock.fast_slew_places, clock.hidden_below_ns};
+  lean.limits = clock.limits;
   lean.log.steps = clock.steps;
   lean.log.stamps.log_time_us = std::move(only.log_time_us);
   lean.side = SideInput{{node, numeric ? "gpio" + only.label : only.label}, std::move(only.ns)};
@@ -228,7 +227,7 @@ std::vector<ScenarioResult> analyse_inputs(const PipelineInputs& inputs, const P
       effect->log = {};
       if (record.samples[names.cause].empty() && record.samples[names.effect].empty()) record.samples.clear();
       for (const auto& [node, lean] : {std::pair{&names.cause, &*cause}, std::pair{&names.effect, &*effect}})
-        if (lean->fast_slewing.first != 0) record.fast_slewing[*node] = lean->fast_slewing;
+        if (lean->limits.any()) record.log_limits[*node] = lean->limits;
       results.push_back(analyse_with_record(
           from_timestamps(scenario, std::move(cause->side), std::move(effect->side)), record, options));
     } else {

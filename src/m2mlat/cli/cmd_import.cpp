@@ -127,8 +127,7 @@ std::map<std::string, std::vector<store::ClockSample>> clock_of(const formats::E
                      "their events are stored and left out of pairing (docs/sync.md)",
                      path, clock.left_out.size(), outliers, clock.left_out.size() - static_cast<std::size_t>(outliers)));
   }
-  if (clock.fast_slew_places != 0)
-    warn(fmt::format("{}: {}", path, analysis::fast_slewing_note(clock.fast_slew_places, clock.hidden_below_ns)));
+  for (const auto& note : analysis::log_clock_notes(clock.limits)) warn(fmt::format("{}: {}", path, note));
   log = std::move(stamps);
   return out;
 }

@@ -107,6 +107,8 @@ std::vector<store::Session> Coordinator::start() {
 void Coordinator::stop() {
   if (!running_) return;
   running_ = false;
+  // No puller may begin the run's session again once it is stopped.
+  for (auto& puller : pullers_) puller->end_run();
   if (options_.stop_session) {
     for (std::size_t i = 0; i < options_.agents.size(); ++i) {
       try {

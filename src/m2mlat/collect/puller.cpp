@@ -52,6 +52,11 @@ void Puller::stop(bool drain) {
   if (thread_.joinable()) thread_.join();
 }
 
+void Puller::end_run() {
+  std::lock_guard lock(rejoin_mutex_);
+  run_ended_ = true;
+}
+
 bool Puller::wait(std::chrono::milliseconds d) {
   std::unique_lock lock(mutex_);
   wake_.wait_for(lock, d, [this] { return stop_.load(); });
@@ -124,7 +129,8 @@ void Puller::note_status(const net::Status& status) {
   tracker_->status(status.node, status.role, status.lost, status.last_seq, clock, core::now_ns(CLOCK_REALTIME));
   std::optional<std::int64_t> open =
       status.session ? std::optional<std::int64_t>(status.session->id) : std::nullopt;
-  if (const auto& run = options_.run_session; run && !stopping() && !draining_ &&
+  std::unique_lock rejoin(rejoin_mutex_);
+  if (const auto& run = options_.run_session; run && !run_ended_ && !stopping() && !draining_ &&
                                               (!status.session || status.session->label != run->first ||
                                                status.session->scenario != run->second)) {
     // The agent restarted (or another client changed its session): it rejoins the run.

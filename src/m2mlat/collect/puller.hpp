@@ -71,6 +71,9 @@ class Puller {
   // Asks the thread to stop and waits for it. With drain, it first takes (once, without retrying)
   // whatever the agent holds beyond the cursor and the sessions' ends: for after stop_session.
   void stop(bool drain);
+  // The run is ending: the thread rejoins it no more. Returns once a rejoin under way has been
+  // answered, so that a stop_session sent after it ends the rejoined session too.
+  void end_run();
 
   // The agent's URL as normalised (scheme://host:port).
   const std::string& url() const { return control_.url(); }
@@ -110,6 +113,8 @@ class Puller {
   std::atomic<bool> stop_{false};
   bool drain_ = false;     // stop() asked for a final catch-up
   bool draining_ = false;  // the thread is doing it (read by the thread only)
+  std::mutex rejoin_mutex_;  // held across a rejoin's check and request
+  bool run_ended_ = false;   // end_run() was called (under rejoin_mutex_)
   std::mutex mutex_;
   std::condition_variable wake_;
   std::thread thread_;

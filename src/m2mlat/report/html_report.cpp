@@ -526,8 +526,8 @@ std::string distribution_sections(const Report& report) {
   std::vector<std::vector<std::string>> srows;
   std::vector<std::string> slew_notes;
   for (const auto& s : report.scenarios) {
-    for (const auto& note : fast_slewing_notes(s.result)) slew_notes.push_back(s.result.input.scenario + ": " + note);
-    if (s.result.steps.steps() != 0 || s.result.steps.fast_slew_places() != 0)
+    for (const auto& note : clock_limit_notes(s.result)) slew_notes.push_back(s.result.input.scenario + ": " + note);
+    if (s.result.steps.steps() != 0 || s.result.steps.limited())
       srows.push_back({s.result.input.scenario, std::to_string(s.result.steps.cause.steps),
                        std::to_string(s.result.steps.effect.steps),
                        std::to_string(s.result.pairs_marked(analysis::StepMark::corrected)),

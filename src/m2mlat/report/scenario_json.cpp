@@ -110,7 +110,7 @@ nlohmann::json clock_steps_json(const analysis::ScenarioResult& r) {
           {"pairs_corrected", r.pairs_marked(analysis::StepMark::corrected)},
           {"pairs_after_step", r.pairs_marked(analysis::StepMark::unknown)},
           {"fast_slew_places", r.steps.fast_slew_places()},
-          {"notes", fast_slewing_notes(r)}};
+          {"notes", clock_limit_notes(r)}};
 }
 
 nlohmann::json scenario_json(const analysis::ScenarioResult& r) {
@@ -124,7 +124,7 @@ nlohmann::json scenario_json(const analysis::ScenarioResult& r) {
   if (!r.uncertainty.empty())
     j["sample_uncertainty"] =
         uncertainty_json(analysis::summarize_uncertainty(r.uncertainty, r.refuse_gated));
-  if (r.steps.steps() != 0 || r.steps.fast_slew_places() != 0) j["clock_steps"] = clock_steps_json(r);
+  if (r.steps.steps() != 0 || r.steps.limited()) j["clock_steps"] = clock_steps_json(r);
   if (r.breakdown) j["breakdown"] = breakdown_json(*r.breakdown);
   return j;
 }
@@ -139,7 +139,7 @@ nlohmann::json pairing_document(std::span<const analysis::ScenarioResult> result
   nlohmann::json doc{{"format", kStatsFormat}, {"scenarios", nlohmann::json::array()}};
   for (const auto& r : results) {
     doc["scenarios"].push_back({{"scenario", r.input.scenario}, {"pairing", pairing_json(r)}});
-    if (r.steps.steps() != 0 || r.steps.fast_slew_places() != 0) doc["scenarios"].back()["clock_steps"] = clock_steps_json(r);
+    if (r.steps.steps() != 0 || r.steps.limited()) doc["scenarios"].back()["clock_steps"] = clock_steps_json(r);
   }
   return doc;
 }

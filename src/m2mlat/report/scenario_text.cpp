@@ -112,12 +112,11 @@ std::string uncertainty_table(std::span<const analysis::ScenarioResult> results)
          table.render();
 }
 
-std::vector<std::string> fast_slewing_notes(const analysis::ScenarioResult& r) {
+std::vector<std::string> clock_limit_notes(const analysis::ScenarioResult& r) {
   std::vector<std::string> out;
   for (const auto& [side, ref] : {std::pair{&r.steps.cause, &r.input.cause_ref}, std::pair{&r.steps.effect, &r.input.effect_ref}})
-    if (side->fast_slew_places != 0)
-      out.push_back(fmt::format("{}: {}", core::printable(ref->node),
-                                analysis::fast_slewing_note(side->fast_slew_places, side->hidden_below_ns)));
+    for (const auto& note : analysis::log_clock_notes(side->limits))
+      out.push_back(fmt::format("{}: {}", core::printable(ref->node), note));
   return out;
 }
 
@@ -126,12 +125,12 @@ std::string clock_step_table(std::span<const analysis::ScenarioResult> results) 
   bool any = false;
   std::string notes;
   for (const auto& r : results) {
-    if (r.steps.steps() == 0 && r.steps.fast_slew_places() == 0) continue;
+    if (r.steps.steps() == 0 && !r.steps.limited()) continue;
     any = true;
     table.add_row({r.input.scenario, std::to_string(r.steps.cause.steps), std::to_string(r.steps.effect.steps),
                    std::to_string(r.pairs_marked(analysis::StepMark::corrected)),
                    std::to_string(r.pairs_marked(analysis::StepMark::unknown))});
-    for (const auto& side : fast_slewing_notes(r)) notes += fmt::format("note: {}: {}\n", r.input.scenario, side);
+    for (const auto& side : clock_limit_notes(r)) notes += fmt::format("note: {}: {}\n", r.input.scenario, side);
   }
   if (!any) return {};
   return "clock steps (later events brought back by a step's known size; of unknown size: flagged, left out)\n" +

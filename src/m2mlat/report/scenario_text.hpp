@@ -23,7 +23,7 @@ std::string pairing_table(std::span<const analysis::ScenarioResult> results);
 std::string uncertainty_table(std::span<const analysis::ScenarioResult> results);
 // Per board whose kernel log showed its clock slewing faster than the steps' bound: "<node>: the
 // kernel log's realtime clock slews faster than 500 ppm at K places: ..." (kernel_log_steps.hpp).
-std::vector<std::string> fast_slewing_notes(const analysis::ScenarioResult& r);
+std::vector<std::string> clock_limit_notes(const analysis::ScenarioResult& r);
 // The boards' clock steps and what they did to the pairs (corrected by a known size, or flagged and
 // left out of the statistics), one row per scenario with steps or fast slewing, the latter's notes
 // below; empty text when none had any.

@@ -125,10 +125,10 @@ TEST(KernelLogSteps, AClockSlewingFasterThanTheBoundGivesNoSteps) {
   const auto log = fast_slewing_log(0, 0);
   const auto clock = kernel_log_clock(log.realtime_ns, log.log_time_us);
   EXPECT_TRUE(clock.steps.empty());
-  EXPECT_EQ(clock.fast_slew_places, 9u);
+  EXPECT_EQ(clock.limits.fast_slew_places, 9u);
   // Twice the largest excursion (9 ms, measured by the windows' medians to within 0.5 ms).
-  EXPECT_NEAR(static_cast<double>(clock.hidden_below_ns), 18.0 * kMs, 1.0 * kMs);
-  EXPECT_NE(fast_slewing_note(clock.fast_slew_places, clock.hidden_below_ns).find("at 9 places"), std::string::npos);
+  EXPECT_NEAR(static_cast<double>(clock.limits.hidden_below_ns), 18.0 * kMs, 1.0 * kMs);
+  EXPECT_NE(fast_slewing_note(clock.limits.fast_slew_places, clock.limits.hidden_below_ns).find("at 9 places"), std::string::npos);
 }
 
 TEST(KernelLogSteps, AGenuineStepStandsOutOfFastSlewing) {
@@ -138,7 +138,7 @@ TEST(KernelLogSteps, AGenuineStepStandsOutOfFastSlewing) {
   EXPECT_EQ(clock.steps[0].at_ns, log.realtime_ns[120]);
   ASSERT_TRUE(clock.steps[0].size_ns);
   EXPECT_LT(std::llabs(*clock.steps[0].size_ns - 40 * kMs), 200'000);
-  EXPECT_EQ(clock.fast_slew_places, 9u);
+  EXPECT_EQ(clock.limits.fast_slew_places, 9u);
   // With the bound held, the same log's slewing would be nine steps: the rule is what drops them.
   KernelLogStepOptions trusting;
   trusting.fast_places_min = 1000;
