@@ -27,6 +27,14 @@ void MatchFlags::add_to(CLI::App& sub) {
       ->capture_default_str();
   group->add_option("--magnets", magnets, "Magnet angles on the wheels in degrees, e.g. 0,90,180,270")
       ->delimiter(',');
+  group->add_option("--matcher", matcher,
+                    "rules, or model: the alignment model fitted to the log, a probability for every pair")
+      ->check(CLI::IsMember({"rules", "model"}))
+      ->capture_default_str();
+  group->add_option("--min-probability", min_probability,
+                    "With --matcher model: pairs less probable than this are flagged and left out")
+      ->check(CLI::Range(0.5, 0.999999))
+      ->capture_default_str();
   group->add_flag("--include-ambiguous", include_ambiguous,
                   "Include pairs of bursts with a missed or extra edge in the statistics");
 }
@@ -52,6 +60,8 @@ pairing::MatchOptions MatchFlags::options() const {
       throw core::Error(core::ErrorKind::usage,
                         fmt::format("--magnets: {} is not an angle in [0, 360) degrees", angle));
   o.magnets_deg = magnets;
+  o.method = matcher == "model" ? pairing::MatchOptions::Method::model : pairing::MatchOptions::Method::rules;
+  o.min_probability = min_probability;
   return o;
 }
 

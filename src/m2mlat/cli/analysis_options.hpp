@@ -25,6 +25,8 @@ struct MatchFlags {
   std::string burst_gap = "auto";
   std::vector<double> magnets;  // the wheels' magnet layout, degrees (empty: one magnet)
   bool include_ambiguous = false;  // statistics over ambiguous pairs too
+  std::string matcher = "rules";    // rules or model (docs/matcher.md)
+  double min_probability = 0.99;    // --matcher model: pairs below it are flagged
   void add_to(CLI::App& sub);
   pairing::MatchOptions options() const;  // throws core::Error(usage) naming the flag
 };

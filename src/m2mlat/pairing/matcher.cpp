@@ -1033,6 +1033,15 @@ MatchResult match(std::span<const std::int64_t> cause_ns, std::span<const std::i
   return match_in_place(causes, effects, clock, options);
 }
 
+namespace {
+void rule_match(const Sides& sides, const CandidateCount& counted, const Kept& causes, const Kept& effects,
+                std::size_t candidate_total, const MatchOptions& options, std::vector<std::uint32_t>& matched_out,
+                std::vector<std::uint8_t>& flags_out);
+void finish_match(MatchResult& result, const Sides& sides, Kept& causes, Kept& effects,
+                  std::span<std::int64_t> cause_ns, std::span<std::int64_t> effect_ns,
+                  std::vector<std::uint32_t>& matched, std::vector<std::uint8_t>& flags);
+}  // namespace
+
 MatchResult match_in_place(std::span<std::int64_t> cause_ns, std::span<std::int64_t> effect_ns,
                            core::Clock clock, const MatchOptions& options) {
   if (options.max_latency <= options.min_latency)
@@ -1069,6 +1078,32 @@ MatchResult match_in_place(std::span<std::int64_t> cause_ns, std::span<std::int6
                     core::format_duration(options.min_latency), core::format_duration(options.max_latency),
                     candidate_total, kMaxCandidates));
 
+  MatchResult result;
+  result.clock = clock;
+  result.cause_count = static_cast<std::int64_t>(cause_ns.size());
+  result.effect_count = static_cast<std::int64_t>(effect_ns.size());
+  std::vector<std::uint32_t> matched;
+  std::vector<std::uint8_t> flags;
+  if (options.method == MatchOptions::Method::model) {
+    if (!(options.min_probability > 0 && options.min_probability < 1))
+      throw core::Error(core::ErrorKind::usage, "the minimum probability must lie in (0, 1)");
+    auto m = model_match(causes.ns, effects.ns, min_ns, max_ns, options.min_probability);
+    matched = std::move(m.matched);
+    flags = std::move(m.flags);
+    result.model = m.summary;
+  } else {
+    rule_match(sides, counted, causes, effects, candidate_total, options, matched, flags);
+  }
+  finish_match(result, sides, causes, effects, cause_ns, effect_ns, matched, flags);
+  return result;
+}
+
+namespace {
+
+// The rules' passes (docs/matcher.md, "The rule"): the matches and their flags per kept cause.
+void rule_match(const Sides& sides, const CandidateCount& counted, const Kept& causes, const Kept& effects,
+                std::size_t candidate_total, const MatchOptions& options, std::vector<std::uint32_t>& matched_out,
+                std::vector<std::uint8_t>& flags_out) {
   // Pass 1: one global reference; every candidate in the window is allowed, and the best fit wins.
   const std::int64_t global = global_reference(sides, candidate_total);
   ChainBlocks chains;
@@ -1114,10 +1149,6 @@ MatchResult match_in_place(std::span<std::int64_t> cause_ns, std::span<std::int6
   }
   chains = ChainBlocks();
 
-  MatchResult result;
-  result.clock = clock;
-  result.cause_count = static_cast<std::int64_t>(cause_ns.size());
-  result.effect_count = static_cast<std::int64_t>(effect_ns.size());
   auto flags = uncertain_pairs(sides, matched, reference, options.tolerance.count(), gap.count());
   reference = LocalReference();
   {
@@ -1126,6 +1157,16 @@ MatchResult match_in_place(std::span<std::int64_t> cause_ns, std::span<std::int6
     for (std::size_t i = 0; i < flags.size(); ++i)
       if (ambiguous[i]) flags[i] |= kPairAmbiguous;
   }
+  matched_out = std::move(matched);
+  flags_out = std::move(flags);
+}
+
+// The unmatched edges with their reasons and the pairs with their bounce spans, in input indices;
+// puts both columns back.
+void finish_match(MatchResult& result, const Sides& sides, Kept& causes, Kept& effects,
+                  std::span<std::int64_t> cause_ns, std::span<std::int64_t> effect_ns,
+                  std::vector<std::uint32_t>& matched, std::vector<std::uint8_t>& flags) {
+  const std::int64_t min_ns = sides.min_ns, max_ns = sides.max_ns;
 
   // Reasons for everything left over, first: they need the kept timestamps (a cause's window, an
   // effect's candidates), which then go back to their input indices before the pairs are built.
@@ -1191,8 +1232,9 @@ MatchResult match_in_place(std::span<std::int64_t> cause_ns, std::span<std::int6
                                 static_cast<std::int32_t>(std::min<std::int64_t>(
                                     cause_span + effect_span, std::numeric_limits<std::int32_t>::max()))});
   }
-  return result;
 }
+
+}  // namespace
 
 MatchResult match(std::span<const core::Event> causes, std::span<const core::Event> effects,
                   const MatchOptions& options) {

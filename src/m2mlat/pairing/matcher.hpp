@@ -24,11 +24,13 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "m2mlat/core/event.hpp"
 #include "m2mlat/core/time.hpp"
+#include "m2mlat/pairing/model_match.hpp"
 #include "m2mlat/pairing/pair.hpp"
 
 namespace m2mlat::pairing {
@@ -47,6 +49,11 @@ struct MatchOptions {
   int reference_neighbours = 10;              // running median over this many pairs each side
   core::Duration burst_gap{0};  // edges closer than this (ns) form one burst; 0: burst_gap_for(magnets_deg)
   std::vector<double> magnets_deg;  // the wheels' magnet layout, degrees (empty: one magnet)
+  // rules: the passes and flags below; model: the alignment model fitted to the log (model_match.hpp),
+  // its pairs below min_probability flagged kPairImprobable.
+  enum class Method : std::uint8_t { rules, model };
+  Method method = Method::rules;
+  double min_probability = 0.99;
 };
 
 struct MatchResult {
@@ -55,6 +62,7 @@ struct MatchResult {
   core::Clock clock = core::Clock::realtime;
   std::int64_t cause_count = 0;  // input sizes, for the reader of a report
   std::int64_t effect_count = 0;
+  std::optional<ModelSummary> model;  // with Method::model: the fitted model and its expectation
 };
 
 // The burst gap of a magnet layout: the time the slowest steering (kSlowestSteering) takes across the

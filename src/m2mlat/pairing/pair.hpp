@@ -27,6 +27,9 @@ enum PairFlag : std::uint32_t {
   // for longer than kBounceSpanLimit: the pass's edge may be one of the later ones, so the latency may
   // be off by up to that span (a spurious edge just before the true one looks like this).
   kPairBounced = 1u << 3,
+  // The alignment model (`--matcher model`, model_match.hpp) gives the pair a posterior probability
+  // below the level asked for (`--min-probability`, 0.99): left out of the statistics like the others.
+  kPairImprobable = 1u << 4,
   // Set by the analysis from the boards' clock records (analysis/clock_steps), not by the matcher:
   // an edge of the pair was corrected by a clock step of known size (its uncertainty includes the
   // step's), ...
@@ -34,7 +37,7 @@ enum PairFlag : std::uint32_t {
   // ... or came after a step of unknown size: the pair is left out of the statistics.
   kPairAfterClockStep = 1u << 9,
 };
-inline constexpr std::uint32_t kPairUncertain = kPairAmbiguous | kPairCompeting | kPairJump | kPairBounced;
+inline constexpr std::uint32_t kPairUncertain = kPairAmbiguous | kPairCompeting | kPairJump | kPairBounced | kPairImprobable;
 // A cluster of edges no longer than this is one pass and its contact bounce: its first edge is taken,
 // and the latency is right to within this (less than the clock terms of docs/precision.md).
 inline constexpr core::Duration kBounceSpanLimit{3'000'000};  // ns

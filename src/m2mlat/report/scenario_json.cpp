@@ -69,6 +69,17 @@ nlohmann::json pairing_json(const analysis::ScenarioResult& r) {
                    {"ambiguous_pairs", r.ambiguous_pairs()},
                    {"ambiguous_in_statistics", r.include_ambiguous},
                    {"unmatched", unmatched}};
+  // Only with --matcher model: the fitted alignment model and what it expects of the pairs kept.
+  if (const auto& m = r.match.model) {
+    const auto& p = m->parameters;
+    j["model"] = {{"latency_s", p.mean_s},       {"spread_s", p.spread_s},
+                  {"correlation_time_s", p.tau_s}, {"stretch", p.stretch},
+                  {"stretch_sd", p.stretch_sd}, {"jitter_s", p.jitter_s},
+                  {"cause_loss", p.cause_loss},  {"unmatched_effects_per_s", p.unmatched_per_s},
+                  {"fresh", p.reset},            {"iterations", m->iterations},
+                  {"min_probability", m->min_probability}, {"kept", m->kept},
+                  {"expected_wrong", m->expected_wrong}};
+  }
   // Only with --min-pulse: edges dropped before pairing, not counted in cause_events / effect_events.
   if (const auto& g = r.input.glitches)
     j["glitches"] = {{"min_pulse_ns", g->min_pulse.count()}, {"cause", g->cause}, {"effect", g->effect}};

@@ -81,6 +81,17 @@ std::string pairing_table(std::span<const analysis::ScenarioResult> results) {
           r.input.scenario, g->cause, g->effect, ms_text(static_cast<double>(g->min_pulse.count()) / 1e6, 3));
   for (const auto& r : results)
     for (const auto& w : r.warnings) notes += fmt::format("warning: {}: {}\n", r.input.scenario, w.text);
+  for (const auto& r : results)  // the alignment model's fit and expectation (--matcher model)
+    if (const auto& m = r.match.model) {
+      const auto& p = m->parameters;
+      notes += fmt::format(
+          "{}: model: latency {} ms (spread {} ms, correlation time {:.3g} s), sweep stretch {:.3g} (sd {:.3g}), "
+          "jitter {} ms, cause edges without effect {:.3g} %, effect edges without cause {:.3g} /min, fresh "
+          "latencies {:.3g} %; {} pairs at p >= {:g}, {:.2f} of them expected wrong\n",
+          r.input.scenario, ms_text(p.mean_s * 1e3, 1), ms_text(p.spread_s * 1e3, 1), p.tau_s, p.stretch,
+          p.stretch_sd, ms_text(p.jitter_s * 1e3, 2), 100 * p.cause_loss, 60 * p.unmatched_per_s, 100 * p.reset,
+          m->kept, m->min_probability, m->expected_wrong);
+    }
   for (const auto& r : results) {  // the events on no known clock, before pairing (docs/sync.md)
     const auto& c = r.input.cause_unknown_clock;
     const auto& e = r.input.effect_unknown_clock;
