@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <vector>
 
 namespace m2mlat::pairing {
@@ -36,10 +37,37 @@ double densest_latency(std::span<const std::int64_t> cause_ns, std::span<const s
   return latencies[best] + 0.025;
 }
 
-struct Transition {
-  double latency, previous, dc;
-  bool linked;
-};
+// The log score of consecutive pairs under a model, summed over which were drawn afresh (the
+// two-state recursion of alignment_model.hpp); the causes and effects left unmatched aside.
+double path_likelihood(const AlignmentModel& m, std::span<const std::pair<std::size_t, std::size_t>> pairs,
+                       std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns) {
+  const auto s_of = [](std::int64_t ns) { return static_cast<double>(ns) * 1e-9; };
+  const auto latency = [&](std::size_t k) { return s_of(effect_ns[pairs[k].second] - cause_ns[pairs[k].first]); };
+  const auto add = [](double a, double b) {
+    if (a < b) std::swap(a, b);
+    return b == -INFINITY ? a : a + std::log1p(std::exp(b - a));
+  };
+  double z0 = log_first_latency(m, latency(0)), z1 = -INFINITY;
+  for (std::size_t k = 1; k < pairs.size(); ++k) {
+    const auto [i, j] = pairs[k];
+    const auto [i0, j0] = pairs[k - 1];
+    const double afresh = add(z0, z1) + log_fresh_latency(m);
+    double linked = -INFINITY;
+    if (i - i0 - 1 <= m.max_skip && j - j0 - 1 <= m.max_skip) {
+      const double dc = s_of(cause_ns[i] - cause_ns[i0]);
+      linked = z0 + log_linked_latency(m, latency(k), latency(k - 1), dc, std::nullopt);
+      if (k >= 2) {
+        const auto [i1, j1] = pairs[k - 2];
+        const double interval = s_of(cause_ns[i0] - cause_ns[i1]);
+        const double stretch = interval > 0 ? s_of(effect_ns[j0] - effect_ns[j1]) / interval : m.stretch;
+        linked = add(linked, z1 + log_linked_latency(m, latency(k), latency(k - 1), dc, stretch));
+      }
+    }
+    z0 = afresh;
+    z1 = linked;
+  }
+  return add(z0, z1);
+}
 
 // The largest value of f over a logarithmic grid of `steps` points from lo to hi, then refined
 // around it by a factor of sqrt(ratio) twice.
@@ -82,13 +110,17 @@ FittedAlignment fit_alignment(std::span<const std::int64_t> cause_ns, std::span<
   m.stretch = 1;
   m.stretch_sd = 0.3;
   m.jitter_s = 0.005;
-  for (int iteration = 1; iteration <= std::max(options.max_iterations, 1); ++iteration) {
-    AlignmentLattice lattice(cause_ns, effect_ns, m);
+  for (int iteration = 1;; ++iteration) {
+    AlignmentLattice lattice(cause_ns, effect_ns, m, false);
     const auto& best = lattice.best();
     const bool same = iteration > 1 && best.pairs == out.alignment.pairs;
     out.alignment = best;
     out.iterations = iteration;
-    if (same || iteration == options.max_iterations || best.pairs.empty()) break;
+    if (same || iteration >= options.max_iterations || best.pairs.empty()) {
+      // The last round's parameters made this alignment: now with its probabilities.
+      out.alignment = AlignmentLattice(cause_ns, effect_ns, m).best();
+      break;
+    }
     // Re-estimate from the alignment.
     const auto& pairs = best.pairs;
     const auto p = static_cast<double>(pairs.size());
@@ -100,20 +132,9 @@ FittedAlignment fit_alignment(std::span<const std::int64_t> cause_ns, std::span<
     std::vector<double> deviations;
     for (const double l : latencies) deviations.push_back(std::fabs(l - m.mean_s));
     m.spread_s = std::max(1.4826 * median(deviations), 0.001);
-    std::vector<Transition> steps;
-    const std::size_t stride = std::max<std::size_t>(1, pairs.size() / 20000);
-    for (std::size_t k = stride; k < pairs.size(); k += stride) {
-      const auto [i, j] = pairs[k];
-      const auto [i0, j0] = pairs[k - 1];
-      steps.push_back({latencies[k], latencies[k - 1], static_cast<double>(cause_ns[i] - cause_ns[i0]) * 1e-9,
-                       i - i0 - 1 <= m.max_skip && j - j0 - 1 <= m.max_skip});
-    }
-    const auto likelihood = [&](const AlignmentModel& trial) {
-      double sum = 0;
-      for (const auto& s : steps)
-        sum += s.linked ? log_linked_latency(trial, s.latency, s.previous, s.dc) : log_fresh_latency(trial);
-      return sum;
-    };
+    // The pairs' own likelihood, on at most the first 20000 of them.
+    const std::span<const std::pair<std::size_t, std::size_t>> sample(pairs.data(), std::min<std::size_t>(pairs.size(), 20000));
+    const auto likelihood = [&](const AlignmentModel& trial) { return path_likelihood(trial, sample, cause_ns, effect_ns); };
     for (int sweep = 0; sweep < 2; ++sweep) {
       const auto set = [&](double AlignmentModel::*field, double lo, double hi, int steps_n) {
         m.*field = search([&](double x) { AlignmentModel t = m; t.*field = x; return likelihood(t); }, lo, hi, steps_n);
@@ -123,6 +144,8 @@ FittedAlignment fit_alignment(std::span<const std::int64_t> cause_ns, std::span<
       set(&AlignmentModel::stretch_sd, 0.003, 2, 25);
       set(&AlignmentModel::tau_s, 0.3, 3000, 25);
       set(&AlignmentModel::reset, 1e-5, 0.5, 25);
+      set(&AlignmentModel::sweep, 0.01, 0.99, 25);
+      set(&AlignmentModel::sweep_sd, 0.002, 1, 25);
     }
   }
   return out;

@@ -1,9 +1,9 @@
 // The alignment model's parameters from the log itself (hard EM, Viterbi training): align with the
 // current parameters, re-estimate them from that alignment, until the alignment no longer changes.
 // From the alignment's pairs: cause_loss = causes unmatched / causes; unmatched_per_s = effects
-// unmatched / the log's span; mean_s and spread_s the latencies' median and 1.4826 x MAD; tau_s,
-// stretch, stretch_sd, jitter_s and reset the maximum likelihood of the linked pairs' latencies
-// given their predecessors' (coordinate search on logarithmic grids). The start: mean_s at the
+// unmatched / the log's span; mean_s and spread_s the latencies' median and 1.4826 x MAD; jitter_s,
+// stretch, stretch_sd, tau_s, reset, sweep and sweep_sd the maximum likelihood of the pairs'
+// latencies (coordinate search on logarithmic grids, twice over). The start: mean_s at the
 // densest 50 ms of every candidate latency (true pairs pile up at the typical latency, wrong ones
 // spread over the window), the rest broad.
 #pragma once
@@ -18,7 +18,7 @@ namespace m2mlat::pairing {
 
 struct AlignmentFitOptions {
   double min_latency_s = 0, max_latency_s = 10;  // the candidates' window
-  std::size_t max_skip = 3;
+  std::size_t max_skip = 2;
   int max_iterations = 8;
 };
 

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -45,6 +46,8 @@ Case random_case(std::uint64_t seed) {
   m.tau_s = 1 + 30 * u(rng);
   m.stretch = 0.7 + 0.8 * u(rng);
   m.stretch_sd = 0.05 + 0.3 * u(rng);
+  m.sweep = 0.05 + 0.9 * u(rng);
+  m.sweep_sd = 0.01 + 0.2 * u(rng);
   m.jitter_s = 0.001 + 0.01 * u(rng);
   m.max_skip = rng() % 3;
   m.min_latency_s = 0;
@@ -67,7 +70,7 @@ TEST(AlignmentLattice, EveryPosteriorAndTheBestAlignmentAreTheOraclesOnSmallInpu
       }
     // The best alignment: the oracle's, or one of equal score (a tie: both fresh draws).
     EXPECT_NEAR(lattice.best().log_score, want.best_score, 1e-9) << seed;
-    EXPECT_NEAR(oracle::log_score(c.cause, c.effect, c.model, lattice.best().pairs), want.best_score, 1e-9) << seed;
+    EXPECT_NEAR(oracle::log_score(c.cause, c.effect, c.model, lattice.best().pairs, true), want.best_score, 1e-9) << seed;
     if (lattice.best().pairs != want.best) ++ties;
   }
   EXPECT_LE(ties, 50);
@@ -93,6 +96,16 @@ TEST(AlignmentLattice, AClearRunIsPairedWithCertainty) {
     EXPECT_EQ(lattice.best().pairs[k], std::make_pair(k, k));
     EXPECT_GT(lattice.best().probability[k], 0.999);
   }
+}
+
+TEST(AlignmentLattice, CausesOnOneStampGiveFiniteProbabilities) {
+  const std::vector<std::int64_t> cause{1'000 * kMs, 1'000 * kMs, 1'000 * kMs, 3'000 * kMs};
+  const std::vector<std::int64_t> effect{1'800 * kMs, 1'850 * kMs, 3'800 * kMs};
+  const AlignmentLattice lattice(cause, effect, AlignmentModel{});
+  EXPECT_TRUE(std::isfinite(lattice.log_evidence()));
+  for (const double p : lattice.best().probability) EXPECT_TRUE(p >= 0 && p <= 1 + 1e-12);
+  const auto want = oracle::enumerate(cause, effect, AlignmentModel{});
+  EXPECT_NEAR(lattice.log_evidence(), want.log_z, 1e-9);
 }
 
 }  // namespace m2mlat::pairing::alignment_lattice_test
