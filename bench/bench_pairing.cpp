@@ -84,6 +84,23 @@ void register_pairing_benchmarks() {
       state.counters["pairs"] = static_cast<double>(pairs);
       set_rate(state, input.cause_ns.size() + input.effect_ns.size(), "events");
     });
+    // The alignment model (`--matcher model`): its fit and lattice are not yet narrowed (docs/matcher.md,
+    // "Pairing as inference"), so only the smaller rungs.
+    if (n <= 100'000)
+      add(fmt::format("pairing/match_model/events_per_side:{}", n), [n](benchmark::State& state) {
+        pairing::MatchOptions options;
+        options.method = pairing::MatchOptions::Method::model;
+        const auto input = prefix(n, options.max_latency.count());
+        std::size_t pairs = 0;
+        for (auto _ : state) {
+          const auto result = pairing::match(input.cause_ns, input.effect_ns, core::Clock::realtime, options);
+          pairs = result.pairs.size();
+          benchmark::DoNotOptimize(&result);
+        }
+        if (pairs == 0) throw std::runtime_error("the model found no pairs");
+        state.counters["pairs"] = static_cast<double>(pairs);
+        set_rate(state, input.cause_ns.size() + input.effect_ns.size(), "events");
+      });
     add(fmt::format("pairing/merge_floor/events_per_side:{}", n), [n](benchmark::State& state) {
       const auto input = prefix(n, pairing::MatchOptions{}.max_latency.count());
       for (auto _ : state) {
