@@ -1087,6 +1087,12 @@ MatchResult match_in_place(std::span<std::int64_t> cause_ns, std::span<std::int6
   if (options.method == MatchOptions::Method::model) {
     if (!(options.min_probability > 0 && options.min_probability < 1))
       throw core::Error(core::ErrorKind::usage, "the minimum probability must lie in (0, 1)");
+    if (candidate_total > kMaxModelCandidates)
+      throw core::Error(core::ErrorKind::usage,
+                        fmt::format("the latency window {} .. {} holds {} candidate pairs, more than the alignment "
+                                    "model's limit of {}: narrow the window, or pair with --matcher rules",
+                                    core::format_duration(options.min_latency),
+                                    core::format_duration(options.max_latency), candidate_total, kMaxModelCandidates));
     auto m = model_match(causes.ns, effects.ns, min_ns, max_ns, options.min_probability);
     matched = std::move(m.matched);
     flags = std::move(m.flags);

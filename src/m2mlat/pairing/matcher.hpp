@@ -40,6 +40,9 @@ namespace m2mlat::pairing {
 // not meet) bound the memory of the alignment, which follows their number and never the window's width.
 inline constexpr core::Duration kMaxLatency{86'400'000'000'000};  // |min_latency|, |max_latency| (ns): 1 day
 inline constexpr std::size_t kMaxCandidates = std::size_t{1} << 28;  // candidate pairs (2 GiB of alignment)
+// The alignment model keeps every candidate's states and links (about 1 KB a candidate with its
+// linked predecessors): 2^22 candidates, a few GiB.
+inline constexpr std::size_t kMaxModelCandidates = std::size_t{1} << 22;
 
 struct MatchOptions {
   core::Duration min_latency{0};              // smallest plausible latency (ns); may be negative

@@ -67,6 +67,24 @@ TEST(MatcherBounds, MoreCandidatePairsThanTheLimitAreRefusedAtOnce) {
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
 }
 
+TEST(MatcherBounds, TheAlignmentModelRefusesMoreCandidatesThanItsLimitAtOnce) {
+  // 5,000 edges a side, one a second, a window of 1000 s: 4.5e6 candidate pairs (about 4.5 GB of the
+  // model's lattice), more than kMaxModelCandidates; the rules take them.
+  std::vector<std::int64_t> causes, effects;
+  for (std::int64_t i = 0; i < 5'000; ++i) {
+    causes.push_back(i * kS);
+    effects.push_back(i * kS + kS / 2);
+  }
+  pairing::MatchOptions o;
+  o.max_latency = core::Duration{1000 * kS};
+  o.method = pairing::MatchOptions::Method::model;
+  const auto start = std::chrono::steady_clock::now();
+  const auto message = usage_error([&] { pairing::match(causes, effects, core::Clock::realtime, o); });
+  EXPECT_NE(message.find("the alignment model's limit"), std::string::npos) << message;
+  EXPECT_NE(message.find("--matcher rules"), std::string::npos) << message;
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+}
+
 TEST(MatcherBounds, InPlaceTheColumnsArePutBackWhenTheWindowIsRefused) {
   // The same 25,000 edges a side with a bounce after every hundredth: the window is refused after the
   // kept edges were moved to the front of the columns, and the columns are as they were.
