@@ -92,10 +92,9 @@ double search(const std::function<double(double)>& f, double lo, double hi, int 
 
 namespace {
 
-// Viterbi training (the rounds of alignment_fit.hpp) from `m` on, over the candidates of the bands
-// given (none: the whole window); then the alignment with its probabilities.
-void train(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
-           std::span<const std::int64_t> band_lo, std::span<const std::int64_t> band_hi, int max_iterations,
+// Viterbi training (the rounds of alignment_fit.hpp) from out.model on; then the alignment with its
+// probabilities.
+void train(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns, int max_iterations,
            FittedAlignment& out) {
   auto& m = out.model;
   const double span_s = cause_ns.empty() || effect_ns.empty()
@@ -104,14 +103,14 @@ void train(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t>
                                                                 std::min(cause_ns.front(), effect_ns.front())) * 1e-9);
   out.alignment = {};
   for (int iteration = 1;; ++iteration) {
-    AlignmentLattice lattice(cause_ns, effect_ns, m, band_lo, band_hi, false);
+    AlignmentLattice lattice(cause_ns, effect_ns, m, false);
     const auto& best = lattice.best();
     const bool same = iteration > 1 && best.pairs == out.alignment.pairs;
     out.alignment = best;
     out.iterations += 1;
     if (same || iteration >= max_iterations || best.pairs.empty()) {
       // The last round's parameters made this alignment: now with its probabilities.
-      out.alignment = AlignmentLattice(cause_ns, effect_ns, m, band_lo, band_hi).best();
+      out.alignment = AlignmentLattice(cause_ns, effect_ns, m).best();
       return;
     }
     // Re-estimate from the alignment.
@@ -143,22 +142,6 @@ void train(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t>
   }
 }
 
-// The causes before which the window holds at most `limit` candidates (two pointers).
-std::size_t causes_within(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
-                          const AlignmentFitOptions& o, std::size_t limit) {
-  const auto min_ns = static_cast<std::int64_t>(std::llround(o.min_latency_s * 1e9));
-  const auto max_ns = static_cast<std::int64_t>(std::llround(o.max_latency_s * 1e9));
-  std::size_t lo = 0, hi = 0, total = 0;
-  for (std::size_t i = 0; i < cause_ns.size(); ++i) {
-    while (lo < effect_ns.size() && effect_ns[lo] - cause_ns[i] < min_ns) ++lo;
-    hi = std::max(hi, lo);
-    while (hi < effect_ns.size() && effect_ns[hi] - cause_ns[i] <= max_ns) ++hi;
-    total += hi - lo;
-    if (total > limit) return i;
-  }
-  return cause_ns.size();
-}
-
 }  // namespace
 
 FittedAlignment fit_alignment(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
@@ -181,43 +164,7 @@ FittedAlignment fit_alignment(std::span<const std::int64_t> cause_ns, std::span<
   m.stretch = 1;
   m.stretch_sd = 0.3;
   m.jitter_s = 0.005;
-  const std::size_t prefix = causes_within(cause_ns, effect_ns, options, options.exact_candidates);
-  if (prefix == cause_ns.size()) {  // the whole window, every candidate
-    train(cause_ns, effect_ns, {}, {}, options.max_iterations, out);
-    return out;
-  }
-  // Narrowed: the parameters from the log's first causes over the whole window; then each cause's
-  // candidates within a band about the level, widened to the whole window where that alignment left
-  // a cause unmatched or improbable (a stall, a drift of the level), and the rounds again there.
-  {
-    const auto first = cause_ns.first(std::max<std::size_t>(prefix, 1));
-    const auto last_ns = first.back() + static_cast<std::int64_t>(std::llround(options.max_latency_s * 1e9));
-    const auto effects = effect_ns.first(static_cast<std::size_t>(
-        std::upper_bound(effect_ns.begin(), effect_ns.end(), last_ns) - effect_ns.begin()));
-    train(first, effects, {}, {}, options.max_iterations, out);
-  }
-  const double band_s = std::max(options.band_spreads * std::sqrt(m.spread_s * m.spread_s + 2 * m.jitter_s * m.jitter_s),
-                                 options.min_band_s);
-  const auto lo_ns = static_cast<std::int64_t>(std::llround((m.mean_s - band_s) * 1e9));
-  const auto hi_ns = static_cast<std::int64_t>(std::llround((m.mean_s + band_s) * 1e9));
-  std::vector<std::int64_t> band_lo(cause_ns.size(), lo_ns), band_hi(cause_ns.size(), hi_ns);
-  {
-    const AlignmentLattice narrow(cause_ns, effect_ns, m, band_lo, band_hi);
-    std::vector<bool> sure(cause_ns.size(), false);
-    const auto& a = narrow.best();
-    for (std::size_t k = 0; k < a.pairs.size(); ++k) sure[a.pairs[k].first] = a.probability[k] >= 0.99;
-    const auto reach = static_cast<std::ptrdiff_t>(m.max_skip + 2);
-    const auto whole_lo = static_cast<std::int64_t>(std::llround(options.min_latency_s * 1e9));
-    const auto whole_hi = static_cast<std::int64_t>(std::llround(options.max_latency_s * 1e9));
-    const auto n = static_cast<std::ptrdiff_t>(cause_ns.size());
-    for (std::ptrdiff_t i = 0; i < n; ++i)
-      if (!sure[static_cast<std::size_t>(i)])
-        for (std::ptrdiff_t k = std::max<std::ptrdiff_t>(0, i - reach); k < std::min(n, i + reach + 1); ++k) {
-          band_lo[static_cast<std::size_t>(k)] = whole_lo;
-          band_hi[static_cast<std::size_t>(k)] = whole_hi;
-        }
-  }
-  train(cause_ns, effect_ns, band_lo, band_hi, options.max_iterations, out);
+  train(cause_ns, effect_ns, options.max_iterations, out);
   return out;
 }
 

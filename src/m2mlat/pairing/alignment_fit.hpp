@@ -2,10 +2,10 @@
 // current parameters, re-estimate them from that alignment, until the alignment no longer changes.
 // From the alignment's pairs: cause_loss = causes unmatched / causes; unmatched_per_s = effects
 // unmatched / the log's span; mean_s and spread_s the latencies' median and 1.4826 x MAD; jitter_s,
-// stretch, stretch_sd, tau_s, reset, sweep and sweep_sd the maximum likelihood of the pairs'
-// latencies (coordinate search on logarithmic grids, twice over). The start: mean_s at the
+// stretch, stretch_sd, tau_s, reset, sweep and sweep_sd the maximum likelihood of the first 4000
+// pairs' latencies (a coordinate search on logarithmic grids, one pass a round). The start: mean_s at the
 // densest 50 ms of every candidate latency (true pairs pile up at the typical latency, wrong ones
-// spread over the window), the rest broad. A long log is narrowed (AlignmentFitOptions::exact_candidates).
+// spread over the window), the rest broad.
 #pragma once
 
 #include <cstdint>
@@ -20,13 +20,6 @@ struct AlignmentFitOptions {
   double min_latency_s = 0, max_latency_s = 10;  // the candidates' window
   std::size_t max_skip = 2;
   int max_iterations = 8;
-  // Up to this many candidate pairs every one is scored; beyond, the parameters come from the first
-  // causes' this many, and each cause's candidates lie within band_spreads times the level's spread
-  // (at least min_band_s) of the level, except about a cause that band leaves unmatched or
-  // improbable (p < 0.99), where the whole window is searched.
-  std::size_t exact_candidates = 50'000;
-  double band_spreads = 8;
-  double min_band_s = 0.25;
 };
 
 struct FittedAlignment {

@@ -57,19 +57,6 @@ class Columns {
 AlignmentLattice::AlignmentLattice(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
                                    const AlignmentModel& model, bool posteriors)
     : model_(model), posteriors_(posteriors) {
-  build(cause_ns, effect_ns, {}, {});
-}
-
-AlignmentLattice::AlignmentLattice(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
-                                   const AlignmentModel& model, std::span<const std::int64_t> band_lo_ns,
-                                   std::span<const std::int64_t> band_hi_ns, bool posteriors)
-    : model_(model), posteriors_(posteriors) {
-  build(cause_ns, effect_ns, band_lo_ns, band_hi_ns);
-}
-
-void AlignmentLattice::build(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
-                             std::span<const std::int64_t> band_lo_ns, std::span<const std::int64_t> band_hi_ns) {
-  const bool posteriors = posteriors_;
   model_.cause_loss = clamp_chance(model_.cause_loss);
   model_.reset = clamp_chance(model_.reset);
   model_.sweep = clamp_chance(model_.sweep);
@@ -90,20 +77,6 @@ void AlignmentLattice::build(std::span<const std::int64_t> cause_ns, std::span<c
     while (hi < effect_ns.size() && effect_ns[hi] - c <= max_ns) ++hi;
     lo_.push_back(lo);
     hi_.push_back(hi);
-  }
-  if (band_lo_ns.size() == cause_ns.size() && band_hi_ns.size() == cause_ns.size()) {
-    for (std::size_t i = 0; i < cause_ns.size(); ++i) {
-      const auto first = static_cast<std::size_t>(
-          std::lower_bound(effect_ns.begin(), effect_ns.end(), cause_ns[i] + band_lo_ns[i]) - effect_ns.begin());
-      const auto past = static_cast<std::size_t>(
-          std::upper_bound(effect_ns.begin(), effect_ns.end(), cause_ns[i] + band_hi_ns[i]) - effect_ns.begin());
-      lo_[i] = std::clamp(first, lo_[i], hi_[i]);
-      hi_[i] = std::clamp(past, lo_[i], hi_[i]);
-    }
-    // The folding needs both ends nondecreasing: a later cause's lower first pulls the earlier ones'
-    // down, an earlier cause's later last pushes the later ones' up.
-    for (std::size_t i = lo_.size(); i-- > 1;) lo_[i - 1] = std::min(lo_[i - 1], lo_[i]);
-    for (std::size_t i = 1; i < hi_.size(); ++i) hi_[i] = std::max(hi_[i], hi_[i - 1]);
   }
   std::size_t total = 0;
   for (std::size_t i = 0; i < lo_.size(); ++i) {

@@ -34,12 +34,6 @@ class AlignmentLattice {
   // probabilities and the evidence are then NaN): a third of the work, for the fit's rounds.
   AlignmentLattice(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
                    const AlignmentModel& model, bool posteriors = true);
-  // The same with each cause's candidates narrowed to a latency band [band_lo_ns[i], band_hi_ns[i]]
-  // inside the window (widened where needed so that the windows' ends never go back: every cause's
-  // first candidate at or after the one before's, its last too). A candidate outside is impossible.
-  AlignmentLattice(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
-                   const AlignmentModel& model, std::span<const std::int64_t> band_lo_ns,
-                   std::span<const std::int64_t> band_hi_ns, bool posteriors = true);
   std::size_t candidates() const { return latency_.size(); }
 
   // The effects in cause i's window: [first, last).
@@ -52,8 +46,6 @@ class AlignmentLattice {
   const AlignmentResult& best() const { return best_; }
 
  private:
-  void build(std::span<const std::int64_t> cause_ns, std::span<const std::int64_t> effect_ns,
-             std::span<const std::int64_t> band_lo_ns, std::span<const std::int64_t> band_hi_ns);
   std::size_t index(std::size_t cause, std::size_t effect) const { return offset_[cause] + (effect - lo_[cause]); }
   std::size_t slots(std::size_t k) const { return 1 + pred_begin_[k + 1] - pred_begin_[k]; }
   std::size_t slot(std::size_t k, std::size_t s) const { return k + pred_begin_[k] + s; }

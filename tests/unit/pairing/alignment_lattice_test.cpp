@@ -76,36 +76,6 @@ TEST(AlignmentLattice, EveryPosteriorAndTheBestAlignmentAreTheOraclesOnSmallInpu
   EXPECT_LE(ties, 50);
 }
 
-TEST(AlignmentLattice, NarrowedToBandsItIsTheOracleOverTheCandidatesLeft) {
-  for (std::uint64_t seed = 1; seed <= 1000; ++seed) {
-    const auto c = random_case(seed);
-    std::mt19937_64 rng(seed + 77);
-    std::vector<std::int64_t> lo, hi;
-    for (std::size_t i = 0; i < c.cause.size(); ++i) {
-      lo.push_back(static_cast<std::int64_t>(rng() % 1500) * kMs);
-      hi.push_back(lo.back() + static_cast<std::int64_t>(rng() % 1500) * kMs);
-    }
-    const AlignmentLattice lattice(c.cause, c.effect, c.model, lo, hi);
-    const auto want = oracle::enumerate(c.cause, c.effect, c.model, [&](std::size_t i, std::size_t j) {
-      const auto [first, last] = lattice.window(i);
-      return j >= first && j < last;
-    });
-    ASSERT_NEAR(lattice.log_evidence(), want.log_z, 1e-9) << seed;
-    for (std::size_t i = 0; i < c.cause.size(); ++i) {
-      const auto [first, last] = lattice.window(i);
-      if (i > 0) {
-        EXPECT_GE(first, lattice.window(i - 1).first);
-        EXPECT_GE(last, lattice.window(i - 1).second);
-      }
-      for (std::size_t j = 0; j < c.effect.size(); ++j) {
-        const auto it = want.posterior.find({i, j});
-        ASSERT_NEAR(lattice.posterior(i, j), it == want.posterior.end() ? 0.0 : it->second, 1e-9) << seed;
-      }
-    }
-    EXPECT_NEAR(lattice.best().log_score, want.best_score, 1e-9) << seed;
-  }
-}
-
 TEST(AlignmentLattice, NoEdgesIsOneEmptyAlignment) {
   const AlignmentLattice lattice({}, {}, AlignmentModel{});
   EXPECT_TRUE(lattice.best().pairs.empty());

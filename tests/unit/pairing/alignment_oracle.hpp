@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <map>
 #include <optional>
 #include <utility>
@@ -67,13 +66,10 @@ inline double log_score(const std::vector<std::int64_t>& cause_ns, const std::ve
   return s;
 }
 
-// Every alignment of the candidates `allowed` (default: every pair in the model's window).
 inline OracleResult enumerate(const std::vector<std::int64_t>& cause_ns, const std::vector<std::int64_t>& effect_ns,
-                              const AlignmentModel& m,
-                              std::function<bool(std::size_t, std::size_t)> allowed = {}) {
+                              const AlignmentModel& m) {
   const std::size_t n = cause_ns.size(), k = effect_ns.size();
   const auto in_window = [&](std::size_t i, std::size_t j) {
-    if (allowed) return allowed(i, j);
     const std::int64_t d = effect_ns[j] - cause_ns[i];
     return d >= std::llround(m.min_latency_s * 1e9) && d <= std::llround(m.max_latency_s * 1e9);
   };
