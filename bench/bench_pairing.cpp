@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <span>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "m2mlat/pairing/matcher.hpp"
@@ -69,38 +70,36 @@ std::uint32_t window_dp(std::span<const std::int64_t> causes, std::span<const st
 
 }  // namespace
 
+namespace {
+
+// `match` with `options` on the first n edges a side, as benchmark `name`.
+void add_match(const std::string& name, std::size_t n, pairing::MatchOptions options) {
+  add(fmt::format("{}/events_per_side:{}", name, n), [n, options](benchmark::State& state) {
+    const auto input = prefix(n, options.max_latency.count());
+    std::size_t pairs = 0;
+    for (auto _ : state) {
+      const auto result = pairing::match(input.cause_ns, input.effect_ns, core::Clock::realtime, options);
+      pairs = result.pairs.size();
+      benchmark::DoNotOptimize(&result);
+    }
+    if (pairs == 0) throw std::runtime_error("the matcher found no pairs");
+    state.counters["pairs"] = static_cast<double>(pairs);
+    set_rate(state, input.cause_ns.size() + input.effect_ns.size(), "events");
+  });
+}
+
+}  // namespace
+
 void register_pairing_benchmarks() {
   for (auto n : ladder()) {
-    add(fmt::format("pairing/match/events_per_side:{}", n), [n](benchmark::State& state) {
-      const pairing::MatchOptions options;
-      const auto input = prefix(n, options.max_latency.count());
-      std::size_t pairs = 0;
-      for (auto _ : state) {
-        const auto result = pairing::match(input.cause_ns, input.effect_ns, core::Clock::realtime, options);
-        pairs = result.pairs.size();
-        benchmark::DoNotOptimize(&result);
-      }
-      if (pairs == 0) throw std::runtime_error("the matcher found no pairs");
-      state.counters["pairs"] = static_cast<double>(pairs);
-      set_rate(state, input.cause_ns.size() + input.effect_ns.size(), "events");
-    });
-    // The alignment model (`--matcher model`): its fit and lattice are not yet narrowed (docs/matcher.md,
-    // "Pairing as inference"), so only the smaller rungs.
-    if (n <= 100'000)
-      add(fmt::format("pairing/match_model/events_per_side:{}", n), [n](benchmark::State& state) {
-        pairing::MatchOptions options;
-        options.method = pairing::MatchOptions::Method::model;
-        const auto input = prefix(n, options.max_latency.count());
-        std::size_t pairs = 0;
-        for (auto _ : state) {
-          const auto result = pairing::match(input.cause_ns, input.effect_ns, core::Clock::realtime, options);
-          pairs = result.pairs.size();
-          benchmark::DoNotOptimize(&result);
-        }
-        if (pairs == 0) throw std::runtime_error("the model found no pairs");
-        state.counters["pairs"] = static_cast<double>(pairs);
-        set_rate(state, input.cause_ns.size() + input.effect_ns.size(), "events");
-      });
+    add_match("pairing/match", n, {});
+    // The alignment model (`--matcher model`): its lattice is not narrowed (docs/matcher.md, "Pairing
+    // as inference"), so only the smaller rungs.
+    if (n <= 100'000) {
+      pairing::MatchOptions model;
+      model.method = pairing::MatchOptions::Method::model;
+      add_match("pairing/match_model", n, model);
+    }
     add(fmt::format("pairing/merge_floor/events_per_side:{}", n), [n](benchmark::State& state) {
       const auto input = prefix(n, pairing::MatchOptions{}.max_latency.count());
       for (auto _ : state) {
