@@ -86,12 +86,11 @@ for faults in outlier:vehicle:middle outlier:operator:first outlier:vehicle:last
   faulted clean $n "$faults"
 done
 
-# A published run of the reference rig (beside the checkout, not part of it): its rows as the two
+# A published run of the reference rig (../shared/data, beside the checkout): its rows as the two
 # boards' kernel logs with printk stamps (the board's offset from boot, a delay of 20-200 us), faulted.
-UPSTREAM=$(realpath -m "$HERE/../../../shared/data/upstream-results")
-if [ -f "$UPSTREAM/Static_5G.csv" ]; then
-  mkdir rig
-  "$PY" - "$UPSTREAM/Static_5G.csv" rig <<'PYEOF'
+require_upstream Static_5G.csv
+mkdir rig
+"$PY" - "$UPSTREAM/Static_5G.csv" rig <<'PYEOF'
 import csv, random, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 rng = random.Random(3)
@@ -103,16 +102,15 @@ for side, s, ns, boot in (("operator", "remote_station_s", "remote_station_ns", 
             us = (t - boot * 10**9 + rng.randrange(20_000, 200_000)) // 1000
             f.write(f"[{us // 1_000_000:5d}.{us % 1_000_000:06d}] GPIO_16_IRQ:{t}\n")
 PYEOF
-  "$M2MLAT" pair --cause-file rig/operator.log --effect-file rig/vehicle.log -o rig.csv >/dev/null
-  [ "$(grep -c ',0$' rig.csv)" -ge 55 ] || fail "the published run's logs pair as $(grep -c ',0$' rig.csv) clean pairs"
-  for faults in outlier:vehicle:middle outlier:operator:first "boot:vehicle:2:fakehw,step:vehicle:40000000:30" \
-                step:vehicle:1000000:30 step:operator:-1000000:20 "step:operator:1000000:15,step:vehicle:-1000000:40" \
-                "boot:operator:2:epoch,outlier:vehicle:12,step:vehicle:-1000000:30,step:operator:40000000:45" \
-                "outlier:operator:10,step:operator:-40000000:25,outlier:vehicle:40,boot:operator:3:epoch"; do
-    n=$((n + 1))
-    faulted rig $n "$faults"
-  done
-fi
+"$M2MLAT" pair --cause-file rig/operator.log --effect-file rig/vehicle.log -o rig.csv >/dev/null
+[ "$(grep -c ',0$' rig.csv)" -ge 55 ] || fail "the published run's logs pair as $(grep -c ',0$' rig.csv) clean pairs"
+for faults in outlier:vehicle:middle outlier:operator:first "boot:vehicle:2:fakehw,step:vehicle:40000000:30" \
+              step:vehicle:1000000:30 step:operator:-1000000:20 "step:operator:1000000:15,step:vehicle:-1000000:40" \
+              "boot:operator:2:epoch,outlier:vehicle:12,step:vehicle:-1000000:30,step:operator:40000000:45" \
+              "outlier:operator:10,step:operator:-40000000:25,outlier:vehicle:40,boot:operator:3:epoch"; do
+  n=$((n + 1))
+  faulted rig $n "$faults"
+done
 
 # What stats says of the left-out events, and import's warning naming the file.
 "$M2MLAT" stats --cause-file f1/operator.log --effect-file f1/vehicle.log >f1.txt

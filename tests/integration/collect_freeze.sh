@@ -5,10 +5,7 @@ HERE=$(cd "$(dirname "$0")" && pwd)
 source "$HERE/lib.bash"
 source "$HERE/collect_lib.bash"
 
-start_agent operator cause 5 operator.db 127.0.0.1:0 --sim-paced
-OP=$AGENT_PORT
-start_agent vehicle effect 5 vehicle.db 127.0.0.1:0 --sim-paced
-VE=$AGENT_PORT VE_PID=$AGENT_PID
+start_pair 5
 
 "$M2MLAT" collect --agent "http://127.0.0.1:$OP" --agent "http://127.0.0.1:$VE" --store campaign.db \
   --stale-after 1.5s --read-timeout 2.5s --refresh 100ms >collect.out 2>collect.err &

@@ -64,3 +64,13 @@ expect_exactly_once() {
     fail "$node: the campaign's events differ from the agent's ($(wc -l <"agent-$node.txt") vs $(wc -l <"campaign-$node.txt"))"
   fi
 }
+
+# start_pair SEED: the operator (cause) and the vehicle (effect) as paced sim agents of one seed, on
+# operator.db and vehicle.db; sets OP and VE (their ports) and VE_PID.
+start_pair() {
+  start_agent operator cause "$1" operator.db 127.0.0.1:0 --sim-paced
+  OP=$AGENT_PORT
+  start_agent vehicle effect "$1" vehicle.db 127.0.0.1:0 --sim-paced
+  VE=$AGENT_PORT
+  VE_PID=$AGENT_PID
+}

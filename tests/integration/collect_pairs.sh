@@ -6,10 +6,7 @@ HERE=$(cd "$(dirname "$0")" && pwd)
 source "$HERE/lib.bash"
 source "$HERE/collect_lib.bash"
 
-start_agent operator cause 7 operator.db 127.0.0.1:0 --sim-paced
-OP=$AGENT_PORT
-start_agent vehicle effect 7 vehicle.db 127.0.0.1:0 --sim-paced
-VE=$AGENT_PORT
+start_pair 7
 
 "$M2MLAT" collect --agent "http://127.0.0.1:$OP" --agent "http://127.0.0.1:$VE" --store campaign.db \
   --start-session --label run-1 --scenario pairs --stop-session --duration 6s --json >collect.json 2>collect.err ||

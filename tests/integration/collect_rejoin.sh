@@ -8,18 +8,14 @@ HERE=$(cd "$(dirname "$0")" && pwd)
 source "$HERE/lib.bash"
 source "$HERE/collect_lib.bash"
 
-start_agent operator cause 7 operator.db 127.0.0.1:0 --sim-paced
-OP=$AGENT_PORT
-start_agent vehicle effect 7 vehicle.db 127.0.0.1:0 --sim-paced
-VE=$AGENT_PORT
-VEHICLE_PID=$AGENT_PID
+start_pair 7
 
 "$M2MLAT" collect --agent "http://127.0.0.1:$OP" --agent "http://127.0.0.1:$VE" --store campaign.db \
   --start-session --label run-1 --scenario track --stop-session --duration 9s --json >collect.json 2>collect.err &
 COLLECT_PID=$!
 sleep 2.5
-kill -KILL "$VEHICLE_PID"
-wait "$VEHICLE_PID" 2>/dev/null || true
+kill -KILL "$VE_PID"
+wait "$VE_PID" 2>/dev/null || true
 sleep 0.5
 start_agent vehicle effect 8 vehicle.db "127.0.0.1:$VE" --sim-paced  # resumes the cut session's run
 sleep 2.5

@@ -7,6 +7,12 @@ on_error() { [ "$BASH_SUBSHELL" -gt 0 ] || echo "FAIL: ${BASH_SOURCE[1]}:$2: \`$
 trap 'on_error $? $LINENO "$BASH_COMMAND"' ERR
 M2MLAT=$(realpath "$1")
 DATA=$(realpath "$2")
+# The reference study's published results, beside the checkout (../shared/data, not part of this
+# repository): a test that reads them fails without them rather than passing on nothing.
+UPSTREAM=$(realpath -m "$(dirname "$(realpath "$0")")/../../../shared/data/upstream-results")
+require_upstream() {
+  [ -f "$UPSTREAM/$1" ] || { echo "FAIL: no reference data: $UPSTREAM/$1 (../shared/data beside the checkout)" >&2; exit 1; }
+}
 PY=/usr/bin/python3
 WORK=$(mktemp -d)
 # Background processes a test starts go into PIDS: at the end they get CLEANUP_SIGNAL (TERM unless

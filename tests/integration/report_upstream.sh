@@ -1,11 +1,10 @@
-# Comparisons on the reference study's published results, when they are beside the checkout (they are
-# not part of this repository): the study's figures (medians, IQRs, "5G has a 47 % narrower IQR than
+# Comparisons on the reference study's published results, beside the checkout (../shared/data, not
+# part of this repository; the test fails without them): the study's figures (medians, IQRs, "5G has a 47 % narrower IQR than
 # WiFi", co-referenced has the lower median, shares above 1 s) come out of `m2mlat report`, and its
 # significance tests equal SciPy's (Debian's python3-scipy) on the same latencies.
-UPSTREAM=$(realpath -m "$(dirname "$(realpath "$0")")/../../../shared/data/upstream-results")  # before lib.bash changes folder
 source "$(dirname "$0")/lib.bash"
-if [ ! -f "$UPSTREAM/Static_5G.csv" ]; then echo "skipped: no reference data at $UPSTREAM"; echo "0 passed, 0 failed, 1 skipped"; exit 0; fi
-if ! $PY -c "import scipy" 2> /dev/null; then echo "skipped: python3-scipy is not installed"; echo "0 passed, 0 failed, 1 skipped"; exit 0; fi
+require_upstream Static_5G.csv
+$PY -c "import scipy" || fail "python3-scipy is not installed (make deps installs it)"
 
 "$M2MLAT" report "$UPSTREAM"/{Static_Wifi,Static_5G,Dynamic_Co_Referenced,Dynamic_Autonomous}.csv \
   --compare Static_5G:Static_Wifi --compare Dynamic_Co_Referenced:Dynamic_Autonomous --out out > report.txt

@@ -1,10 +1,9 @@
-# The reference rig's one-hour synchronisation tests, when they are beside the checkout (not part of
-# this repository): `m2mlat synctest` on its CSV gives the same table as numpy on the file's own
+# The reference rig's one-hour synchronisation tests, beside the checkout (../shared/data, not part of
+# this repository; the test fails without them): `m2mlat synctest` on its CSV gives the same table as numpy on the file's own
 # offsets (count, mean, sd, min, max, signed and by magnitude, percentiles, jitter), ADEV and MTIE
 # at tau0 computed independently, and the study's ~0.3 ms mean offset.
 source "$(dirname "$0")/lib.bash"
-UPSTREAM=$(realpath -m "$(dirname "$(realpath "$0")")/../../../shared/data/upstream-results")
-if [ ! -f "$UPSTREAM/Co_Referenced.csv" ]; then echo "skipped: no reference data at $UPSTREAM"; echo "0 passed, 0 failed, 1 skipped"; exit 0; fi
+require_upstream Co_Referenced.csv
 for name in Co_Referenced Autonomous; do
   "$M2MLAT" synctest "$UPSTREAM/$name.csv" --json --series > "$name.json"
   "$M2MLAT" synctest "$UPSTREAM/$name.csv" --csv "$name.series.csv" --svg "$name.svg" > "$name.txt"

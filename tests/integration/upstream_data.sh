@@ -1,9 +1,8 @@
-# Real data from the reference study's published rig, when it is beside the checkout (it is not part
-# of this repository): statistics equal numpy's on the file's own latencies, and the two sides,
+# Real data from the reference study's published rig, beside the checkout (../shared/data, not part
+# of this repository; the test fails without it): statistics equal numpy's on the file's own latencies, and the two sides,
 # separated into kernel logs with bounces, dropouts and spurious edges added, pair back to the rows.
 source "$(dirname "$0")/lib.bash"
-UPSTREAM=$(realpath -m "$(dirname "$(realpath "$0")")/../../../shared/data/upstream-results")
-if [ ! -f "$UPSTREAM/Static_5G.csv" ]; then echo "skipped: no reference data at $UPSTREAM"; echo "0 passed, 0 failed, 1 skipped"; exit 0; fi
+require_upstream Static_5G.csv
 for name in Static_Wifi Static_5G Dynamic_Co_Referenced Dynamic_Autonomous; do
   "$M2MLAT" stats "$UPSTREAM/$name.csv" --json --bootstrap 0 > "$name.json"
   $PY - "$UPSTREAM/$name.csv" "$name.json" "$name" <<'PY'

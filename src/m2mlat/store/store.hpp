@@ -147,7 +147,7 @@ class Store {
 // Makes everything a Store writes from construction to commit() one transaction (each write's own
 // transaction inside it becomes a savepoint): a command that fails, or is interrupted (SIGINT,
 // SIGKILL, a power cut), before commit() leaves the store as it was. Readers see none of it until
-// then. Move-only; at most one per Store at a time.
+// then. Neither copied nor moved; at most one per Store at a time.
 class WholeWrite {
  public:
   explicit WholeWrite(Store& store);

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "m2mlat/core/error.hpp"
@@ -19,6 +20,16 @@ using namespace m2mlat;
 namespace {
 
 constexpr std::int64_t kS = 1'000'000'000;
+
+// n edges a side, one a second, each effect half a second after its cause.
+std::pair<std::vector<std::int64_t>, std::vector<std::int64_t>> one_a_second(std::int64_t n) {
+  std::vector<std::int64_t> causes, effects;
+  for (std::int64_t i = 0; i < n; ++i) {
+    causes.push_back(i * kS);
+    effects.push_back(i * kS + kS / 2);
+  }
+  return {causes, effects};
+}
 
 std::string usage_error(const std::function<void()>& action) {
   try {
@@ -53,11 +64,9 @@ TEST(MatcherBounds, AWindowBeyondOneDayIsRefused) {
 TEST(MatcherBounds, MoreCandidatePairsThanTheLimitAreRefusedAtOnce) {
   // 25,000 edges a side, one a second: with a one-day window every later effect is a candidate of
   // every cause, 3.1e8 pairs (2.5 GB of alignment), more than kMaxCandidates.
-  std::vector<std::int64_t> causes, effects;
-  for (std::int64_t i = 0; i < 25'000; ++i) {
-    causes.push_back(i * kS);
-    effects.push_back(i * kS + kS / 2);
-  }
+  const auto edges = one_a_second(25'000);
+  const auto& causes = edges.first;
+  const auto& effects = edges.second;
   pairing::MatchOptions o;
   o.max_latency = pairing::kMaxLatency;
   const auto start = std::chrono::steady_clock::now();
@@ -70,11 +79,9 @@ TEST(MatcherBounds, MoreCandidatePairsThanTheLimitAreRefusedAtOnce) {
 TEST(MatcherBounds, TheAlignmentModelRefusesMoreCandidatesThanItsLimitAtOnce) {
   // 5,000 edges a side, one a second, a window of 1000 s: 4.5e6 candidate pairs (about 4.5 GB of the
   // model's lattice), more than kMaxModelCandidates; the rules take them.
-  std::vector<std::int64_t> causes, effects;
-  for (std::int64_t i = 0; i < 5'000; ++i) {
-    causes.push_back(i * kS);
-    effects.push_back(i * kS + kS / 2);
-  }
+  const auto edges = one_a_second(5'000);
+  const auto& causes = edges.first;
+  const auto& effects = edges.second;
   pairing::MatchOptions o;
   o.max_latency = core::Duration{1000 * kS};
   o.method = pairing::MatchOptions::Method::model;
