@@ -100,19 +100,16 @@ ScenarioResult as_given(std::string scenario, const formats::PairedImport& paire
   if (!paired.causes.empty()) r.input.cause_ref = {paired.causes.front().node, paired.causes.front().channel};
   if (!paired.effects.empty())
     r.input.effect_ref = {paired.effects.front().node, paired.effects.front().channel};
-  std::vector<std::int64_t> latencies, ids;
   for (std::size_t i = 0; i < paired.pairs.size(); ++i) {
     const auto line = static_cast<std::int64_t>(paired.checks.at(i).line);
     r.input.cause.seq.push_back(line);
     r.input.cause.t_ns.push_back(paired.pairs[i].cause_time.ns());
     r.input.effect.seq.push_back(line);
     r.input.effect.t_ns.push_back(paired.pairs[i].effect_time.ns());
-    latencies.push_back(paired.pairs[i].latency().count());
-    ids.push_back(line);
   }
   r.match.pairs = pairs_from_rows(paired.pairs);
   r.match.cause_count = r.match.effect_count = static_cast<std::int64_t>(paired.pairs.size());
-  r.summary = stats::summarize(latencies, ids, options);
+  summarize(r, options);
   return r;
 }
 

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "m2mlat/analysis/manoeuvres.hpp"
+
 namespace m2mlat::analysis {
 
 StepMark ScenarioResult::step_mark(const pairing::Pair& p) const {
@@ -58,7 +60,16 @@ ScenarioResult analyse(ScenarioInput input, ScenarioSteps steps, const pairing::
 
 void summarize(ScenarioResult& result, const stats::SummaryOptions& summary_options) {
   auto latencies = result.latencies_ns();
-  auto& summary = result.summary = stats::summarize_in_place(latencies, {}, summary_options);
+  std::vector<std::size_t> manoeuvres;
+  if (summary_options.bootstrap) {
+    std::vector<std::int64_t> causes;
+    causes.reserve(latencies.size());
+    const auto t = result.times();
+    for (std::size_t i = 0; i < result.match.pairs.size(); ++i)
+      if (result.in_statistics(i)) causes.push_back(t.cause(result.match.pairs[i]));
+    manoeuvres = manoeuvre_starts(causes, result.match.burst_gap);
+  }
+  auto& summary = result.summary = stats::summarize_in_place(latencies, {}, summary_options, manoeuvres);
   if (!summary.min) return;
   // Without ids an extreme's id is its position among latencies_ns(); name the cause event instead.
   const auto last = std::max(summary.min->index, summary.max->index);

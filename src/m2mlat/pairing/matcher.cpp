@@ -1015,6 +1015,10 @@ void check_sorted(std::span<const std::int64_t> times, const char* side) {
 
 }  // namespace
 
+core::Duration burst_gap_of(const MatchOptions& options) {
+  return options.burst_gap.count() > 0 ? options.burst_gap : burst_gap_for(options.magnets_deg);
+}
+
 core::Duration burst_gap_for(std::span<const double> magnets_deg) {
   std::vector<double> angles(magnets_deg.begin(), magnets_deg.end());
   std::sort(angles.begin(), angles.end());
@@ -1082,6 +1086,7 @@ MatchResult match_in_place(std::span<std::int64_t> cause_ns, std::span<std::int6
   result.clock = clock;
   result.cause_count = static_cast<std::int64_t>(cause_ns.size());
   result.effect_count = static_cast<std::int64_t>(effect_ns.size());
+  result.burst_gap = burst_gap_of(options);
   std::vector<std::uint32_t> matched;
   std::vector<std::uint8_t> flags;
   if (options.method == MatchOptions::Method::model) {
@@ -1122,7 +1127,7 @@ void rule_match(const Sides& sides, const CandidateCount& counted, const Kept& c
   // the largest worth. (A third such pass, against pass 2's reference, changed nothing measurable.)
   // Each pass's matches go once what it needs of them is taken (the sweep's band, the reference):
   // the pass after writes its own (4 bytes a cause each).
-  const auto gap = options.burst_gap.count() > 0 ? options.burst_gap : burst_gap_for(options.magnets_deg);
+  const auto gap = burst_gap_of(options);
   const std::size_t magnet_count = std::max<std::size_t>(1, options.magnets_deg.size());
   SweepStretch sweep(causes.ns, effects.ns, gap.count(), magnet_count);
   sweep.fit(matched);

@@ -59,6 +59,9 @@ struct MatchOptions {
   double min_probability = 0.99;
 };
 
+inline constexpr double kSlowestSteeringDegPerS = 150;
+inline constexpr core::Duration kDefaultBurstGap{250'000'000};  // ns
+
 struct MatchResult {
   std::vector<Pair> pairs;           // in cause order (and so in effect order)
   std::vector<Unmatched> unmatched;  // sorted by side, then index
@@ -66,14 +69,17 @@ struct MatchResult {
   std::int64_t cause_count = 0;  // input sizes, for the reader of a report
   std::int64_t effect_count = 0;
   std::optional<ModelSummary> model;  // with Method::model: the fitted model and its expectation
+  // Cause edges closer than this are one burst (a sweep): burst_gap_of the options. The statistics
+  // resample a burst's pairs together (analysis/manoeuvres.hpp).
+  core::Duration burst_gap = kDefaultBurstGap;
 };
 
 // The burst gap of a magnet layout: the time the slowest steering (kSlowestSteering) takes across the
 // widest angle between two neighbouring magnets, at least kDefaultBurstGap (one magnet, or magnets
 // close together). A sweep's passes then stay in one burst, so a missed or extra pass flags them.
-inline constexpr double kSlowestSteeringDegPerS = 150;
-inline constexpr core::Duration kDefaultBurstGap{250'000'000};  // ns
 core::Duration burst_gap_for(std::span<const double> magnets_deg);
+// The options' burst_gap, or burst_gap_for their magnets when it is 0.
+core::Duration burst_gap_of(const MatchOptions& options);
 
 // Matches two sorted timestamp sequences (ns, same clock). Indices in the result refer to these spans.
 // Throws core::Error(usage) on bad options (a window beyond kMaxLatency, or one holding more than

@@ -11,6 +11,7 @@
 #include "m2mlat/report/comparison_text.hpp"
 #include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/report/plot_data.hpp"
+#include "m2mlat/report/resampling_text.hpp"
 #include "m2mlat/report/scenario_text.hpp"
 #include "m2mlat/report/svg_plot.hpp"
 #include "m2mlat/report/table.hpp"
@@ -346,6 +347,7 @@ std::string scenario_section(const Report& report) {
       header.push_back(fmt::format("> {:g} ms", static_cast<double>(t.threshold.count()) / 1e6));
   header.push_back("median 95% CI");
   std::vector<std::vector<std::string>> rows;
+  std::string resampled;  // one line per scenario: what its intervals resampled, and why
   for (const auto& s : report.scenarios) {
     const auto& m = s.result.summary;
     std::vector<std::string> r{s.result.input.scenario, s.group.empty() ? "-" : s.group};
@@ -353,9 +355,13 @@ std::string scenario_section(const Report& report) {
     r.push_back(m.bootstrap ? fmt::format("{:.1f} to {:.1f}", m.bootstrap->median_ms.lower,
                                           m.bootstrap->median_ms.upper)
                             : "-");
+    if (m.bootstrap)
+      resampled += "<li>" + xml_escape(s.result.input.scenario + ", the CIs' resampling: " + resampling_text(m.bootstrap->resampling)) +
+                   "</li>";
     rows.push_back(std::move(r));
   }
   h += html_table(header, rows, "scenarios");
+  if (!resampled.empty()) h += "<ul class=\"note-text\">" + resampled + "</ul>\n";
   h += "<p class=\"note-text\">Latencies in ms; type-7 quantiles; shares are of samples strictly above the "
        "limit. Ambiguous pairs are left out unless asked for.</p>\n";
   return h;

@@ -10,6 +10,7 @@
 #include "m2mlat/report/breakdown_view.hpp"
 #include "m2mlat/report/comparison_text.hpp"
 #include "m2mlat/report/full_loop_view.hpp"
+#include "m2mlat/report/resampling_text.hpp"
 #include "m2mlat/report/scenario_text.hpp"
 #include "m2mlat/report/table.hpp"
 
@@ -161,7 +162,8 @@ std::string scenarios_csv(const Report& report) {
   std::string out =
       "scenario,group,n,pairs,ambiguous_pairs,median_ms,q1_ms,q3_ms,iqr_ms,mean_ms,sd_ms,min_ms,max_ms,p5_ms,"
       "p90_ms,"
-      "p95_ms,p99_ms,median_ci_low_ms,median_ci_high_ms,iqr_ci_low_ms,iqr_ci_high_ms,uncertainty_median_ms";
+      "p95_ms,p99_ms,median_ci_low_ms,median_ci_high_ms,iqr_ci_low_ms,iqr_ci_high_ms,ci_resampled,"
+      "uncertainty_median_ms";
   const auto* first = report.scenarios.empty() ? nullptr : &report.scenarios.front().result.summary;
   if (first)
     for (const auto& t : first->thresholds)
@@ -175,10 +177,11 @@ std::string scenarios_csv(const Report& report) {
                        f6(m.q3_ms), f6(m.iqr_ms), f6(m.mean_ms), f6(m.sd_ms), m.min ? f6(m.min->ms()) : "",
                        m.max ? f6(m.max->ms()) : "", f6(m.p5_ms), f6(m.p90_ms), f6(m.p95_ms), f6(m.p99_ms));
     if (m.bootstrap)
-      out += fmt::format(",{},{},{},{}", f6(m.bootstrap->median_ms.lower), f6(m.bootstrap->median_ms.upper),
-                         f6(m.bootstrap->iqr_ms.lower), f6(m.bootstrap->iqr_ms.upper));
+      out += fmt::format(",{},{},{},{},{}", f6(m.bootstrap->median_ms.lower), f6(m.bootstrap->median_ms.upper),
+                         f6(m.bootstrap->iqr_ms.lower), f6(m.bootstrap->iqr_ms.upper),
+                         csv_field(resampling_name(m.bootstrap->resampling)));
     else
-      out += ",,,,";
+      out += ",,,,,";
     out += "," + opt6(s.median_uncertainty_ms());
     for (const auto& t : m.thresholds) out += "," + g6(t.fraction_above);
     out += "\n";

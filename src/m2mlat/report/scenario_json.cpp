@@ -5,6 +5,7 @@
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/formats/json_number.hpp"
 #include "m2mlat/report/breakdown_view.hpp"
+#include "m2mlat/report/resampling_text.hpp"
 
 namespace m2mlat::report {
 
@@ -17,6 +18,17 @@ nlohmann::json extreme(const std::optional<stats::Extreme>& e) {
 }
 
 nlohmann::json interval(const stats::Interval& i) { return nlohmann::json::array({i.lower, i.upper}); }
+
+nlohmann::json resampling_json(const stats::Resampling& r) {
+  return {{"resampled", resampling_name(r)},
+          {"units", r.units},
+          {"largest_unit", r.largest_unit},
+          {"block_length", r.blocks.length},
+          {"correlated_lags", r.blocks.reach},
+          {"lag1_autocorrelation", number(r.blocks.lag1)},
+          {"over_limit", r.over_limit},
+          {"why", resampling_text(r)}};
+}
 }  // namespace
 
 nlohmann::json summary_json(const stats::Summary& s) {
@@ -46,7 +58,8 @@ nlohmann::json summary_json(const stats::Summary& s) {
                       {"resamples", s.bootstrap->resamples},
                       {"seed", s.bootstrap->seed},
                       {"median_ms", interval(s.bootstrap->median_ms)},
-                      {"iqr_ms", interval(s.bootstrap->iqr_ms)}};
+                      {"iqr_ms", interval(s.bootstrap->iqr_ms)},
+                      {"resampling", resampling_json(s.bootstrap->resampling)}};
   else
     j["bootstrap"] = nullptr;
   return j;

@@ -6,6 +6,7 @@
 #include "m2mlat/analysis/kernel_log_steps.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/core/time.hpp"
+#include "m2mlat/report/resampling_text.hpp"
 #include "m2mlat/report/table.hpp"
 
 namespace m2mlat::report {
@@ -187,7 +188,10 @@ std::string scenario_detail(const analysis::ScenarioResult& r) {
   for (const auto& t : s.thresholds)
     table.add_row({threshold_name(t.threshold), percent_text(t.fraction_above, 2),
                    fmt::format("{} samples", t.count_above)});
-  return out + table.render();
+  out += table.render();
+  if (s.bootstrap)
+    out += fmt::format("CIs: {} resamples; {}\n", s.bootstrap->resamples, resampling_text(s.bootstrap->resampling));
+  return out;
 }
 
 }  // namespace m2mlat::report

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <functional>
 
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/stats/order_statistics.hpp"
@@ -77,6 +78,84 @@ Interval percentile_interval(std::span<const double> replicates, double level) {
           quantile(std::span<const double>(sorted), (1.0 + level) / 2.0)};
 }
 
+namespace {
+
+// The intervals from the resamples' medians and IQRs (ns).
+MedianIqrCi median_iqr_ci(std::span<const double> medians, std::span<const double> iqrs,
+                          const BootstrapOptions& options) {
+  const auto to_ms = [](Interval i) { return Interval{i.lower / 1e6, i.upper / 1e6}; };
+  MedianIqrCi ci;
+  ci.median_ms = to_ms(percentile_interval(medians, options.level));
+  ci.iqr_ms = to_ms(percentile_interval(iqrs, options.level));
+  ci.resamples = options.resamples;
+  ci.seed = options.seed;
+  ci.level = options.level;
+  return ci;
+}
+
+// A sample's value and the unit it came in, sorted by value for the resamples' walk.
+struct Labelled {
+  std::int64_t ns = 0;
+  std::uint32_t unit = 0;
+};
+
+// The grouped or blocked bootstrap: each resample weighs every unit by how often its blocks drew it,
+// and walks the sorted sample to the ranks its quartiles interpolate between.
+MedianIqrCi resample_units(std::span<const std::int64_t> in_time_order, std::span<const std::size_t> starts,
+                           const Resampling& plan, const BootstrapOptions& options) {
+  const std::size_t units = plan.units;
+  std::vector<std::uint32_t> size(units);
+  std::vector<Labelled> sorted(in_time_order.size());
+  for (std::size_t u = 0; u < units; ++u) {
+    const std::size_t begin = starts.empty() ? u : starts[u];
+    const std::size_t end = starts.empty() ? u + 1 : (u + 1 < units ? starts[u + 1] : in_time_order.size());
+    size[u] = static_cast<std::uint32_t>(end - begin);
+    for (std::size_t i = begin; i < end; ++i) sorted[i] = {in_time_order[i], static_cast<std::uint32_t>(u)};
+  }
+  std::sort(sorted.begin(), sorted.end(), [](const Labelled& a, const Labelled& b) {
+    return a.ns != b.ns ? a.ns < b.ns : a.unit < b.unit;
+  });
+
+  const std::size_t block = plan.blocks.length;
+  std::vector<std::uint32_t> weight(units);
+  std::vector<double> medians(options.resamples), iqrs(options.resamples);
+  for (std::size_t b = 0; b < options.resamples; ++b) {
+    std::fill(weight.begin(), weight.end(), 0u);
+    IndexStream draw(Rng::stream(options.seed, b), static_cast<std::uint32_t>(units));
+    std::size_t n = 0;
+    for (std::size_t taken = 0; taken < units;) {
+      std::size_t u = draw.next();
+      for (std::size_t j = 0; j < block && taken < units; ++j, ++taken) {
+        ++weight[u];
+        n += size[u];
+        if (++u == units) u = 0;
+      }
+    }
+    // The order statistics (0-based ranks in the resample) the three quartiles interpolate between.
+    const QuantilePosition at[] = {quantile_position(n, 0.25), quantile_position(n, 0.5), quantile_position(n, 0.75)};
+    std::size_t rank[6];
+    for (std::size_t k = 0; k < 3; ++k) {
+      rank[2 * k] = at[k].lower;
+      rank[2 * k + 1] = std::min(at[k].lower + 1, n - 1);
+    }
+    std::int64_t value[6] = {};
+    std::size_t next = 0, below = 0;  // ranks found; resample values at or below the walk
+    for (std::size_t i = 0; i < sorted.size() && next < 6; ++i) {
+      below += weight[sorted[i].unit];
+      while (next < 6 && rank[next] < below) value[next++] = sorted[i].ns;
+    }
+    double q[3];
+    for (std::size_t k = 0; k < 3; ++k)
+      q[k] = at[k].fraction == 0.0 ? static_cast<double>(value[2 * k])
+                                   : interpolate(value[2 * k], value[2 * k + 1], at[k].fraction);
+    medians[b] = q[1];
+    iqrs[b] = q[2] - q[0];
+  }
+  return median_iqr_ci(medians, iqrs, options);
+}
+
+}  // namespace
+
 std::optional<MedianIqrCi> bootstrap_median_iqr(std::span<const std::int64_t> sorted_ns,
                                                 const BootstrapOptions& options) {
   check_confidence_level(options.level);
@@ -88,13 +167,63 @@ std::optional<MedianIqrCi> bootstrap_median_iqr(std::span<const std::int64_t> so
     medians[b] = q.value(b, 1);
     iqrs[b] = q.value(b, 2) - q.value(b, 0);
   }
-  const auto to_ms = [](Interval i) { return Interval{i.lower / 1e6, i.upper / 1e6}; };
+  MedianIqrCi ci = median_iqr_ci(medians, iqrs, options);
+  ci.resampling.samples = ci.resampling.units = sorted_ns.size();
+  return ci;
+}
+
+Resampling plan_resampling(std::span<const std::int64_t> in_time_order, std::span<const std::size_t> unit_starts) {
+  const std::size_t n = in_time_order.size();
+  if (!unit_starts.empty() && (unit_starts.front() != 0 || unit_starts.back() >= n ||
+                               std::adjacent_find(unit_starts.begin(), unit_starts.end(),
+                                                  std::greater_equal<>()) != unit_starts.end())) {
+    throw core::Error(core::ErrorKind::internal, "plan_resampling: unit starts not ascending within the sample");
+  }
+  Resampling plan;
+  plan.samples = n;
+  plan.units = unit_starts.empty() ? n : unit_starts.size();
+  const auto begin = [&](std::size_t u) { return unit_starts.empty() ? u : unit_starts[u]; };
+  const auto end = [&](std::size_t u) { return u + 1 < plan.units ? begin(u + 1) : n; };
+  for (std::size_t u = 0; u < plan.units; ++u) plan.largest_unit = std::max(plan.largest_unit, end(u) - begin(u));
+
+  // The ranks of the units' mean latencies over the stretches the dependence is estimated from.
+  const std::vector<Stretch> stretches = estimation_stretches(plan.units);
+  std::vector<std::vector<double>> series;
+  std::vector<double> all;
+  for (const Stretch s : stretches) {
+    auto& means = series.emplace_back();
+    for (std::size_t u = s.begin; u < s.end; ++u) {
+      double sum = 0;
+      for (std::size_t i = begin(u); i < end(u); ++i) sum += static_cast<double>(in_time_order[i]);
+      means.push_back(sum / static_cast<double>(end(u) - begin(u)));
+    }
+    all.insert(all.end(), means.begin(), means.end());
+  }
+  std::sort(all.begin(), all.end());
+  for (auto& means : series)
+    for (double& x : means) {
+      const auto [lo, hi] = std::equal_range(all.begin(), all.end(), x);
+      x = static_cast<double>((lo - all.begin()) + (hi - all.begin()) - 1) / 2.0;  // mid-rank of ties
+    }
+  plan.blocks = block_length(series, plan.units);
+  plan.over_limit = n > kMaxUnitResampled && (plan.grouped() || plan.blocks.length > 1);
+  return plan;
+}
+
+std::optional<MedianIqrCi> resample_median_iqr(std::span<const std::int64_t> in_time_order,
+                                               std::span<const std::size_t> unit_starts, const Resampling& plan,
+                                               const BootstrapOptions& options) {
+  check_confidence_level(options.level);
+  if (in_time_order.empty() || options.resamples == 0) return std::nullopt;
   MedianIqrCi ci;
-  ci.median_ms = to_ms(percentile_interval(medians, options.level));
-  ci.iqr_ms = to_ms(percentile_interval(iqrs, options.level));
-  ci.resamples = options.resamples;
-  ci.seed = options.seed;
-  ci.level = options.level;
+  if (plan.sample_by_sample()) {
+    std::vector<std::int64_t> sorted(in_time_order.begin(), in_time_order.end());
+    std::sort(sorted.begin(), sorted.end());
+    ci = *bootstrap_median_iqr(sorted, options);
+  } else {
+    ci = resample_units(in_time_order, unit_starts, plan, options);
+  }
+  ci.resampling = plan;
   return ci;
 }
 

@@ -8,6 +8,11 @@
 // Rng::stream(seed, b) (order_statistics.hpp: one Beta variate each, the resample's exact
 // distribution), so a resample costs the same for 100 samples as for 10 million, and the same
 // seed gives the same intervals on every platform.
+//
+// Samples that are not independent (the pairs of one manoeuvre share its network and actuator
+// delay; a link's latency wanders) are resampled as they arose: resample_median_iqr takes the sample
+// in time order with the units it came in (manoeuvres), and resamples whole units, in circular
+// blocks of consecutive units when the units' latencies are themselves correlated (block_length.hpp).
 #pragma once
 
 #include <cstddef>
@@ -15,6 +20,8 @@
 #include <optional>
 #include <span>
 #include <vector>
+
+#include "m2mlat/stats/block_length.hpp"
 
 namespace m2mlat::stats {
 
@@ -59,17 +66,49 @@ struct Interval {
 // (sorts a copy). level in (0, 1); replicates not empty.
 Interval percentile_interval(std::span<const double> replicates, double level);
 
+// Samples above this many are resampled one by one even where they came in units or are correlated:
+// the units' bootstrap walks the whole sample once a resample (2000 x 2^20 steps, a few seconds), and
+// its labelled copy costs 16 bytes a sample. Resampling::over_limit says so wherever the CI is shown.
+inline constexpr std::size_t kMaxUnitResampled = std::size_t{1} << 20;
+
+// What a bootstrap resampled: units (each a run of consecutive samples) in blocks of consecutive units.
+struct Resampling {
+  std::size_t samples = 0;       // values in the sample
+  std::size_t units = 0;         // units (samples, when each is its own unit)
+  std::size_t largest_unit = 1;  // samples in the largest unit
+  BlockLength blocks;            // of the units' latencies: blocks.length units are drawn together
+  bool over_limit = false;       // grouped or correlated, but above kMaxUnitResampled: sample by sample
+  bool grouped() const { return largest_unit > 1; }
+  // Each sample drawn on its own: the plain bootstrap of bootstrap_median_iqr.
+  bool sample_by_sample() const { return over_limit || (!grouped() && blocks.length == 1); }
+};
+
 struct MedianIqrCi {
   Interval median_ms;
   Interval iqr_ms;
   std::size_t resamples = 0;
   std::uint64_t seed = 0;
   double level = 0.0;
+  Resampling resampling;  // samples on their own unless resample_median_iqr found otherwise
 };
 
 // Bootstrap CIs for the median and the IQR of a sorted sample (ns in, ms out). nullopt for an
 // empty sample or resamples = 0.
 std::optional<MedianIqrCi> bootstrap_median_iqr(std::span<const std::int64_t> sorted_ns,
                                                 const BootstrapOptions& options = {});
+
+// How a sample in time order (`in_time_order`, ns) with its units should be resampled. `unit_starts`
+// are the ascending positions where each unit begins (the first 0), or empty: every sample its own
+// unit. The blocks are chosen on the ranks of the units' mean latencies, so that a few stalls do not
+// decide them. Throws core::Error(internal) on unit starts that are not ascending within the sample.
+Resampling plan_resampling(std::span<const std::int64_t> in_time_order, std::span<const std::size_t> unit_starts);
+
+// The median's and IQR's CIs resampling as `plan` says: each resample draws circular blocks of
+// plan.blocks.length consecutive units (block starts uniform, Politis and Romano 1992) until it holds
+// as many units as the sample, and takes the type-7 quantiles of the samples they hold. A plan sample by
+// sample gives exactly bootstrap_median_iqr's intervals. nullopt for an empty sample or resamples = 0.
+std::optional<MedianIqrCi> resample_median_iqr(std::span<const std::int64_t> in_time_order,
+                                               std::span<const std::size_t> unit_starts, const Resampling& plan,
+                                               const BootstrapOptions& options = {});
 
 }  // namespace m2mlat::stats

@@ -17,13 +17,13 @@ constexpr double kNsPerMs = 1e6;
 }  // namespace
 
 Summary summarize(std::span<const std::int64_t> latencies_ns, std::span<const std::int64_t> ids,
-                  const SummaryOptions& options) {
+                  const SummaryOptions& options, std::span<const std::size_t> unit_starts) {
   std::vector<std::int64_t> copy(latencies_ns.begin(), latencies_ns.end());
-  return summarize_in_place(copy, ids, options);
+  return summarize_in_place(copy, ids, options, unit_starts);
 }
 
 Summary summarize_in_place(std::span<std::int64_t> latencies_ns, std::span<const std::int64_t> ids,
-                           const SummaryOptions& options) {
+                           const SummaryOptions& options, std::span<const std::size_t> unit_starts) {
   // Validate every option before doing any work, so that a bad one fails fast even on 1e7 samples.
   for (const double percent : options.extra_percentiles) check_percentile(percent);
   if (options.bootstrap) check_confidence_level(options.bootstrap->level);
@@ -35,6 +35,13 @@ Summary summarize_in_place(std::span<std::int64_t> latencies_ns, std::span<const
     s.max = e->max;
   }
 
+  // How to resample is read from the time order, which the sort takes away; a plan that is not the
+  // plain bootstrap of independent samples resamples before the sort.
+  std::optional<Resampling> plan;
+  if (options.bootstrap && s.n > 0) {
+    plan = plan_resampling(latencies_ns, unit_starts);
+    if (!plan->sample_by_sample()) s.bootstrap = resample_median_iqr(latencies_ns, unit_starts, *plan, *options.bootstrap);
+  }
   sort_ns(latencies_ns);
   const std::span<const std::int64_t> view(latencies_ns);
 
@@ -60,7 +67,10 @@ Summary summarize_in_place(std::span<std::int64_t> latencies_ns, std::span<const
   s.p99_ms = q(0.99);
   s.iqr_ms = (quantile(view, 0.75) - quantile(view, 0.25)) / kNsPerMs;
 
-  if (options.bootstrap) s.bootstrap = bootstrap_median_iqr(view, *options.bootstrap);
+  if (plan && plan->sample_by_sample()) {
+    s.bootstrap = bootstrap_median_iqr(view, *options.bootstrap);
+    if (s.bootstrap) s.bootstrap->resampling = *plan;
+  }
   return s;
 }
 

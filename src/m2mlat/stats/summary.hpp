@@ -56,15 +56,17 @@ struct Summary {
   std::optional<MedianIqrCi> bootstrap;            // when requested and n > 0
 };
 
-// `ids` is empty or one per latency (else core::Error(internal)); a bad percentile or confidence
-// level throws core::Error(usage). Sorts one copy of the sample; the input is not changed.
+// `latencies_ns` in time order; `ids` is empty or one per latency (else core::Error(internal)); a bad
+// percentile or confidence level throws core::Error(usage). `unit_starts` groups the latencies into the
+// units the bootstrap resamples together (bootstrap.hpp: plan_resampling; empty: each on its own).
+// Sorts one copy of the sample; the input is not changed.
 Summary summarize(std::span<const std::int64_t> latencies_ns, std::span<const std::int64_t> ids = {},
-                  const SummaryOptions& options = {});
+                  const SummaryOptions& options = {}, std::span<const std::size_t> unit_starts = {});
 
 // The same without the copy, for a sample the caller builds for the purpose: sorts `latencies_ns` in
 // place (8 bytes a sample fewer at the peak, 74 MB for 9.3 M latencies). The extremes are found before
 // the sort, so they, their ids and their ties are those of summarize().
 Summary summarize_in_place(std::span<std::int64_t> latencies_ns, std::span<const std::int64_t> ids = {},
-                           const SummaryOptions& options = {});
+                           const SummaryOptions& options = {}, std::span<const std::size_t> unit_starts = {});
 
 }  // namespace m2mlat::stats
