@@ -20,7 +20,10 @@ std::size_t ScenarioResult::pairs_marked(StepMark mark) const {
 }
 
 bool ScenarioResult::in_statistics(std::size_t i) const {
-  if (!include_ambiguous && match.pairs[i].ambiguous()) return false;
+  return (include_ambiguous || !match.pairs[i].ambiguous()) && admitted(i);
+}
+
+bool ScenarioResult::admitted(std::size_t i) const {
   if (steps.steps() != 0 && step_mark(match.pairs[i]) == StepMark::unknown) return false;
   return !(refuse_gated && i < uncertainty.size() && uncertainty[i].gated());
 }
@@ -70,6 +73,15 @@ void summarize(ScenarioResult& result, const stats::SummaryOptions& summary_opti
     manoeuvres = manoeuvre_starts(causes, result.match.burst_gap);
   }
   auto& summary = result.summary = stats::summarize_in_place(latencies, {}, summary_options, manoeuvres);
+  {
+    std::vector<std::int64_t> flagged;  // the flagged pairs' latencies: in the sorted sample or not
+    const auto t = result.times();
+    for (std::size_t i = 0; i < result.match.pairs.size(); ++i)
+      if (result.match.pairs[i].ambiguous() && result.admitted(i))
+        flagged.push_back(t.latency(result.match.pairs[i]).count());
+    std::sort(flagged.begin(), flagged.end());
+    result.flagged_effect = flagged_effect(latencies, flagged, result.include_ambiguous, summary.bootstrap);
+  }
   if (!summary.min) return;
   // Without ids an extreme's id is its position among latencies_ns(); name the cause event instead.
   const auto last = std::max(summary.min->index, summary.max->index);

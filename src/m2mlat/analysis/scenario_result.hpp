@@ -9,6 +9,7 @@
 #include "m2mlat/analysis/board_record.hpp"
 #include "m2mlat/analysis/breakdown.hpp"
 #include "m2mlat/analysis/clock_steps.hpp"
+#include "m2mlat/analysis/flagged_effect.hpp"
 #include "m2mlat/analysis/sanity.hpp"
 #include "m2mlat/analysis/selection.hpp"
 #include "m2mlat/analysis/uncertainty.hpp"
@@ -25,6 +26,8 @@ struct ScenarioResult {
   stats::Summary summary;
   bool include_ambiguous = false;
   std::size_t ambiguous_pairs() const;
+  // The median and IQR with the flagged pairs and without them; unset when none is flagged.
+  std::optional<FlaggedEffect> flagged_effect;
   // One per match.pairs entry when the boards' clock samples are known (analysis/uncertainty.hpp),
   // else empty. With refuse_gated, pairs flagged by the sync gate leave the summary.
   std::vector<SampleUncertainty> uncertainty;
@@ -48,6 +51,9 @@ struct ScenarioResult {
   // Whether match.pairs[i] is one of the pairs the summary is over (not ambiguous unless
   // include_ambiguous, not gated when refused, not after a clock step of unknown offset).
   bool in_statistics(std::size_t i) const;
+  // Whether match.pairs[i] would be in the statistics whatever its pairing flags: not gated when refused,
+  // not after a clock step of unknown offset.
+  bool admitted(std::size_t i) const;
 
   // The pairs' times: the input's columns, which the matcher paired (after correct_scenario).
   pairing::PairTimes times() const { return {input.cause.t_ns, input.effect.t_ns}; }

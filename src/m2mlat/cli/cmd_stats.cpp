@@ -120,6 +120,7 @@ Runner attach_stats(CLI::App& sub) {
     if (!loops.empty()) fmt::print("{}{}", report::full_loop_table(loops), results.empty() ? "" : "\n");
     if (results.empty()) return 0;
     fmt::print("{}\n{}", report::pairing_table(results), report::scenario_table(results));
+    if (const auto f = report::flagged_effect_table(results); !f.empty()) fmt::print("\n{}", f);
     if (const auto u = report::uncertainty_table(results); !u.empty()) fmt::print("\n{}", u);
     if (const auto s = report::clock_step_table(results); !s.empty()) fmt::print("\n{}", s);
     if (const auto b = report::breakdown_table(report::with_breakdown(results)); !b.empty()) fmt::print("\n{}", b);

@@ -362,6 +362,14 @@ std::string scenario_section(const Report& report) {
   }
   h += html_table(header, rows, "scenarios");
   if (!resampled.empty()) h += "<ul class=\"note-text\">" + resampled + "</ul>\n";
+  std::vector<std::vector<std::string>> flagged;
+  for (const auto& s : report.scenarios)
+    if (auto row = flagged_effect_row(s.result); !row.empty()) flagged.push_back(std::move(row));
+  if (!flagged.empty()) {
+    h += "<h3>What the flagged pairs do</h3>\n" + html_table(flagged_effect_header(), flagged, "flagged") +
+         "<p class=\"note-text\">Median and IQR in ms, without and with the pairs the matcher flagged; "
+         "\"in statistics\": the table above holds them.</p>\n";
+  }
   h += "<p class=\"note-text\">Latencies in ms; type-7 quantiles; shares are of samples strictly above the "
        "limit. Ambiguous pairs are left out unless asked for.</p>\n";
   return h;

@@ -60,6 +60,7 @@ std::string report_text(const Report& report) {
   std::string out;
   if (!report.scenarios.empty() || report.full_loops.empty())
     out = pairing_table(results) + "\n" + scenario_table(results);
+  if (const auto flagged = flagged_effect_table(results); !flagged.empty()) out += "\n" + flagged;
   if (!report.full_loops.empty()) out += (out.empty() ? "" : "\n") + full_loop_table(report.full_loops);
   if (const auto steps = clock_step_table(results); !steps.empty()) out += "\n" + steps;
   {
@@ -116,6 +117,21 @@ std::string report_markdown(const Report& report) {
                     md_cell(m.p95_ms));
     for (const auto& t : m.thresholds) out += fmt::format(" | {} %", md_cell(t.fraction_above * 100));
     out += " |\n";
+  }
+  std::vector<std::vector<std::string>> flagged;
+  for (const auto& s : report.scenarios)
+    if (auto row = flagged_effect_row(s.result); !row.empty()) flagged.push_back(std::move(row));
+  if (!flagged.empty()) {
+    out += "\n## What the flagged pairs do\n\nMedian and IQR in ms, without and with the pairs the matcher "
+           "flagged; \"in statistics\": the table above holds them (`--include-ambiguous`).\n\n|";
+    const auto header = flagged_effect_header();
+    for (const auto& h : header) out += " " + md_escape(h) + " |";
+    out += "\n|---|---:|---|---:|---:|---:|---:|---|\n";
+    for (const auto& row : flagged) {
+      out += "|";
+      for (const auto& cell : row) out += " " + md_escape(cell) + " |";
+      out += "\n";
+    }
   }
   if (!report.full_loops.empty()) {
     // M2M, G2G, E2E and the motion durations of the full-loop files (report/full_loop_view.hpp).

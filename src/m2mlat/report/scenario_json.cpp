@@ -150,6 +150,15 @@ nlohmann::json scenario_json(const analysis::ScenarioResult& r) {
         uncertainty_json(analysis::summarize_uncertainty(r.uncertainty, r.refuse_gated));
   if (r.steps.steps() != 0 || r.steps.limited()) j["clock_steps"] = clock_steps_json(r);
   if (r.breakdown) j["breakdown"] = breakdown_json(*r.breakdown);
+  if (const auto& e = r.flagged_effect)
+    j["flagged_effect"] = {{"flagged", e->flagged},
+                           {"in_statistics", e->included},
+                           {"without", {{"n", e->n_without}, {"median_ms", number(e->median_without_ms)},
+                                        {"iqr_ms", number(e->iqr_without_ms)}}},
+                           {"with", {{"n", e->n_with}, {"median_ms", number(e->median_with_ms)},
+                                     {"iqr_ms", number(e->iqr_with_ms)}}},
+                           {"median_moves", e->median_moves()},
+                           {"iqr_moves", e->iqr_moves()}};
   return j;
 }
 

@@ -124,6 +124,39 @@ std::string uncertainty_table(std::span<const analysis::ScenarioResult> results)
          table.render();
 }
 
+std::vector<std::string> flagged_effect_header() {
+  return {"scenario", "flagged", "in statistics", "median without", "median with", "IQR without", "IQR with",
+          "moves by more than half the CI"};
+}
+
+std::vector<std::string> flagged_effect_row(const analysis::ScenarioResult& r) {
+  if (!r.flagged_effect) return {};
+  const auto& e = *r.flagged_effect;
+  std::string moves;
+  if (e.median_moves())
+    moves = fmt::format("median {:+.1f} (half CI {:.1f})", e.median_shift_ms(), *e.half_median_ci_ms);
+  if (e.iqr_moves())
+    moves += fmt::format("{}IQR {:+.1f} (half CI {:.1f})", moves.empty() ? "" : "; ", e.iqr_shift_ms(),
+                         *e.half_iqr_ci_ms);
+  if (moves.empty()) moves = e.half_median_ci_ms ? "no" : "- (no CI)";
+  return {r.input.scenario, std::to_string(e.flagged), e.included ? "yes" : "no", ms_text(e.median_without_ms),
+          ms_text(e.median_with_ms), ms_text(e.iqr_without_ms), ms_text(e.iqr_with_ms), moves};
+}
+
+std::string flagged_effect_table(std::span<const analysis::ScenarioResult> results) {
+  Table table(flagged_effect_header());
+  bool any = false;
+  for (const auto& r : results)
+    if (auto row = flagged_effect_row(r); !row.empty()) {
+      table.add_row(std::move(row));
+      any = true;
+    }
+  if (!any) return {};
+  return "what the flagged pairs do (ms; \"in statistics\": the statistics above hold them, "
+         "--include-ambiguous)\n" +
+         table.render();
+}
+
 std::vector<std::string> clock_limit_notes(const analysis::ScenarioResult& r) {
   std::vector<std::string> out;
   for (const auto& [side, ref] : {std::pair{&r.steps.cause, &r.input.cause_ref}, std::pair{&r.steps.effect, &r.input.effect_ref}})

@@ -21,6 +21,13 @@ std::string pairing_table(std::span<const analysis::ScenarioResult> results);
 // The per-sample uncertainty of the scenarios whose boards had clock samples (median and P95 of
 // u and U95, median/P95/worst max_err, shares flagged); empty text when none had.
 std::string uncertainty_table(std::span<const analysis::ScenarioResult> results);
+// The median and IQR of each scenario with flagged pairs, with them and without them, and whether they
+// move either by more than half its CI; empty text when no scenario has flagged pairs.
+std::string flagged_effect_table(std::span<const analysis::ScenarioResult> results);
+// The same table's header, and one scenario's row (ms, 1 decimal; empty without flagged pairs), for the
+// Markdown and HTML reports.
+std::vector<std::string> flagged_effect_header();
+std::vector<std::string> flagged_effect_row(const analysis::ScenarioResult& result);
 // Per board whose kernel log showed its clock slewing faster than the steps' bound: "<node>: the
 // kernel log's realtime clock slews faster than 500 ppm at K places: ..." (kernel_log_steps.hpp).
 std::vector<std::string> clock_limit_notes(const analysis::ScenarioResult& r);
