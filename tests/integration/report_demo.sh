@@ -39,7 +39,9 @@ import json, sys
 doc = json.load(open(sys.argv[1]))
 assert doc["groups"] == [] and len(doc["comparisons"]) == 6
 assert [a["threshold_ns"] for a in doc["scenarios"][0]["latency"]["above"]] == [900000000]
-assert doc["comparisons"][0]["bootstrap"] == {"level": 0.95, "resamples": 300, "seed": 5}
+b = doc["comparisons"][0]["bootstrap"]
+assert (b["level"], b["resamples"], b["seed"]) == (0.95, 300, 5), b
+assert b["subject_resampled"] in ("pairs", "manoeuvres") or b["subject_resampled"].startswith("blocks of "), b
 PY
 "$M2MLAT" report c.db --group fast=static_5g,dynamic_autonomous --compare static_wifi:dynamic_autonomous --print csv-comparisons > cmp.csv
 [ "$(wc -l < cmp.csv)" = 2 ] && grep -q '^static_wifi,dynamic_autonomous,' cmp.csv || fail "explicit --compare: $(cat cmp.csv)"

@@ -37,6 +37,14 @@ std::vector<std::int64_t> ScenarioResult::latencies_ns() const {
   return out;
 }
 
+std::vector<std::size_t> ScenarioResult::manoeuvre_starts() const {
+  std::vector<std::int64_t> causes;
+  const auto t = times();
+  for (std::size_t i = 0; i < match.pairs.size(); ++i)
+    if (in_statistics(i)) causes.push_back(t.cause(match.pairs[i]));
+  return analysis::manoeuvre_starts(causes, match.burst_gap);
+}
+
 std::size_t ScenarioResult::ambiguous_pairs() const {
   return static_cast<std::size_t>(
       std::count_if(match.pairs.begin(), match.pairs.end(), [](const auto& p) { return p.ambiguous(); }));
@@ -63,15 +71,7 @@ ScenarioResult analyse(ScenarioInput input, ScenarioSteps steps, const pairing::
 
 void summarize(ScenarioResult& result, const stats::SummaryOptions& summary_options) {
   auto latencies = result.latencies_ns();
-  std::vector<std::size_t> manoeuvres;
-  if (summary_options.bootstrap) {
-    std::vector<std::int64_t> causes;
-    causes.reserve(latencies.size());
-    const auto t = result.times();
-    for (std::size_t i = 0; i < result.match.pairs.size(); ++i)
-      if (result.in_statistics(i)) causes.push_back(t.cause(result.match.pairs[i]));
-    manoeuvres = manoeuvre_starts(causes, result.match.burst_gap);
-  }
+  const auto manoeuvres = summary_options.bootstrap ? result.manoeuvre_starts() : std::vector<std::size_t>{};
   auto& summary = result.summary = stats::summarize_in_place(latencies, {}, summary_options, manoeuvres);
   {
     std::vector<std::int64_t> flagged;  // the flagged pairs' latencies: in the sorted sample or not

@@ -57,7 +57,9 @@ struct ScenarioResult {
 
   // The pairs' times: the input's columns, which the matcher paired (after correct_scenario).
   pairing::PairTimes times() const { return {input.cause.t_ns, input.effect.t_ns}; }
-  std::vector<std::int64_t> latencies_ns() const;  // of the pairs the summary is over
+  std::vector<std::int64_t> latencies_ns() const;  // of the pairs the summary is over, in time order
+  // Where each manoeuvre begins among latencies_ns() (manoeuvres.hpp): what the bootstrap resamples whole.
+  std::vector<std::size_t> manoeuvre_starts() const;
   // The source ids (store seq or file index) of a pair's events, or of an unmatched event.
   std::int64_t cause_seq(const pairing::Pair& p) const { return source_id(input.cause, p.cause_index); }
   std::int64_t effect_seq(const pairing::Pair& p) const { return source_id(input.effect, p.effect_index); }

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "m2mlat/core/printable.hpp"
+#include "m2mlat/report/resampling_text.hpp"
 #include "m2mlat/report/table.hpp"
 
 namespace m2mlat::report {
@@ -66,6 +67,9 @@ std::string comparison_sentence(const ComparisonReport& r) {
       s += fmt::format("; above {}: {:.1f} % vs {:.1f} % ({:+.1f} points, CI {:+.1f} to {:+.1f})",
                        threshold_text(d.threshold), d.share_subject * 100, d.share_baseline * 100,
                        d.difference * 100, d.ci.lower * 100, d.ci.upper * 100);
+  if (c.resamples > 0)
+    s += fmt::format("; the CIs resampled {} of {} and {} of {}", resampling_name(c.subject_resampling),
+                     core::printable(r.subject), resampling_name(c.baseline_resampling), core::printable(r.baseline));
   s += ".";
   const auto note = uncertainty_note(r);
   if (!note.empty()) s += " " + note;

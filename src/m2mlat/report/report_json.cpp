@@ -6,6 +6,7 @@
 #include "m2mlat/report/comparison_text.hpp"
 #include "m2mlat/report/full_loop_view.hpp"
 #include "m2mlat/formats/json_number.hpp"
+#include "m2mlat/report/resampling_text.hpp"
 #include "m2mlat/report/scenario_json.hpp"
 
 namespace m2mlat::report {
@@ -64,7 +65,12 @@ nlohmann::json comparison_json(const ComparisonReport& r) {
           {"uncertainty_ms", number(c.uncertainty_ms)},
           {"median_difference_below_uncertainty", c.median_difference_below_uncertainty},
           {"iqr_difference_below_uncertainty", c.iqr_difference_below_uncertainty},
-          {"bootstrap", {{"resamples", c.resamples}, {"seed", c.seed}, {"level", c.level}}},
+          {"bootstrap",
+           {{"resamples", c.resamples},
+            {"seed", c.seed},
+            {"level", c.level},
+            {"subject_resampled", resampling_name(c.subject_resampling)},
+            {"baseline_resampled", resampling_name(c.baseline_resampling)}}},
           {"sentence", comparison_sentence(r)}};
 }
 

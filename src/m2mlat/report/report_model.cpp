@@ -126,7 +126,9 @@ ComparisonReport compare_scenarios(const Report& report, const std::string& subj
   options.alpha = report.alpha;
   ComparisonReport r{subject, baseline, {}};
   try {
-    r.comparison = stats::compare(s->result.latencies_ns(), b->result.latencies_ns(), options);
+    const auto subject_ns = s->result.latencies_ns(), baseline_ns = b->result.latencies_ns();
+    const auto subject_units = s->result.manoeuvre_starts(), baseline_units = b->result.manoeuvre_starts();
+    r.comparison = stats::compare({subject_ns, true, subject_units}, {baseline_ns, true, baseline_units}, options);
   } catch (const core::Error& e) {
     throw core::Error(e.kind(), fmt::format("{} vs {}: {}", subject, baseline, e.what()));
   }

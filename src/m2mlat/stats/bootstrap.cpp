@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 
 #include "m2mlat/core/error.hpp"
@@ -99,10 +100,19 @@ struct Labelled {
   std::uint32_t unit = 0;
 };
 
-// The grouped or blocked bootstrap: each resample weighs every unit by how often its blocks drew it,
-// and walks the sorted sample to the ranks its quartiles interpolate between.
+// The median and IQR intervals from the units' replicates.
 MedianIqrCi resample_units(std::span<const std::int64_t> in_time_order, std::span<const std::size_t> starts,
                            const Resampling& plan, const BootstrapOptions& options) {
+  const UnitReplicates r = unit_replicates(in_time_order, starts, plan, options.resamples, options.seed, false);
+  std::vector<double> iqrs(options.resamples);
+  for (std::size_t b = 0; b < options.resamples; ++b) iqrs[b] = r.q3[b] - r.q1[b];
+  return median_iqr_ci(r.median, iqrs, options);
+}
+
+}  // namespace
+
+UnitReplicates unit_replicates(std::span<const std::int64_t> in_time_order, std::span<const std::size_t> starts,
+                               const Resampling& plan, std::size_t resamples, std::uint64_t seed, bool with_sd) {
   const std::size_t units = plan.units;
   std::vector<std::uint32_t> size(units);
   std::vector<Labelled> sorted(in_time_order.size());
@@ -115,13 +125,19 @@ MedianIqrCi resample_units(std::span<const std::int64_t> in_time_order, std::spa
   std::sort(sorted.begin(), sorted.end(), [](const Labelled& a, const Labelled& b) {
     return a.ns != b.ns ? a.ns < b.ns : a.unit < b.unit;
   });
+  // Deviations from the sample's middle value, in ms: small numbers for the SD's one-pass sums.
+  const std::int64_t centre = sorted.empty() ? 0 : sorted[sorted.size() / 2].ns;
 
+  UnitReplicates out;
+  out.q1.resize(resamples);
+  out.median.resize(resamples);
+  out.q3.resize(resamples);
+  if (with_sd) out.sd_ms.resize(resamples);
   const std::size_t block = plan.blocks.length;
   std::vector<std::uint32_t> weight(units);
-  std::vector<double> medians(options.resamples), iqrs(options.resamples);
-  for (std::size_t b = 0; b < options.resamples; ++b) {
+  for (std::size_t b = 0; b < resamples; ++b) {
     std::fill(weight.begin(), weight.end(), 0u);
-    IndexStream draw(Rng::stream(options.seed, b), static_cast<std::uint32_t>(units));
+    IndexStream draw(Rng::stream(seed, b), static_cast<std::uint32_t>(units));
     std::size_t n = 0;
     for (std::size_t taken = 0; taken < units;) {
       std::size_t u = draw.next();
@@ -140,21 +156,31 @@ MedianIqrCi resample_units(std::span<const std::int64_t> in_time_order, std::spa
     }
     std::int64_t value[6] = {};
     std::size_t next = 0, below = 0;  // ranks found; resample values at or below the walk
-    for (std::size_t i = 0; i < sorted.size() && next < 6; ++i) {
-      below += weight[sorted[i].unit];
+    double s = 0, s2 = 0;            // the resample's sums of deviations (ms) and their squares
+    for (std::size_t i = 0; i < sorted.size() && (with_sd || next < 6); ++i) {
+      const std::uint32_t w = weight[sorted[i].unit];
+      below += w;
       while (next < 6 && rank[next] < below) value[next++] = sorted[i].ns;
+      if (with_sd && w != 0) {
+        const double d = static_cast<double>(sorted[i].ns - centre) / 1e6;
+        s += w * d;
+        s2 += w * d * d;
+      }
     }
     double q[3];
     for (std::size_t k = 0; k < 3; ++k)
       q[k] = at[k].fraction == 0.0 ? static_cast<double>(value[2 * k])
                                    : interpolate(value[2 * k], value[2 * k + 1], at[k].fraction);
-    medians[b] = q[1];
-    iqrs[b] = q[2] - q[0];
+    out.q1[b] = q[0];
+    out.median[b] = q[1];
+    out.q3[b] = q[2];
+    if (with_sd) {
+      const double nn = static_cast<double>(n);
+      out.sd_ms[b] = n > 1 ? std::sqrt(std::max(0.0, (s2 - s * s / nn) / (nn - 1))) : 0.0;
+    }
   }
-  return median_iqr_ci(medians, iqrs, options);
+  return out;
 }
-
-}  // namespace
 
 std::optional<MedianIqrCi> bootstrap_median_iqr(std::span<const std::int64_t> sorted_ns,
                                                 const BootstrapOptions& options) {

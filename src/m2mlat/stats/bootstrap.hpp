@@ -103,6 +103,14 @@ std::optional<MedianIqrCi> bootstrap_median_iqr(std::span<const std::int64_t> so
 // decide them. Throws core::Error(internal) on unit starts that are not ascending within the sample.
 Resampling plan_resampling(std::span<const std::int64_t> in_time_order, std::span<const std::size_t> unit_starts);
 
+// The replicates of a units' bootstrap (plan not sample by sample): per resample its type-7 quartiles
+// (ns) and, with_sd, its standard deviation (ms, n - 1). Resample b draws from Rng::stream(seed, b).
+struct UnitReplicates {
+  std::vector<double> q1, median, q3, sd_ms;
+};
+UnitReplicates unit_replicates(std::span<const std::int64_t> in_time_order, std::span<const std::size_t> unit_starts,
+                               const Resampling& plan, std::size_t resamples, std::uint64_t seed, bool with_sd);
+
 // The median's and IQR's CIs resampling as `plan` says: each resample draws circular blocks of
 // plan.blocks.length consecutive units (block starts uniform, Politis and Romano 1992) until it holds
 // as many units as the sample, and takes the type-7 quantiles of the samples they hold. A plan sample by

@@ -75,6 +75,36 @@ std::vector<double> bootstrap_sd_ms(std::span<const std::int64_t> sorted_ns, std
 
 Comparison compare(std::span<const std::int64_t> subject_ns, std::span<const std::int64_t> baseline_ns,
                    const CompareOptions& options) {
+  return compare(CompareSample{subject_ns, false, {}}, CompareSample{baseline_ns, false, {}}, options);
+}
+
+namespace {
+
+// One side's resampled quartiles (ns, resamples x {q1, median, q3}) and SDs (ms), as its plan says.
+struct SideReplicates {
+  std::vector<double> q1, median, q3, sd_ms;
+};
+SideReplicates side_replicates(const CompareSample& side, const std::vector<std::int64_t>& sorted,
+                               const Resampling& plan, std::size_t resamples, std::uint64_t seed,
+                               std::uint64_t sd_seed) {
+  SideReplicates out;
+  if (!plan.sample_by_sample()) {
+    auto r = unit_replicates(side.ns, side.unit_starts, plan, resamples, seed, true);
+    return {std::move(r.q1), std::move(r.median), std::move(r.q3), std::move(r.sd_ms)};
+  }
+  const double probabilities[] = {0.25, 0.5, 0.75};
+  const auto q = bootstrap_quantiles(sorted, probabilities, resamples, seed);
+  out.q1 = q.column(0);
+  out.median = q.column(1);
+  out.q3 = q.column(2);
+  out.sd_ms = bootstrap_sd_ms(sorted, resamples, sd_seed);
+  return out;
+}
+
+}  // namespace
+
+Comparison compare(const CompareSample& subject, const CompareSample& baseline, const CompareOptions& options) {
+  const auto subject_ns = subject.ns, baseline_ns = baseline.ns;
   check_confidence_level(options.level);
   if (!(options.alpha > 0.0 && options.alpha < 1.0))
     throw core::Error(core::ErrorKind::usage,
@@ -92,6 +122,14 @@ Comparison compare(std::span<const std::int64_t> subject_ns, std::span<const std
   std::sort(b.begin(), b.end());
 
   Comparison c;
+  const auto plan = [](const CompareSample& side) {
+    if (side.in_time_order) return plan_resampling(side.ns, side.unit_starts);
+    Resampling one_by_one;
+    one_by_one.samples = one_by_one.units = side.ns.size();
+    return one_by_one;
+  };
+  c.subject_resampling = plan(subject);
+  c.baseline_resampling = plan(baseline);
   c.resamples = options.resamples;
   c.seed = options.seed;
   c.level = options.level;
@@ -116,22 +154,21 @@ Comparison compare(std::span<const std::int64_t> subject_ns, std::span<const std
     SplitMix64 seeds(options.seed);
     const auto seed_s = seeds.next(), seed_b = seeds.next(), sd_seed_s = seeds.next(),
                sd_seed_b = seeds.next();
-    const double probabilities[] = {0.25, 0.5, 0.75};
-    const auto rs = bootstrap_quantiles(s, probabilities, options.resamples, seed_s);
-    const auto rb = bootstrap_quantiles(b, probabilities, options.resamples, seed_b);
+    const auto rs = side_replicates(subject, s, c.subject_resampling, options.resamples, seed_s, sd_seed_s);
+    const auto rb = side_replicates(baseline, b, c.baseline_resampling, options.resamples, seed_b, sd_seed_b);
     std::vector<double> median_diff, iqr_ratio;
     for (std::size_t r = 0; r < options.resamples; ++r) {
-      median_diff.push_back((rs.value(r, 1) - rb.value(r, 1)) / kNsPerMs);
-      const double iqr_b = rb.value(r, 2) - rb.value(r, 0);
-      if (iqr_b > 0) iqr_ratio.push_back((rs.value(r, 2) - rs.value(r, 0)) / iqr_b);
+      median_diff.push_back((rs.median[r] - rb.median[r]) / kNsPerMs);
+      const double iqr_b = rb.q3[r] - rb.q1[r];
+      if (iqr_b > 0) iqr_ratio.push_back((rs.q3[r] - rs.q1[r]) / iqr_b);
     }
     c.median_difference_ci_ms = percentile_interval(median_diff, options.level);
     // A resample whose baseline IQR is 0 has no ratio; the interval is over the others, and absent if
     // more than half are missing.
     if (iqr_ratio.size() * 2 > options.resamples)
       c.iqr_ratio_ci = percentile_interval(iqr_ratio, options.level);
-    const auto sds = bootstrap_sd_ms(s, options.resamples, sd_seed_s);
-    const auto sdb = bootstrap_sd_ms(b, options.resamples, sd_seed_b);
+    const auto& sds = rs.sd_ms;
+    const auto& sdb = rb.sd_ms;
     std::vector<double> sd_ratio;
     for (std::size_t r = 0; r < options.resamples; ++r)
       if (sdb[r] > 0) sd_ratio.push_back(sds[r] / sdb[r]);

@@ -13,6 +13,10 @@
 // - whether the median difference and the IQR difference are smaller than a given measurement
 //   uncertainty (a bound on one latency's error from both boards' clocks, docs/report.md).
 //
+// A sample given in time order with its units (a scenario's pairs and manoeuvres) is resampled as
+// bootstrap.hpp's plan_resampling says: whole manoeuvres, in blocks where they are correlated; the
+// resamples' quartiles and SD then come from unit_replicates.
+//
 // Reproducibility: the two samples' resamples use different seeds derived from options.seed with
 // splitmix64 (the first two outputs for the quantiles, the next two for the SDs), so that two
 // samples of equal size never draw the same ranks; same seed, same intervals on every platform.
@@ -68,6 +72,8 @@ struct Comparison {
   std::vector<ShareDifference> shares;
 
   std::optional<double> uncertainty_ms;
+  // What each side's intervals resampled (samples one by one for a sample not given in time order).
+  Resampling subject_resampling, baseline_resampling;
   bool median_difference_below_uncertainty = false;  // |median difference| < uncertainty
   bool iqr_difference_below_uncertainty = false;     // |IQR_subject - IQR_baseline| < uncertainty
 
@@ -81,8 +87,18 @@ struct Comparison {
   bool spread_significant() const { return brown_forsythe.p < alpha; }
 };
 
-// Both samples in ns, any order, each with at least 2 values (else core::Error(data) naming which).
-// Throws core::Error(usage) for a bad level or alpha.
+// One side of a comparison: its latencies (ns) and, when they are in time order, where its units begin
+// (empty: each its own).
+struct CompareSample {
+  std::span<const std::int64_t> ns;
+  bool in_time_order = false;
+  std::span<const std::size_t> unit_starts;
+};
+
+// Both samples in ns, each with at least 2 values (else core::Error(data) naming which). Throws
+// core::Error(usage) for a bad level or alpha.
+Comparison compare(const CompareSample& subject, const CompareSample& baseline, const CompareOptions& options = {});
+// The same for samples in any order, each value resampled on its own.
 Comparison compare(std::span<const std::int64_t> subject_ns, std::span<const std::int64_t> baseline_ns,
                    const CompareOptions& options = {});
 
