@@ -22,7 +22,7 @@ def stamps(path):
 lost = {side: {stamps(f"{clean_dir}/{side}.log")[i] for i in faults["left_out"][side]}
         for side in ("operator", "vehicle")}
 def pairs(path):
-    return [(int(r["cause_time_ns"]), int(r["effect_time_ns"]), int(r["latency_ns"]), int(r["flag_bits"]) & ~256)
+    return [(int(r["cause_time_ns"]), int(r["effect_time_ns"]), int(r["latency_ns"]), int(r["pair_flags"]) & ~256)
             for r in csv.DictReader(l for l in open(path) if not l.startswith("#"))]
 want = [p for p in pairs(clean_csv) if p[0] not in lost["operator"] and p[1] not in lost["vehicle"]]
 got = pairs(pairs_csv)
@@ -103,7 +103,7 @@ for side, s, ns, boot in (("operator", "remote_station_s", "remote_station_ns", 
             f.write(f"[{us // 1_000_000:5d}.{us % 1_000_000:06d}] GPIO_16_IRQ:{t}\n")
 PYEOF
 "$M2MLAT" pair --cause-file rig/operator.log --effect-file rig/vehicle.log -o rig.csv >/dev/null
-[ "$(grep -c ',0$' rig.csv)" -ge 55 ] || fail "the published run's logs pair as $(grep -c ',0$' rig.csv) clean pairs"
+[ "$(grep -c ',0,true,$' rig.csv)" -ge 55 ] || fail "the published run's logs pair as $(grep -c ',0,true,$' rig.csv) clean pairs"
 for faults in outlier:vehicle:middle outlier:operator:first "boot:vehicle:2:fakehw,step:vehicle:40000000:30" \
               step:vehicle:1000000:30 step:operator:-1000000:20 "step:operator:1000000:15,step:vehicle:-1000000:40" \
               "boot:operator:2:epoch,outlier:vehicle:12,step:vehicle:-1000000:30,step:operator:40000000:45" \

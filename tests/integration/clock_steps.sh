@@ -34,7 +34,7 @@ truth = {cause[int(r['cause_index'])]: int(r['true_latency_ns']) for r in csv.Di
 rows = [r for r in csv.DictReader(l for l in open(pairs_path) if not l.startswith('#'))]
 corrected = flagged = 0
 for r in rows:
-    flags = int(r['flag_bits'])
+    flags = int(r['pair_flags'])
     if flags & 256: corrected += 1
     if flags & (1 | 512):
         flagged += flags & 512 != 0
@@ -195,7 +195,7 @@ read -r corrected flagged <<<"$(check_pairs pairs.csv unknown/operator.csv unkno
 "$PY" -c 'import csv,json,sys
 s = json.load(open("stats.json"))["scenarios"][0]
 rows = csv.DictReader(l for l in open("pairs.csv") if not l.startswith("#"))
-clear = sum(1 for r in rows if int(r["flag_bits"]) & (15 | 512) == 0)
+clear = sum(1 for r in rows if int(r["pair_flags"]) & (15 | 512) == 0)
 sys.exit(0 if s["latency"]["n"] == clear and s["clock_steps"]["pairs_after_step"] >= 40 else 1)' ||
   fail "unknown step: the flagged pairs are not left out of the statistics"
 

@@ -28,6 +28,7 @@ grep -q 'clock samples .* --with-meta' note.txt || fail "no note on the clock sa
 "$M2MLAT" pair campaign.db -o pair-o.csv --unmatched unmatched.csv > /dev/null
 cmp pairs.csv pair-o.csv || fail "export --what pairs and pair -o differ"
 cmp pairs.csv both.csv || fail "--scenario twice did not export both scenarios"
+"$M2MLAT" stats campaign.db --json --bootstrap 0 > stats.json
 
 $PY - <<'PY'
 import json
@@ -57,7 +58,14 @@ assert set(lines.scenario) == {"static_5g", "static_wifi"}
 
 pairs = read("pairs.csv")
 assert list(pairs.columns[:3]) == ["scenario", "session", "label"], list(pairs.columns)
-assert {"max_error_ns", "u_ns", "U95_ns", "flag_bits", "latency_ms"} <= set(pairs.columns), list(pairs.columns)
+assert {"max_error_ns", "u_ns", "U95_ns", "pair_flags", "in_statistics", "left_out", "latency_ms"} <= set(pairs.columns), list(pairs.columns)
+# What stats used is what a pandas user selects with in_statistics: the same count and median.
+assert pairs.in_statistics.dtype == bool, pairs.dtypes
+assert (pairs.left_out.isna() == pairs.in_statistics).all()
+for s in json.load(open("stats.json"))["scenarios"]:
+    kept = pairs[(pairs.scenario == s["scenario"]) & pairs.in_statistics]
+    assert len(kept) == s["latency"]["n"], (s["scenario"], len(kept), s["latency"]["n"])
+    assert abs(kept.latency_ms.median() - s["latency"]["median_ms"]) < 1e-6, (s["scenario"], kept.latency_ms.median())
 assert ((pairs.effect_time_ns - pairs.cause_time_ns) == pairs.latency_ns).all()
 names = pairs.groupby("scenario")[["cause_node", "effect_node"]].agg(set).to_dict("index")
 assert names == {"static_5g": {"cause_node": {"operator"}, "effect_node": {"vehicle"}},
@@ -82,7 +90,7 @@ if command -v Rscript > /dev/null; then
   Rscript -e '
     e <- read.csv("events.csv"); p <- read.csv("pairs.csv")
     stopifnot(identical(names(e)[1:4], c("scenario", "session", "label", "node")))
-    stopifnot(all(c("latency_ms", "u_ns", "U95_ns", "flag_bits") %in% names(p)))
+    stopifnot(all(c("latency_ms", "u_ns", "U95_ns", "pair_flags", "in_statistics") %in% names(p)))
     stopifnot(setequal(unique(p$scenario), c("static_5g", "static_wifi")))
     stopifnot(all(abs(p$latency_ms - p$latency_ns / 1e6) < 1e-6))
     cat(sprintf("R: %d events, %d pairs\n", nrow(e), nrow(p)))' > r.txt

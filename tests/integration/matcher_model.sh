@@ -48,7 +48,7 @@ import csv, sys
 truth = {tuple(map(int, l.split(","))) for l in open(sys.argv[3]) if l.strip()}
 def score(path):
     rows = list(csv.DictReader(l for l in open(path) if not l.startswith("#")))
-    kept = [r for r in rows if int(r["flag_bits"]) & 31 == 0]
+    kept = [r for r in rows if int(r["pair_flags"]) & 31 == 0]
     wrong = [r for r in kept if (int(r["cause_time_ns"]), int(r["effect_time_ns"])) not in truth]
     return len(kept), len(wrong)
 model, rules = score(sys.argv[1]), score(sys.argv[2])

@@ -18,7 +18,7 @@ for run in sys.argv[1:]:
     pairs = pd.read_csv(f"{run}/pairs.csv")
     unmatched = pd.read_csv(f"{run}/unmatched.csv")
     true_set = {(int(cause[c]), int(effect[e])) for c, e in zip(truth.cause_index, truth.effect_index)}
-    found = list(zip(pairs.cause_time_ns, pairs.effect_time_ns, pairs["flag_bits"]))
+    found = list(zip(pairs.cause_time_ns, pairs.effect_time_ns, pairs["pair_flags"]))
     clear = [(c, e) for c, e, f in found if not f & 1]
     wrong_clear = [p for p in clear if p not in true_set]
     correct = sum((c, e) in true_set for c, e, _ in found)

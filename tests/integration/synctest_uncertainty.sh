@@ -32,7 +32,7 @@ assert pairs["max_error_ns"].notna().all() and (pairs["u_ns"] > 0).all()
 assert ((pairs["U95_ns"] - 2 * pairs["u_ns"]).abs() <= 1).all()  # k = 2
 assert (pairs["U95_ns"] < pairs["max_error_ns"]).all()
 lines = [json.loads(l) for l in open("pairs.jsonl")]
-assert lines[0]["format"] == "m2mlat-pairs/3"
+assert lines[0]["format"] == "m2mlat-pairs/4"
 for column in ("max_error_ns", "u_ns", "U95_ns"):
     assert [l[column] for l in lines] == pairs[column].tolist(), column
 # The simulator's events are identical for the same seed: pair by measured latency.

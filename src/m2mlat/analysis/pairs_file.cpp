@@ -40,7 +40,7 @@ class ResultPairs final : public formats::PairSource {
 
   std::size_t size() const override { return starts_.back(); }
   formats::PairColumns columns() const override {
-    return {with_uncertainty_, with_uncertainty_, with_uncertainty_};
+    return {with_uncertainty_, with_uncertainty_, with_uncertainty_, true};
   }
 
   void fill(std::size_t first, std::span<formats::PairRecord> out) const override {
@@ -60,6 +60,8 @@ class ResultPairs final : public formats::PairSource {
                     core::TimePoint::from_ns(r.match.clock, times.effect(p)),
                     p.flags | pair_flags(r.step_mark(p))};
       record.session = sessions_[k].empty() ? 0 : sessions_[k][i];
+      record.left_out = r.left_out(i);
+      record.in_statistics = record.left_out.empty();
       // Unknown or unbounded uncertainty, and pairs past the end of it, are written empty.
       const bool bounded = i < r.uncertainty.size() && r.uncertainty[i].bounded();
       record.max_error_ns = bounded ? std::optional(r.uncertainty[i].max_error_ns) : std::nullopt;

@@ -1,4 +1,4 @@
-// The pairing of analysed scenarios in files: the pairs (m2mlat-pairs/3 CSV or JSON Lines, or the
+// The pairing of analysed scenarios in files: the pairs (m2mlat-pairs/4 CSV or JSON Lines, or the
 // reference rig's paired CSV) with each pair's uncertainty columns, and the unmatched events with
 // their reasons. The matcher's pairs and formats' own rows are converted here (both ways), so
 // formats/ never depends on pairing; `m2mlat pair` and `m2mlat export --what pairs` write through

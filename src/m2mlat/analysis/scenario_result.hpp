@@ -54,6 +54,9 @@ struct ScenarioResult {
   // Whether match.pairs[i] would be in the statistics whatever its pairing flags: not gated when refused,
   // not after a clock step of unknown offset.
   bool admitted(std::size_t i) const;
+  // Why match.pairs[i] is not in the statistics: its lowest pairing flag's name (ambiguous, competing,
+  // jump, bounced, improbable), after_clock_step or sync_gated; empty when it is in.
+  std::string_view left_out(std::size_t i) const;
 
   // The pairs' times: the input's columns, which the matcher paired (after correct_scenario).
   pairing::PairTimes times() const { return {input.cause.t_ns, input.effect.t_ns}; }

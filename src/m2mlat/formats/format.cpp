@@ -51,7 +51,7 @@ std::optional<Format> from_header(std::string_view line) {
   if (same_columns(fields, kRigSyncColumns)) return Format::rig_sync_csv;
   if (looks_like_full_loop_header(fields)) return Format::full_loop_csv;
   if (fields.size() == 1 && fields[0] == kCameraLatencyHeader) return Format::camera_latency;
-  // m2mlat-pairs/3 starts with scenario,session,label; /2 with cause_node.
+  // m2mlat-pairs/3 and /4 start with scenario,session,label; /2 with cause_node.
   for (const std::string_view field : fields)
     if (field == "cause_node") return Format::pairs_csv;
   bool node = false;

@@ -20,8 +20,8 @@ enum class Format : std::uint8_t {
   rig_sync_csv,    // reference rig: trigger_time_s,sync_offset_ns,Jitter_ns,... (import)
   events_csv,      // m2mlat-events/2 as CSV                                     (import, export)
   events_jsonl,    // m2mlat-events/2 as JSON Lines                              (import, export)
-  pairs_csv,       // m2mlat-pairs/3 as CSV                                      (export)
-  pairs_jsonl,     // m2mlat-pairs/3 as JSON Lines                               (export)
+  pairs_csv,       // m2mlat-pairs/4 as CSV                                      (export)
+  pairs_jsonl,     // m2mlat-pairs/4 as JSON Lines                               (export)
   full_loop_csv,   // full-loop rig: VEHICLE_GY_ON,...,PHOTOTRANSISTOR           (stats, report)
   camera_latency,  // full-loop rig's camera-to-monitor file: LATENCY (ms)      (stats, report)
 };

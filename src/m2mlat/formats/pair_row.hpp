@@ -1,4 +1,4 @@
-// One row of a pairs file (m2mlat-pairs/3, the reference rig's paired CSV): a cause edge and the
+// One row of a pairs file (m2mlat-pairs/4, the reference rig's paired CSV): a cause edge and the
 // effect edge it is paired with. formats' own type, kept apart from the matcher's in-memory
 // pairing::Pair so that the file layer depends on core only; analysis/pairs_file.hpp turns the
 // matcher's pairs into rows.

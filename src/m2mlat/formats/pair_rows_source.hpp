@@ -4,6 +4,7 @@
 #pragma once
 
 #include <span>
+#include <string_view>
 
 #include "m2mlat/formats/pair_row.hpp"
 #include "m2mlat/formats/pair_source.hpp"
@@ -13,7 +14,7 @@ namespace m2mlat::formats {
 
 class PairRowsSource final : public PairSource {
  public:
-  // Keeps views of `rows` and of options' sessions, max_error_ns, u_ns and U95_ns (which must outlive
+  // Keeps views of `rows` and of options' sessions, max_error_ns, u_ns, U95_ns and left_out (which must outlive
   // it). Throws core::Error(internal) if a non-empty one of those does not have one entry per row.
   explicit PairRowsSource(std::span<const PairRow> rows, const PairExportOptions& options = {});
 
@@ -25,6 +26,7 @@ class PairRowsSource final : public PairSource {
   std::span<const PairRow> rows_;
   std::span<const std::int64_t> sessions_;
   std::span<const std::optional<std::int64_t>> max_error_ns_, u_ns_, U95_ns_;
+  std::span<const std::string_view> left_out_;
 };
 
 }  // namespace m2mlat::formats

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "m2mlat/formats/pair_row.hpp"
@@ -22,6 +23,10 @@ struct PairRecord {
   // The uncertainty columns (pairs_export.hpp), ns; nullopt = unknown. Read only for the columns the
   // source has (PairSource::columns).
   std::optional<std::int64_t> max_error_ns, u_ns, U95_ns;
+  // Whether the statistics hold the pair, and if not why (a short snake_case name): read only when the
+  // source has the columns (PairColumns::statistics).
+  bool in_statistics = true;
+  std::string_view left_out;
 };
 
 // Which optional uncertainty columns a source's file has (on every row, empty where unknown).
@@ -29,6 +34,7 @@ struct PairColumns {
   bool max_error_ns = false;
   bool u_ns = false;
   bool U95_ns = false;
+  bool statistics = false;  // in_statistics and left_out
 };
 
 class PairSource {
@@ -40,7 +46,7 @@ class PairSource {
   virtual void fill(std::size_t first, std::span<PairRecord> out) const = 0;
 };
 
-// Rows per block: 4096 rows of 112 bytes, under half a MiB whatever the number of pairs.
+// Rows per block: 4096 rows of 136 bytes, under half a MiB whatever the number of pairs.
 inline constexpr std::size_t kPairBlockRows = 4096;
 
 // A source's rows in order, read a block at a time into one buffer of at most kPairBlockRows rows:

@@ -104,7 +104,9 @@ void write_pairs_csv(std::ostream& out, const PairSource& pairs, const PairExpor
   buffer << "scenario,session,label,cause_node,cause_channel,effect_node,effect_channel,clock,cause_time_ns,"
             "effect_time_ns,latency_ns,latency_ms";
   for (const auto& column : columns) buffer << ',' << column.name;
-  if (with_flags) buffer << ",flag_bits";
+  if (with_flags) buffer << ",pair_flags";
+  const bool with_statistics = pairs.columns().statistics;
+  if (with_statistics) buffer << ",in_statistics,left_out";
   buffer << '\n';
   std::size_t i = 0;
   for (const PairGroup& group : groups) {
@@ -142,6 +144,10 @@ void write_pairs_csv(std::ostream& out, const PairSource& pairs, const PairExpor
       if (with_flags) {
         buffer << ',';
         buffer.integer(pair.flags);
+      }
+      if (with_statistics) {
+        buffer << (record.in_statistics ? ",true," : ",false,");
+        text.append(record.left_out);
       }
       buffer << '\n';
       buffer.end_record();
@@ -208,8 +214,18 @@ void write_pairs_jsonl(std::ostream& out, const PairSource& pairs, const PairExp
           text.append("null");
       }
       if (options.flags) {
-        text.append(",\"flag_bits\":");
+        text.append(",\"pair_flags\":");
         buffer.integer(pair.flags);
+      }
+      if (pairs.columns().statistics) {
+        text.append(record.in_statistics ? ",\"in_statistics\":true,\"left_out\":" : ",\"in_statistics\":false,\"left_out\":");
+        if (record.left_out.empty()) {
+          text.append("null");
+        } else {
+          text.push_back('"');
+          text.append(record.left_out);
+          text.push_back('"');
+        }
       }
       text.append("}\n");
       buffer.end_record();

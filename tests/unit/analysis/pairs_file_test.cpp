@@ -67,6 +67,7 @@ void write_whole(const std::string& path, formats::Format format, std::span<cons
   std::vector<formats::PairGroup> groups;
   std::vector<std::int64_t> session_column;
   std::vector<std::optional<std::int64_t>> max_error, u, expanded;
+  std::vector<std::string_view> left_out;
   bool any_clock = false, any_session = false;
   for (std::size_t k = 0; k < results.size(); ++k) {
     const auto& r = results[k];
@@ -81,6 +82,7 @@ void write_whole(const std::string& path, formats::Format format, std::span<cons
       max_error.push_back(bounded ? std::optional(r.uncertainty[i].max_error_ns) : std::nullopt);
       u.push_back(bounded ? std::optional(r.uncertainty[i].u_ns) : std::nullopt);
       expanded.push_back(bounded ? std::optional(r.uncertainty[i].expanded_ns()) : std::nullopt);
+      left_out.push_back(r.left_out(i));
       const bool known = k < sessions.sessions.size() && sessions.sessions[k].size() == n;
       session_column.push_back(known ? sessions.sessions[k][i] : 0);
       any_session |= known;
@@ -92,6 +94,7 @@ void write_whole(const std::string& path, formats::Format format, std::span<cons
   options.cause = results.front().input.cause_ref;
   options.effect = results.front().input.effect_ref;
   options.groups = groups;
+  options.left_out = left_out;
   if (any_clock) options.max_error_ns = max_error, options.u_ns = u, options.U95_ns = expanded;
   if (any_session) options.sessions = session_column, options.labels = sessions.labels;
   formats::export_pairs(path, format, rows, options);

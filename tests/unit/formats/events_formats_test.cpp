@@ -269,7 +269,7 @@ TEST(PairsExport, CsvAndJsonlWithOptionalColumns) {
   options.U95_ns = expanded;
   std::ostringstream full;
   write_pairs_csv(full, pairs, options);
-  EXPECT_NE(full.str().find("latency_ms,max_error_ns,u_ns,U95_ns,flag_bits\n"), std::string::npos);
+  EXPECT_NE(full.str().find("latency_ms,max_error_ns,u_ns,U95_ns,pair_flags\n"), std::string::npos);
   EXPECT_NE(
       full.str().find("remote,\"pedal, left\",vehicle,wheel,realtime,1762872545550296135,1762872546417585462,"
                       "867289327,867.289327,250000,40000,80000,0\n"),
@@ -280,7 +280,7 @@ TEST(PairsExport, CsvAndJsonlWithOptionalColumns) {
   bound_only.max_error_ns = bound;
   std::ostringstream partial;
   write_pairs_csv(partial, pairs, bound_only);
-  EXPECT_NE(partial.str().find("latency_ms,max_error_ns,flag_bits\n"), std::string::npos);
+  EXPECT_NE(partial.str().find("latency_ms,max_error_ns,pair_flags\n"), std::string::npos);
 
   std::ostringstream jsonl;
   write_pairs_jsonl(jsonl, pairs, options);
@@ -289,17 +289,17 @@ TEST(PairsExport, CsvAndJsonlWithOptionalColumns) {
   std::vector<nlohmann::json> objects;
   while (std::getline(lines, line)) objects.push_back(nlohmann::json::parse(line));
   ASSERT_EQ(objects.size(), 2u);
-  EXPECT_EQ(objects[0]["format"], "m2mlat-pairs/3");
+  EXPECT_EQ(objects[0]["format"], "m2mlat-pairs/4");
   EXPECT_EQ(objects[0]["cause_channel"], "pedal, left");
   EXPECT_EQ(objects[0]["cause_time_ns"].get<std::int64_t>(), 1'762'872'545'550'296'135);
   EXPECT_EQ(objects[0]["latency_ns"].get<std::int64_t>(), 867'289'327);
   EXPECT_EQ(objects[0]["max_error_ns"].get<std::int64_t>(), 250'000);
   EXPECT_EQ(objects[0]["u_ns"].get<std::int64_t>(), 40'000);
   EXPECT_EQ(objects[0]["U95_ns"].get<std::int64_t>(), 80'000);
-  EXPECT_EQ(objects[0]["flag_bits"].get<std::uint32_t>(), 0u);
+  EXPECT_EQ(objects[0]["pair_flags"].get<std::uint32_t>(), 0u);
   EXPECT_TRUE(objects[1]["max_error_ns"].is_null());
   EXPECT_TRUE(objects[1]["u_ns"].is_null());
-  EXPECT_EQ(objects[1]["flag_bits"].get<std::uint32_t>(), 1u);
+  EXPECT_EQ(objects[1]["pair_flags"].get<std::uint32_t>(), 1u);
   EXPECT_NE(jsonl.str().find("\"latency_ms\":867.289327,"), std::string::npos);  // exact decimal text
 
   // Two scenarios, each with its own boards, and the sessions' labels.

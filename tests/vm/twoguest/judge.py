@@ -4,7 +4,7 @@ against what the host did in physical time. Standard library only.
 Inputs, in the work folder, per phase P (coref: chrony co-referenced; auto: no sync, the vehicle's
 clock stepped OFFSET ahead):
   P-trigger.csv     the host's send times (CLOCK_MONOTONIC, ns): the true delay of each latency cycle
-  P-pairs.csv       `m2mlat pair -o` (latency_ns, max_error_ns, u_ns, U95_ns, flag_bits)
+  P-pairs.csv       `m2mlat pair -o` (latency_ns, max_error_ns, u_ns, U95_ns, pair_flags)
   P-pairs.jsonl     `m2mlat export --what pairs --format pairs-jsonl` (the same pairs)
   P-stats.json      `m2mlat stats --json` (latency summary, sample_uncertainty)
   P-synctest.json   `m2mlat synctest --json` on the pulse channel
@@ -111,7 +111,7 @@ def pairs_csv(phase):
     period = a.period_ms * 1_000_000
     for r in rows:
         r["cycle"] = round((int(r["cause_time_ns"]) - first) / period)
-    return [r for r in rows if int(r["flag_bits"]) & OUT_OF_STATISTICS == 0], len(rows)
+    return [r for r in rows if int(r["pair_flags"]) & OUT_OF_STATISTICS == 0], len(rows)
 
 
 def spread(values):
@@ -185,7 +185,7 @@ def coref_uncertainty(pairs, stats):
         try:
             m, e = int(p["max_error_ns"]), int(p["u_ns"])
         except ValueError:
-            bad.append(f"pair {i}: max_error '{p['max_error_ns']}' u '{p['u_ns']}' flags {p['flag_bits']}")
+            bad.append(f"pair {i}: max_error '{p['max_error_ns']}' u '{p['u_ns']}' flags {p['pair_flags']}")
             continue
         # Plausible: positive, at most 10 ms (chrony's bound on a LAN is root delay / 2 + dispersion,
         # a few hundred us here), and the standard uncertainty (k = 1) inside the bound.
@@ -193,7 +193,7 @@ def coref_uncertainty(pairs, stats):
             bad.append(f"pair {i}: max {m} u {e}")
         maxe.append(m)
         este.append(e)
-    jsonl = [j for j in (json.loads(line) for line in open(path("coref-pairs.jsonl"))) if j["flag_bits"] & 1 == 0]
+    jsonl = [j for j in (json.loads(line) for line in open(path("coref-pairs.jsonl"))) if j["pair_flags"] & 1 == 0]
     same = ([j["latency_ns"] for j in jsonl] == [int(p["latency_ns"]) for p in pairs]
             and [j["max_error_ns"] for j in jsonl] == [int(p["max_error_ns"] or -1) for p in pairs])
     # stats summarises every pair, ambiguous ones included: all bounded, none flagged.
@@ -258,8 +258,8 @@ def main():
         # onto one timescale: the latencies are true, every pair says it was corrected (flag 256),
         # and the pulse test, on the raw clocks, still sees the step.
         pairs, stats, _ = phase_checks("auto", 0, a.offset_ns)
-        check("auto.corrected", bool(pairs) and all(int(p["flag_bits"]) & CORRECTED for p in pairs),
-              f"{sum(1 for p in pairs if int(p['flag_bits']) & CORRECTED)} of {len(pairs)} pairs corrected by the step")
+        check("auto.corrected", bool(pairs) and all(int(p["pair_flags"]) & CORRECTED for p in pairs),
+              f"{sum(1 for p in pairs if int(p['pair_flags']) & CORRECTED)} of {len(pairs)} pairs corrected by the step")
         auto_step()
         # No daemon synchronises the clocks in this phase, so m2mlat must not claim a bound: every pair
         # is flagged unsynchronised (the kernel's STA_UNSYNC, the only clock state the agents have).
