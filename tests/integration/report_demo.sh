@@ -45,6 +45,18 @@ assert b["subject_resampled"] in ("pairs", "manoeuvres") or b["subject_resampled
 PY
 "$M2MLAT" report c.db --group fast=static_5g,dynamic_autonomous --compare static_wifi:dynamic_autonomous --print csv-comparisons > cmp.csv
 [ "$(wc -l < cmp.csv)" = 2 ] && grep -q '^static_wifi,dynamic_autonomous,' cmp.csv || fail "explicit --compare: $(cat cmp.csv)"
+# The baseline is the first scenario given, or --baseline: every other scenario of its group against it.
+"$M2MLAT" report c.db --scenario static_5g --scenario static_wifi --print json > first.json
+"$M2MLAT" report c.db --no-groups --baseline dynamic_autonomous --print json > based.json
+$PY - first.json based.json <<'PY'
+import json, sys
+first, based = (json.load(open(p)) for p in sys.argv[1:3])
+assert [(c["subject"], c["baseline"]) for c in first["comparisons"]] == [("static_wifi", "static_5g")], first["comparisons"]
+pairs = [(c["subject"], c["baseline"]) for c in based["comparisons"]]
+assert sorted(pairs) == sorted((s, "dynamic_autonomous") for s in ("static_wifi", "static_5g", "dynamic_co_referenced")), pairs
+PY
+expect_exit 2 "$M2MLAT" report c.db --baseline static_5gg
+grep -q "no scenario 'static_5gg' (did you mean 'static_5g'?)" err.txt || fail "unknown baseline: $(cat err.txt)"
 expect_exit 2 "$M2MLAT" report c.db --compare nope:static_5g
 grep -q "no scenario 'nope'" err.txt || fail "unknown scenario: $(cat err.txt)"
 expect_exit 2 "$M2MLAT" report c.db --group nonsense

@@ -22,6 +22,7 @@
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/cli/report_files.hpp"
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/nearest.hpp"
 #include "m2mlat/onset/detectors.hpp"
 #include "m2mlat/report/chain_truth_text.hpp"
 #include "m2mlat/report/full_loop_view.hpp"
@@ -50,6 +51,7 @@ struct DemoCommand {
   std::int64_t manoeuvres = 0;         // 0: the presets' own count
   std::vector<std::string> overrides;  // simulator settings, key=value, applied to every scenario
   std::string detector = "flank";      // the full-loop scenarios' onset detector
+  std::string baseline;                // the comparisons' baseline (default: the first scenario)
   MatchFlags match;
   StatsFlags stats;
   bool json = false;
@@ -84,6 +86,9 @@ FullLoopDemo run_full_loops(const DemoCommand& c,
 }
 
 int run_demo(const DemoCommand& c) {
+  if (!c.baseline.empty() && std::find(c.scenarios.begin(), c.scenarios.end(), c.baseline) == c.scenarios.end())
+    throw core::Error(core::ErrorKind::usage, fmt::format("--baseline: no scenario '{}'{}", c.baseline,
+                                                          core::did_you_mean(c.baseline, c.scenarios)));
   const auto match_options = c.match.options();
   const auto summary_options = c.stats.options();
   const auto uncertainty_options = c.stats.uncertainty_options();
@@ -219,7 +224,7 @@ int run_demo(const DemoCommand& c) {
     for (auto& result : results) r.scenarios.push_back(report::scenario_report(std::move(result)));
     r.full_loops = full_loop.results;
     report::assign_groups(r, {}, true);
-    add_comparisons(r, {}, false, c.stats);
+    add_comparisons(r, {}, false, c.stats, c.baseline);
     progress_done();
     write_report_folder(r, c.report_dir);
     if (!c.json) fmt::print("\nreport: {}/report.html (and report.md, report.json, CSV, pgfplots/)\n", c.report_dir);
@@ -251,6 +256,9 @@ Runner attach_demo(CLI::App& sub) {
   sub.add_option("--set", c->overrides,
                  "Override a simulator setting in every scenario, key=value (repeatable; `m2mlat simulate "
                  "--list` shows the keys)");
+  sub.add_option("--baseline", c->baseline,
+                 "The comparisons' baseline: every other scenario of its group against it (default: the "
+                 "first scenario given)");
   sub.add_option("--detector", c->detector, "Onset detector of the full-loop scenarios (flank, reference)")
       ->capture_default_str();
   c->match.add_to(sub);

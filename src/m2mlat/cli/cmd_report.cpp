@@ -41,6 +41,7 @@ struct ReportCommand {
   bool no_groups = false;
   std::vector<std::string> compares;  // SUBJECT:BASELINE
   bool no_compare = false;
+  std::string baseline;  // the default comparisons' baseline (default: the first scenario given)
   std::string uncertainty;  // duration; empty = unknown where no clock data
   double alpha = 0.05;
   std::string format = "text";
@@ -94,7 +95,7 @@ report::Report build(const ReportCommand& c) {
 
   report::assign_groups(r, parse_groups(c.groups), !c.no_groups);
 
-  add_comparisons(r, c.compares, c.no_compare, c.stats);
+  add_comparisons(r, c.compares, c.no_compare, c.stats, c.baseline);
   progress_done();
   return r;
 }
@@ -118,8 +119,11 @@ Runner attach_report(CLI::App& sub) {
   g->add_flag("--no-groups", c->no_groups, "Do not group scenarios by name");
   g->add_option("--compare", c->compares,
                 "Compare two scenarios, SUBJECT:BASELINE (repeatable; default: within each group, each later "
-                "scenario against each earlier one)");
+                "scenario against each earlier one, or against --baseline)");
   g->add_flag("--no-compare", c->no_compare, "No comparisons");
+  g->add_option("--baseline", c->baseline,
+                "The default comparisons' baseline: every other scenario of its group against it (default: "
+                "the first scenario given, --scenario or the store's order)");
   g->add_option("--uncertainty", c->uncertainty,
                 "Measurement uncertainty per latency (e.g. 1ms) for scenarios without clock samples");
   g->add_option("--alpha", c->alpha, "Significance level of the tests")->capture_default_str();

@@ -68,7 +68,7 @@ report::Report new_report() {
 }
 
 void add_comparisons(report::Report& r, const std::vector<std::string>& compares, bool no_compare,
-                     const StatsFlags& stats) {
+                     const StatsFlags& stats, const std::string& baseline) {
   std::vector<std::pair<std::string, std::string>> pairs;
   for (const auto& spec : compares) {
     const auto colon = spec.find(':');
@@ -79,12 +79,12 @@ void add_comparisons(report::Report& r, const std::vector<std::string>& compares
   }
   if (pairs.empty() && !no_compare) {
     // Default comparisons skip a scenario with too few latencies (an explicit --compare fails on it).
-    for (const auto& [subject, baseline] : report::default_comparisons(r)) {
+    for (const auto& [subject, base] : report::default_comparisons(r, baseline)) {
       const auto too_few = [&](const std::string& name) { return r.find(name)->result.summary.n < 2; };
-      if (too_few(subject) || too_few(baseline))
-        warn(fmt::format("{} vs {} not compared: fewer than 2 latencies", subject, baseline));
+      if (too_few(subject) || too_few(base))
+        warn(fmt::format("{} vs {} not compared: fewer than 2 latencies", subject, base));
       else
-        pairs.emplace_back(subject, baseline);
+        pairs.emplace_back(subject, base);
     }
   }
   stats::CompareOptions options;
@@ -96,14 +96,13 @@ void add_comparisons(report::Report& r, const std::vector<std::string>& compares
   // The full-loop files compare among themselves, quantity by quantity (report_model.hpp).
   if (compares.empty() && !no_compare)
     for (auto& p : report::default_full_loop_comparisons(r)) pairs.push_back(std::move(p));
-  for (const auto& [subject, baseline] : pairs) {
-    progress(fmt::format("comparing {} with {}", subject, baseline));
-    if (r.find_full_loop(subject) != nullptr && r.find_full_loop(baseline) != nullptr) {
-      for (auto& one : report::compare_full_loops(r, subject, baseline, options))
-        r.comparisons.push_back(std::move(one));
+  for (const auto& [subject, base] : pairs) {
+    progress(fmt::format("comparing {} with {}", subject, base));
+    if (r.find_full_loop(subject) != nullptr && r.find_full_loop(base) != nullptr) {
+      for (auto& one : report::compare_full_loops(r, subject, base, options)) r.comparisons.push_back(std::move(one));
       continue;
     }
-    r.comparisons.push_back(report::compare_scenarios(r, subject, baseline, options));
+    r.comparisons.push_back(report::compare_scenarios(r, subject, base, options));
   }
 }
 

@@ -155,7 +155,7 @@ std::string box_chart(const Report& report) {
                    report.groups.empty() ? "scenario" : "scenario (grouped)",
                    report.scenarios.empty() ? std::vector<stats::ThresholdShare>{}
                                             : report.scenarios.front().result.summary.thresholds,
-                   note);
+                   note, report.colours());
 }
 
 // The full-loop files: their table, and M2M, G2G and E2E of each file side by side.
@@ -197,9 +197,10 @@ std::string ecdf_chart(const Report& report) {
   SvgPlot plot("ecdf", "Empirical distribution (ECDF)", "latency (ms)", "fraction of samples <= latency",
                lo - pad, hi + pad, 0, 1);
   std::vector<std::pair<std::string, std::string>> legend;
+  const auto colours = report.colours();
   for (std::size_t i = 0; i < curves.size(); ++i) {
-    plot.step_line(curves[i].x, curves[i].y, palette(i));
-    legend.emplace_back(report.scenarios[i].result.input.scenario, std::string(palette(i)));
+    plot.step_line(curves[i].x, curves[i].y, palette(colours[i]));
+    legend.emplace_back(report.scenarios[i].result.input.scenario, std::string(palette(colours[i])));
   }
   plot.legend(legend);
   return plot.render();
@@ -214,11 +215,13 @@ std::string histogram_chart(const Report& report) {
   SvgPlot plot("histogram", "Histogram", "latency (ms)", "pairs per bin", h.edges.front(), h.edges.back(), 0,
                static_cast<double>(top) * 1.08);
   std::vector<std::pair<std::string, std::string>> legend;
+  const auto colours = report.colours();
   for (std::size_t i = 0; i < h.counts.size(); ++i) {
+    const auto colour = palette(colours[i]);
     for (std::size_t k = 0; k < h.counts[i].size(); ++k)
       if (h.counts[i][k] > 0)
-        plot.rect(h.edges[k], 0, h.edges[k + 1], static_cast<double>(h.counts[i][k]), palette(i), "bar");
-    legend.emplace_back(report.scenarios[i].result.input.scenario, std::string(palette(i)));
+        plot.rect(h.edges[k], 0, h.edges[k + 1], static_cast<double>(h.counts[i][k]), colour, "bar");
+    legend.emplace_back(report.scenarios[i].result.input.scenario, std::string(colour));
   }
   plot.legend(legend);
   plot.note(fmt::format("{} bins of {:.1f} ms over all scenarios' samples", h.edges.size() - 1,
@@ -226,7 +229,7 @@ std::string histogram_chart(const Report& report) {
   return plot.render();
 }
 
-std::string series_chart(const ScenarioReport& s, std::size_t index) {
+std::string series_chart(const ScenarioReport& s, std::size_t index, std::size_t colour_index) {
   const auto ts = time_series(s);
   if (ts.t_s.empty()) return {};
   const double lo = *std::min_element(ts.low_ms.begin(), ts.low_ms.end());
@@ -236,7 +239,7 @@ std::string series_chart(const ScenarioReport& s, std::size_t index) {
   SvgPlot plot(fmt::format("timeseries-{}", index),
                fmt::format("Latency over time: {}", s.result.input.scenario), "time since the first pair (s)",
                "latency (ms)", 0, t_end, lo - pad, hi + pad, 720, 300);
-  const auto colour = palette(index);
+  const auto colour = palette(colour_index);
   for (std::size_t i = 0; i < ts.t_s.size(); ++i) {
     if (ts.high_ms[i] > ts.low_ms[i])
       plot.segment(ts.t_s[i], ts.low_ms[i], ts.t_s[i], ts.high_ms[i], colour, "err");
@@ -395,7 +398,7 @@ std::string forest_chart(const Report& report) {
     const auto& r = report.comparisons[i];
     const auto& c = r.comparison;
     const double x = static_cast<double>(i) + 1;
-    const auto colour = palette(i);
+    const auto colour = palette(report.colour(r.subject));
     const auto& ci = c.median_difference_ci_ms;
     if (std::isfinite(ci.lower) && std::isfinite(ci.upper)) {
       plot.segment(x, ci.lower, x, ci.upper, colour);
@@ -465,8 +468,9 @@ std::string distribution_sections(const Report& report) {
   if (auto hist = histogram_chart(report); !hist.empty()) h += figure(hist, "Counts per bin, all samples.");
 
   h += "<h2>Latency over time</h2>\n";
+  const auto colours = report.colours();
   for (std::size_t i = 0; i < report.scenarios.size(); ++i)
-    if (auto c = series_chart(report.scenarios[i], i); !c.empty())
+    if (auto c = series_chart(report.scenarios[i], i, colours[i]); !c.empty())
       h += figure(
           c,
           "Each pair at its cause edge's time; bars show the per-sample expanded uncertainty U95 (k = 2, "

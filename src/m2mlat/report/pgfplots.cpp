@@ -95,6 +95,7 @@ std::string tex_escape(const std::string& text) {
 }
 
 std::vector<std::string> write_pgfplots(const Report& report, const std::filesystem::path& directory) {
+  const auto colours = report.colours();  // each scenario's, as in the HTML report's figures
   std::error_code ec;
   std::filesystem::create_directories(directory, ec);
   if (ec)
@@ -133,7 +134,7 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
             "whisker={}, "
             "lower quartile={}, median={}, upper quartile={}, upper whisker={}}}] table[y=outlier_ms] "
             "{{\\mtwomlatdir box-outliers-{}.dat}};\n",
-            colour(i), x, num(b.whisker_low), num(b.q1), num(b.median), num(b.q3), num(b.whisker_high), name);
+            colour(colours[i]), x, num(b.whisker_low), num(b.q1), num(b.median), num(b.q3), num(b.whisker_high), name);
       x += 1;
     }
     tex += ticks + "}, xticklabels={" + labels + "}, x tick label style={rotate=20, anchor=north east}]\n" +
@@ -197,7 +198,7 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
       tex += fmt::format(
           "\\addplot[{}, thick, const plot] table[x=latency_ms, y=fraction] {{\\mtwomlatdir ecdf-{}.dat}};\n"
           "\\addlegendentry{{{}}}\n",
-          colour(i), name, tex_escape(report.scenarios[i].result.input.scenario));
+          colour(colours[i]), name, tex_escape(report.scenarios[i].result.input.scenario));
     }
     w.file("ecdf.tex", tex + "\\end{axis}\n\\end{tikzpicture}\n");
     figures.push_back("ecdf.tex");
@@ -226,7 +227,7 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
       tex += fmt::format(
           "\\addplot[draw={0}, fill={0}, fill opacity=0.3] table[x=left_ms, y=c{1}] "
           "{{\\mtwomlatdir histogram.dat}};\n\\addlegendentry{{{2}}}\n",
-          colour(i), i, tex_escape(report.scenarios[i].result.input.scenario));
+          colour(colours[i]), i, tex_escape(report.scenarios[i].result.input.scenario));
     w.file("histogram.tex", tex + "\\end{axis}\n\\end{tikzpicture}\n");
     figures.push_back("histogram.tex");
   }
@@ -279,7 +280,7 @@ std::vector<std::string> write_pgfplots(const Report& report, const std::filesys
                              "y explicit]\n"
                              "  table[x=time_s, y=latency_ms, y error plus=plus_ms, y error minus=minus_ms] "
                              "{{\\mtwomlatdir timeseries-{}.dat}};\n\\end{{axis}}\n\\end{{tikzpicture}}\n",
-                             tex_escape(s.result.input.scenario), colour(i), name));
+                             tex_escape(s.result.input.scenario), colour(colours[i]), name));
       figures.push_back(fmt::format("timeseries-{}.tex", name));
     }
     const auto clocks = clock_curves(s);

@@ -6,6 +6,8 @@
 #include <algorithm>
 
 #include "m2mlat/core/error.hpp"
+#include "m2mlat/core/nearest.hpp"
+#include "m2mlat/report/scenario_colours.hpp"
 #include "m2mlat/stats/quantile.hpp"
 
 namespace m2mlat::report {
@@ -102,12 +104,25 @@ void assign_groups(Report& report,
   for (auto& s : report.scenarios) s.group = prefix_of(s.result.input.scenario);
 }
 
-std::vector<std::pair<std::string, std::string>> default_comparisons(const Report& report) {
+std::vector<std::pair<std::string, std::string>> default_comparisons(const Report& report,
+                                                                     const std::string& baseline) {
   std::vector<std::pair<std::string, std::string>> out;
   const auto& sc = report.scenarios;
+  const ScenarioReport* base = nullptr;
+  if (!baseline.empty()) {
+    base = report.find(baseline);
+    if (base == nullptr) {
+      std::vector<std::string> names;
+      for (const auto& s : sc) names.push_back(s.result.input.scenario);
+      throw core::Error(core::ErrorKind::usage, fmt::format("--baseline: no scenario '{}'{}", baseline,
+                                                            core::did_you_mean(baseline, names)));
+    }
+    for (const auto& s : sc)
+      if (&s != base && s.group == base->group) out.emplace_back(s.result.input.scenario, baseline);
+  }
   for (std::size_t j = 0; j < sc.size(); ++j)
     for (std::size_t i = 0; i < j; ++i)
-      if (sc[i].group == sc[j].group)
+      if (sc[i].group == sc[j].group && (base == nullptr || sc[i].group != base->group))
         out.emplace_back(sc[j].result.input.scenario, sc[i].result.input.scenario);
   return out;
 }
@@ -133,6 +148,19 @@ ComparisonReport compare_scenarios(const Report& report, const std::string& subj
     throw core::Error(e.kind(), fmt::format("{} vs {}: {}", subject, baseline, e.what()));
   }
   return r;
+}
+
+std::vector<std::size_t> Report::colours() const {
+  std::vector<std::string> names;
+  for (const auto& s : scenarios) names.push_back(s.result.input.scenario);
+  return scenario_colours(names);
+}
+
+std::size_t Report::colour(const std::string& scenario) const {
+  const auto all = colours();
+  for (std::size_t i = 0; i < scenarios.size(); ++i)
+    if (scenarios[i].result.input.scenario == scenario) return all[i];
+  return 0;
 }
 
 const analysis::FullLoopResult* Report::find_full_loop(const std::string& scenario) const {

@@ -60,6 +60,9 @@ struct Report {
 
   const ScenarioReport* find(const std::string& scenario) const;
   const analysis::FullLoopResult* find_full_loop(const std::string& scenario) const;
+  // The palette index of each of `scenarios` (scenario_colours.hpp), and of one scenario by name.
+  std::vector<std::size_t> colours() const;
+  std::size_t colour(const std::string& scenario) const;
 };
 
 // Groups: `explicit_groups` (name -> scenarios) if given; otherwise, when `by_prefix`, the part of
@@ -70,8 +73,11 @@ void assign_groups(Report& report,
                    bool by_prefix);
 
 // The default comparisons: within each group (or among all scenarios without groups), every later
-// scenario against every earlier one ("static_5g vs static_wifi").
-std::vector<std::pair<std::string, std::string>> default_comparisons(const Report& report);
+// scenario against every earlier one ("static_5g vs static_wifi": the first scenario given is the
+// baseline). With a `baseline`, every other scenario of its group (of all, without groups) against it,
+// and the other groups as before; a baseline not in the report is core::Error(usage).
+std::vector<std::pair<std::string, std::string>> default_comparisons(const Report& report,
+                                                                     const std::string& baseline = {});
 
 // Runs one comparison of two scenarios already in the report (core::Error(usage) for an unknown
 // name). The uncertainty used is the larger of the two scenarios' median per-pair bounds, or the
