@@ -254,7 +254,7 @@ ChainResult build_chains(const ChainInput& in, const ChainOptions& o, const stat
         ++series.excluded.at(static_cast<std::size_t>(value.why));
       }
     }
-    series.summary = stats::summarize(series.ns, series.lines, summary);
+    series.summary = stats::summarize(series.ns, series.lines, options_for(quantity, summary));
   }
   return r;
 }

@@ -34,11 +34,17 @@ void add(LoopSeries& series, const LoopValue& value, std::int64_t line) {
   }
 }
 
-void summarise(LoopSeries& series, const stats::SummaryOptions& options) {
-  series.summary = stats::summarize(series.ns, series.lines, options);
+void summarise(LoopSeries& series, LoopQuantity quantity, const stats::SummaryOptions& options) {
+  series.summary = stats::summarize(series.ns, series.lines, options_for(quantity, options));
 }
 
 }  // namespace
+
+stats::SummaryOptions options_for(LoopQuantity quantity, const stats::SummaryOptions& options) {
+  stats::SummaryOptions out = options;
+  if (!is_latency(quantity)) out.thresholds.clear();
+  return out;
+}
 
 std::string_view label(LoopQuantity quantity) {
   constexpr std::array<std::string_view, kLoopQuantities.size()> kLabels{"M2M", "G2G", "E2E",
@@ -93,7 +99,8 @@ FullLoopResult analyse_full_loop(std::string scenario, std::string file, const f
     const auto values = loop_values(row);
     for (std::size_t k = 0; k < values.size(); ++k) add(*result.quantities[k], values[k], row.line);
   }
-  for (auto& q : result.quantities) summarise(*q, options);
+  for (std::size_t k = 0; k < result.quantities.size(); ++k)
+    summarise(*result.quantities[k], kLoopQuantities[k], options);
   return result;
 }
 
@@ -111,7 +118,7 @@ FullLoopResult analyse_camera_latency(std::string scenario, std::string file,
     add(g2g, ns < 0 ? excluded(LoopExclusion::impossible) : LoopValue{ns, LoopExclusion::missing},
         latencies.lines[i]);
   }
-  summarise(g2g, options);
+  summarise(g2g, LoopQuantity::g2g, options);
   return result;
 }
 

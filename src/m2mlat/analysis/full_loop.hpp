@@ -36,6 +36,13 @@ std::string_view label(LoopQuantity quantity);
 // "m2m", "g2g", "e2e", "vehicle_motion", "station_motion": JSON members, CSV values, file names.
 std::string_view key(LoopQuantity quantity);
 
+// M2M, G2G and E2E are latencies; the motions are durations, to which no latency threshold applies.
+constexpr bool is_latency(LoopQuantity quantity) {
+  return quantity == LoopQuantity::m2m || quantity == LoopQuantity::g2g || quantity == LoopQuantity::e2e;
+}
+// The summary options of one quantity: `options` without thresholds for a motion.
+stats::SummaryOptions options_for(LoopQuantity quantity, const stats::SummaryOptions& options);
+
 // Why an event has no value of a quantity.
 enum class LoopExclusion : std::uint8_t {
   missing,     // a timestamp it needs is empty in the file

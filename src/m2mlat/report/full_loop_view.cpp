@@ -27,6 +27,19 @@ const std::vector<stats::ThresholdShare>* full_loop_thresholds(std::span<const F
   return nullptr;
 }
 
+std::vector<std::string> full_loop_notes(const FullLoopResult& r) {
+  std::vector<std::string> out;
+  const auto* m2m = r.find(LoopQuantity::m2m);
+  if (m2m == nullptr || m2m->summary.n == 0 || !(m2m->summary.median_ms < kSmallM2MMs)) return out;
+  const bool negative = m2m->summary.min && m2m->summary.min->ns < 0;
+  out.push_back(fmt::format(
+      "{}: M2M median {:.1f} ms{}: what a baseline gives (both gyroscopes on one body, true M2M = 0; the "
+      "onset detectors' spread makes some negative); a teleoperated vehicle's M2M holds the network and the "
+      "actuator and cannot be this small: check the roles or the boards' clocks",
+      r.scenario, m2m->summary.median_ms, negative ? ", some samples negative" : ""));
+  return out;
+}
+
 std::vector<std::string> full_loop_header(std::span<const FullLoopResult> results) {
   std::vector<std::string> header{"scenario", "quantity", "events", "excluded (missing/impossible/overflow)",
                                   "n",        "median",   "IQR",    "mean",
@@ -63,6 +76,9 @@ std::string full_loop_table(std::span<const FullLoopResult> results) {
       "full loop (ms): M2M = VEHICLE_GY_ON - STATION_GY_ON, G2G = PHOTOTRANSISTOR - LED_ON, "
       "E2E = M2M + G2G, motion = GY_OFF - GY_ON\n" +
       table.render();
+  text += "the latency limits (> ms) apply to M2M, G2G and E2E, not to the motions' durations\n";
+  for (const auto& r : results)
+    for (const auto& note : full_loop_notes(r)) text += note + "\n";
   for (const auto& r : results) {
     if (!r.from_chains) continue;
     std::string counts;
@@ -91,7 +107,8 @@ nlohmann::json full_loop_json(std::span<const FullLoopResult> results) {
          {"file", r.file},
          {"format", r.from_chains ? std::string("chains") : std::string(formats::to_string(r.format))},
          {"events", r.events},
-         {"quantities", quantities}});
+         {"quantities", quantities},
+         {"notes", full_loop_notes(r)}});
     if (r.from_chains) {
       nlohmann::json incomplete = nlohmann::json::object();
       for (const auto& [reason, count] : r.incomplete) incomplete[reason] = count;

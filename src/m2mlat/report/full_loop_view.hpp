@@ -27,6 +27,12 @@ const std::vector<stats::ThresholdShare>* full_loop_thresholds(
 std::vector<BoxData> full_loop_boxes(std::span<const analysis::FullLoopResult> results);
 // The rows of the tables (text and HTML): scenario, quantity, events, excluded (missing / impossible /
 // overflow), then summary_cells (n, median, IQR, mean, sd, min, max, P95, shares above), in ms.
+// What a reader should know about one result's figures, one sentence each: an M2M whose median is below
+// kSmallM2M (a baseline with both gyroscopes on one body gives about 0, and negative samples from the
+// onset detectors' spread; a teleoperated vehicle's M2M holds a network and an actuator).
+inline constexpr double kSmallM2MMs = 50;
+std::vector<std::string> full_loop_notes(const analysis::FullLoopResult& result);
+
 std::vector<std::string> full_loop_header(std::span<const analysis::FullLoopResult> results);
 std::vector<std::vector<std::string>> full_loop_rows(std::span<const analysis::FullLoopResult> results);
 

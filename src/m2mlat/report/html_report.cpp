@@ -163,6 +163,8 @@ std::string full_loop_section(const Report& report) {
   if (report.full_loops.empty()) return {};
   std::string h = "<h2>Full loop</h2>\n";
   h += html_table(full_loop_header(report.full_loops), full_loop_rows(report.full_loops), "full-loop");
+  for (const auto& r : report.full_loops)
+    for (const auto& note : full_loop_notes(r)) h += "<p class=\"note-text\">" + xml_escape(note) + "</p>\n";
   h += "<p class=\"note-text\">Per event: M2M = VEHICLE_GY_ON - STATION_GY_ON, G2G = PHOTOTRANSISTOR - "
        "LED_ON, "
        "E2E = M2M + G2G, motion = GY_OFF - GY_ON, each in integer ns before any statistic. Events without "

@@ -243,8 +243,9 @@ std::string full_loop_csv(std::span<const analysis::FullLoopResult> results) {
   std::string out =
       "scenario,file,quantity,events,n,excluded_missing,excluded_impossible,excluded_overflow,mean_ms,sd_ms,"
       "min_ms,p5_ms,q1_ms,median_ms,q3_ms,p90_ms,p95_ms,p99_ms,iqr_ms,max_ms";
-  if (const auto* t = full_loop_thresholds(results))
-    for (const auto& share : *t) out += fmt::format(",above_{}_fraction", threshold_column(share.threshold));
+  const auto* limits = full_loop_thresholds(results);
+  if (limits)
+    for (const auto& share : *limits) out += fmt::format(",above_{}_fraction", threshold_column(share.threshold));
   out += "\n";
   for (const auto& r : results)
     for (const auto q : analysis::kLoopQuantities) {
@@ -257,6 +258,8 @@ std::string full_loop_csv(std::span<const analysis::FullLoopResult> results) {
                          f6(m.p5_ms), f6(m.q1_ms), f6(m.median_ms), f6(m.q3_ms), f6(m.p90_ms), f6(m.p95_ms),
                          f6(m.p99_ms), f6(m.iqr_ms), m.max ? f6(m.max->ms()) : "");
       for (const auto& share : m.thresholds) out += "," + g6(share.fraction_above);
+      // A motion has no shares above the latency limits: its cells are empty.
+      for (std::size_t k = m.thresholds.size(); limits && k < limits->size(); ++k) out += ",";
       out += "\n";
     }
   return out;
