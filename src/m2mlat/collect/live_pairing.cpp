@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "m2mlat/analysis/pairing_counts.hpp"
 #include "m2mlat/analysis/pipeline.hpp"
 #include "m2mlat/analysis/scenario_breakdown.hpp"
 #include "m2mlat/analysis/scenario_result.hpp"
@@ -41,12 +42,6 @@ constexpr std::int64_t kLoopSettle = 3'000'000'000;
 std::int64_t floor_div(std::int64_t a, std::int64_t b) {
   const auto q = a / b;
   return (a % b != 0 && a < 0) ? q - 1 : q;
-}
-
-std::size_t count_unmatched(const pairing::MatchResult& m, pairing::Side side, bool bounces) {
-  return static_cast<std::size_t>(std::count_if(m.unmatched.begin(), m.unmatched.end(), [&](const auto& u) {
-    return u.side == side && (u.reason == pairing::UnmatchedReason::bounce) == bounces;
-  }));
 }
 
 }  // namespace
@@ -179,14 +174,14 @@ void LivePairing::repair(bool final) {
   s.cause_ref = r.input.cause_ref;
   s.effect_ref = r.input.effect_ref;
   s.clock = r.input.clock;
-  s.cause_events = r.match.cause_count;
-  s.effect_events = r.match.effect_count;
-  s.pairs = r.match.pairs.size();
-  s.ambiguous = r.ambiguous_pairs();
-  s.cause_unmatched = count_unmatched(r.match, pairing::Side::cause, false);
-  s.effect_unmatched = count_unmatched(r.match, pairing::Side::effect, false);
-  s.bounces = count_unmatched(r.match, pairing::Side::cause, true) +
-              count_unmatched(r.match, pairing::Side::effect, true);
+  const auto counts = analysis::pairing_counts(r);
+  s.cause_events = static_cast<std::int64_t>(counts.cause.edges);
+  s.effect_events = static_cast<std::int64_t>(counts.effect.edges);
+  s.pairs = counts.pairs;
+  s.ambiguous = counts.flagged;
+  s.cause_unmatched = counts.cause.unpaired();
+  s.effect_unmatched = counts.effect.unpaired();
+  s.bounces = counts.bounces();
   s.summary = std::move(r.summary);
   for (const auto& w : r.warnings) s.warnings.push_back(w.text);
   const auto& pairs = r.match.pairs;

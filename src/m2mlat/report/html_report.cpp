@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "m2mlat/analysis/pairing_counts.hpp"
 #include "m2mlat/report/breakdown_view.hpp"
 #include "m2mlat/report/comparison_text.hpp"
 #include "m2mlat/report/full_loop_view.hpp"
@@ -512,23 +513,20 @@ std::string distribution_sections(const Report& report) {
   h += "<h2>Losses and unmatched edges</h2>\n";
   std::vector<std::vector<std::string>> lrows;
   for (const auto& s : report.scenarios) {
-    std::size_t by_reason[2][3] = {};
-    for (const auto& u : s.result.match.unmatched)
-      ++by_reason[static_cast<int>(u.side)][static_cast<int>(u.reason)];
+    const auto c = analysis::pairing_counts(s.result);
     std::string recorded = s.result.losses.empty() ? "none recorded" : "";
     for (const auto& l : s.result.losses)
       recorded += fmt::format("{}{}: {} {} ({} records)", recorded.empty() ? "" : "; ", l.node, l.events,
                               l.kind, l.records);
-    lrows.push_back({s.result.input.scenario, std::to_string(s.result.match.cause_count),
-                     std::to_string(s.result.match.effect_count), std::to_string(s.result.match.pairs.size()),
-                     std::to_string(s.result.ambiguous_pairs()),
-                     fmt::format("{} / {} / {}", by_reason[0][0], by_reason[0][1], by_reason[0][2]),
-                     fmt::format("{} / {} / {}", by_reason[1][0], by_reason[1][1], by_reason[1][2]),
-                     recorded});
+    lrows.push_back({s.result.input.scenario, std::to_string(c.cause.edges), std::to_string(c.effect.edges),
+                     std::to_string(c.pairs), std::to_string(c.flagged), std::to_string(c.in_statistics),
+                     fmt::format("{} / {}", c.cause.no_candidate, c.cause.outmatched),
+                     fmt::format("{} / {}", c.effect.no_candidate, c.effect.outmatched),
+                     fmt::format("{} / {}", c.cause.bounces, c.effect.bounces), recorded});
   }
-  h += html_table({"scenario", "cause edges", "effect edges", "pairs", "ambiguous",
-                   "cause unmatched (bounce / no candidate / outmatched)",
-                   "effect unmatched (bounce / no candidate / outmatched)", "recorded losses"},
+  h += html_table({"scenario", "cause edges", "effect edges", "pairs", "flagged", "in statistics",
+                   "cause unmatched (no candidate / outmatched)", "effect unmatched (no candidate / outmatched)",
+                   "bounces (cause / effect)", "recorded losses"},
                   lrows, "losses");
   // The sanity verdict (analysis/sanity.hpp) and the events left out on no known clock, in words.
   for (const auto& s : report.scenarios) {

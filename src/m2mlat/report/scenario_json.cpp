@@ -2,6 +2,7 @@
 #include "m2mlat/report/scenario_json.hpp"
 #include "m2mlat/report/scenario_text.hpp"
 
+#include "m2mlat/analysis/pairing_counts.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/formats/json_number.hpp"
 #include "m2mlat/report/breakdown_view.hpp"
@@ -66,22 +67,17 @@ nlohmann::json summary_json(const stats::Summary& s) {
 }
 
 nlohmann::json pairing_json(const analysis::ScenarioResult& r) {
-  nlohmann::json unmatched{{"cause", nlohmann::json::object()}, {"effect", nlohmann::json::object()}};
-  for (auto reason : {pairing::UnmatchedReason::bounce, pairing::UnmatchedReason::no_candidate,
-                      pairing::UnmatchedReason::outmatched}) {
-    unmatched["cause"][std::string(pairing::to_string(reason))] = 0;
-    unmatched["effect"][std::string(pairing::to_string(reason))] = 0;
-  }
-  for (const auto& u : r.match.unmatched) {
-    auto& n = unmatched[std::string(pairing::to_string(u.side))][std::string(pairing::to_string(u.reason))];
-    n = n.get<std::int64_t>() + 1;
-  }
-  nlohmann::json j{{"cause_events", r.match.cause_count},
-                   {"effect_events", r.match.effect_count},
-                   {"pairs", r.match.pairs.size()},
-                   {"ambiguous_pairs", r.ambiguous_pairs()},
+  const auto counts = analysis::pairing_counts(r);
+  const auto side = [](const analysis::SideCounts& s) {
+    return nlohmann::json{{"bounce", s.bounces}, {"no_candidate", s.no_candidate}, {"outmatched", s.outmatched}};
+  };
+  nlohmann::json j{{"cause_events", counts.cause.edges},
+                   {"effect_events", counts.effect.edges},
+                   {"pairs", counts.pairs},
+                   {"ambiguous_pairs", counts.flagged},
+                   {"in_statistics", counts.in_statistics},
                    {"ambiguous_in_statistics", r.include_ambiguous},
-                   {"unmatched", unmatched}};
+                   {"unmatched", {{"cause", side(counts.cause)}, {"effect", side(counts.effect)}}}};
   // Only with --matcher model: the fitted alignment model and what it expects of the pairs kept.
   if (const auto& m = r.match.model) {
     const auto& p = m->parameters;

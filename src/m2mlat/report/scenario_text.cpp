@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "m2mlat/analysis/kernel_log_steps.hpp"
+#include "m2mlat/analysis/pairing_counts.hpp"
 #include "m2mlat/core/printable.hpp"
 #include "m2mlat/core/time.hpp"
 #include "m2mlat/report/resampling_text.hpp"
@@ -12,13 +13,6 @@
 namespace m2mlat::report {
 
 namespace {
-std::size_t count_unmatched(const pairing::MatchResult& m, pairing::Side side,
-                            std::optional<pairing::UnmatchedReason> reason) {
-  std::size_t n = 0;
-  for (const auto& u : m.unmatched) n += u.side == side && (!reason || u.reason == *reason);
-  return n;
-}
-
 // ">1s", ">170ms", ">2.5ms"
 std::string threshold_name(core::Duration d) {
   if (d.count() % 1'000'000'000 == 0) return fmt::format(">{}s", d.count() / 1'000'000'000);
@@ -43,7 +37,7 @@ std::vector<std::string> summary_cells(const stats::Summary& s) {
 }
 
 std::string scenario_table(std::span<const analysis::ScenarioResult> results) {
-  std::vector<std::string> header{"scenario", "pairs", "median", "IQR", "mean", "sd", "min", "max", "P95"};
+  std::vector<std::string> header{"scenario", "n", "median", "IQR", "mean", "sd", "min", "max", "P95"};
   if (!results.empty())
     for (const auto& t : results.front().summary.thresholds) header.push_back(threshold_name(t.threshold));
   Table table(header);
@@ -53,32 +47,29 @@ std::string scenario_table(std::span<const analysis::ScenarioResult> results) {
     row.resize(header.size(), "-");
     table.add_row(std::move(row));
   }
-  return "latency (ms)\n" + table.render();
+  return "latency (ms) of the n pairs in the statistics\n" + table.render();
 }
 
 std::string pairing_table(std::span<const analysis::ScenarioResult> results) {
-  Table table({"scenario", "cause", "effect", "pairs", "ambiguous", "cause unmatched", "effect unmatched",
-               "bounces"});
-  using pairing::Side;
-  using pairing::UnmatchedReason;
+  Table table({"scenario", "cause (edges)", "effect (edges)", "pairs", "flagged", "in statistics",
+               "cause unmatched", "effect unmatched", "bounces"});
   for (const auto& r : results) {
-    const auto& m = r.match;
-    table.add_row({r.input.scenario,
-                   fmt::format("{} ({})", core::to_string(r.input.cause_ref), m.cause_count),
-                   fmt::format("{} ({})", core::to_string(r.input.effect_ref), m.effect_count),
-                   std::to_string(m.pairs.size()), std::to_string(r.ambiguous_pairs()),
-                   std::to_string(count_unmatched(m, Side::cause, {}) -
-                                  count_unmatched(m, Side::cause, UnmatchedReason::bounce)),
-                   std::to_string(count_unmatched(m, Side::effect, {}) -
-                                  count_unmatched(m, Side::effect, UnmatchedReason::bounce)),
-                   std::to_string(count_unmatched(m, Side::cause, UnmatchedReason::bounce) +
-                                  count_unmatched(m, Side::effect, UnmatchedReason::bounce))});
+    const auto c = analysis::pairing_counts(r);
+    table.add_row({r.input.scenario, fmt::format("{} ({})", core::to_string(r.input.cause_ref), c.cause.edges),
+                   fmt::format("{} ({})", core::to_string(r.input.effect_ref), c.effect.edges),
+                   std::to_string(c.pairs), std::to_string(c.flagged), std::to_string(c.in_statistics),
+                   std::to_string(c.cause.unpaired()), std::to_string(c.effect.unpaired()),
+                   std::to_string(c.bounces())});
   }
+  std::string caption =
+      "pairing (pairs: matched; flagged: with a pairing flag, left out unless --include-ambiguous; in "
+      "statistics: the n of the latency table; unmatched: edges without partner, bounces apart; bounces: "
+      "edges dropped within --refractory of a kept one, both sides)\n";
   std::string notes;  // what was left out before pairing: interference (--min-pulse), no known clock
   for (const auto& r : results)
     if (const auto& g = r.input.glitches)
       notes += fmt::format(
-          "{}: {} cause and {} effect edges started no pulse of {} ms (dropped as interference)\n",
+          "{}: {} cause and {} effect edges started no pulse of {} ms (dropped as interference, before pairing)\n",
           r.input.scenario, g->cause, g->effect, ms_text(static_cast<double>(g->min_pulse.count()) / 1e6, 3));
   for (const auto& r : results)
     for (const auto& w : r.warnings) notes += fmt::format("warning: {}: {}\n", r.input.scenario, w.text);
@@ -102,7 +93,7 @@ std::string pairing_table(std::span<const analysis::ScenarioResult> results) {
           "with the lines on both sides, {} before the board's first synchronisation)\n",
           r.input.scenario, c.total(), e.total(), c.outlier + e.outlier, c.before_sync + e.before_sync);
   }
-  return table.render() + notes;
+  return caption + table.render() + notes;
 }
 
 std::string uncertainty_table(std::span<const analysis::ScenarioResult> results) {
