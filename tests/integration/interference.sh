@@ -27,8 +27,11 @@ with open("both.csv", "w") as f:
     for node, edge, t in rows:
         f.write(f"{node},wheel,{edge},realtime,{t},0,0,0\n")
 PY
-"$M2MLAT" stats both.csv --json > plain.json
+"$M2MLAT" stats both.csv --json --min-pulse off > plain.json
 "$M2MLAT" stats both.csv --json --min-pulse 1ms > filtered.json
+# The default (auto) filters at 1 ms where both lines hold both edges.
+"$M2MLAT" stats both.csv --json > automatic.json
+cmp automatic.json filtered.json || fail "--min-pulse auto is not 1ms on lines with both edges"
 "$M2MLAT" stats both.csv --min-pulse 1ms > filtered.txt
 grep -q "both: 3 cause and 4 effect edges started no pulse of 1.000 ms" filtered.txt || { cat filtered.txt; fail "no note of the filter"; }
 "$M2MLAT" import --store s.db both.csv > /dev/null

@@ -154,6 +154,21 @@ std::int64_t drop_glitches(store::Timestamps& side, std::span<const std::int64_t
   return static_cast<std::int64_t>(drop.size());
 }
 
+// The interference filter on both sides, given each line's other edges (sorted): with the selection's
+// min_pulse, or kAutoMinPulse when it asks for the automatic filter and both lines hold both edges.
+void filter_glitches(ScenarioInput& input, std::span<const std::int64_t> cause_idle,
+                     std::span<const std::int64_t> effect_idle, const Selection& selection) {
+  core::Duration min_pulse = selection.min_pulse;
+  if (min_pulse.count() == 0) {
+    if (!selection.auto_min_pulse || cause_idle.empty() || effect_idle.empty()) return;
+    min_pulse = kAutoMinPulse;
+  }
+  Glitches g{min_pulse};
+  g.cause = drop_glitches(input.cause, cause_idle, *selection.edge, min_pulse, input.cause_ref);
+  g.effect = drop_glitches(input.effect, effect_idle, *selection.edge, min_pulse, input.effect_ref);
+  input.glitches = g;
+}
+
 // Selection::min_pulse needs one kind of edge to pair: the other kind is the pulses' ends.
 void check_min_pulse(const Selection& selection) {
   if (selection.min_pulse.count() > 0 && !selection.edge)
@@ -261,14 +276,11 @@ ScenarioInput load_scenario(const store::Store& store, const std::string& scenar
   input.effect = load_side(store, sessions, scenario, input.effect_ref, selection.edge);
   for (auto [side, ref, name] : {std::tuple{&input.cause, &input.cause_ref, "cause"}, std::tuple{&input.effect, &input.effect_ref, "effect"}})
     if (side->t_ns.empty()) check_something_selected(store, sessions, scenario, *ref, selection.edge, name);
-  if (selection.min_pulse.count() > 0) {
+  if (selection.edge && (selection.min_pulse.count() > 0 || selection.auto_min_pulse)) {
     const auto other = opposite(*selection.edge);
-    Glitches g{selection.min_pulse};
-    g.cause = drop_glitches(input.cause, load_side(store, sessions, scenario, input.cause_ref, other).t_ns,
-                            *selection.edge, selection.min_pulse, input.cause_ref);
-    g.effect = drop_glitches(input.effect, load_side(store, sessions, scenario, input.effect_ref, other).t_ns,
-                             *selection.edge, selection.min_pulse, input.effect_ref);
-    input.glitches = g;
+    const auto cause_idle = load_side(store, sessions, scenario, input.cause_ref, other).t_ns;
+    const auto effect_idle = load_side(store, sessions, scenario, input.effect_ref, other).t_ns;
+    filter_glitches(input, cause_idle, effect_idle, selection);
   }
   input.clock = input.cause.clock;
   check_clocks(input);
@@ -297,10 +309,12 @@ ScenarioInput from_events(std::string scenario, std::span<const core::Event> cau
   input.scenario = std::move(scenario);
   input.id_kind = "index";
   check_min_pulse(selection);
-  const bool filter = selection.min_pulse.count() > 0;
+  const bool filter = selection.edge && (selection.min_pulse.count() > 0 || selection.auto_min_pulse);
+  // Takes one side's events of the selected edge into `out`, and returns its line's other edges
+  // (sorted) for the interference filter.
   auto take = [&](std::span<const core::Event> events, const std::optional<core::ChannelRef>& want,
                   core::ChannelRef& ref, store::Timestamps& out, const char* side,
-                  std::string_view where) -> std::int64_t {
+                  std::string_view where) -> std::vector<std::int64_t> {
     std::optional<core::Clock> seen;
     std::vector<std::size_t> others;  // the other kind of edge, for the interference filter
     for (std::size_t k = 0; k < events.size(); ++k) {
@@ -332,17 +346,16 @@ ScenarioInput from_events(std::string scenario, std::span<const core::Event> cau
     }
     out.clock = seen.value_or(core::Clock::realtime);
     sort_by_time(out);
-    if (!filter) return 0;
     std::vector<std::int64_t> idle_ns;  // the same line's other edges, sorted
     for (auto k : others)
       if (events[k].node == ref.node && events[k].channel == ref.channel)
         idle_ns.push_back(events[k].time.ns());
     std::sort(idle_ns.begin(), idle_ns.end());
-    return drop_glitches(out, idle_ns, *selection.edge, selection.min_pulse, ref);
+    return idle_ns;
   };
-  const auto cause_glitches = take(causes, selection.cause, input.cause_ref, input.cause, "cause", names.cause);
-  const auto effect_glitches = take(effects, selection.effect, input.effect_ref, input.effect, "effect", names.effect);
-  if (filter) input.glitches = Glitches{selection.min_pulse, cause_glitches, effect_glitches};
+  const auto cause_idle = take(causes, selection.cause, input.cause_ref, input.cause, "cause", names.cause);
+  const auto effect_idle = take(effects, selection.effect, input.effect_ref, input.effect, "effect", names.effect);
+  if (filter) filter_glitches(input, cause_idle, effect_idle, selection);
   input.clock = input.cause.clock;
   check_clocks(input);
   return input;

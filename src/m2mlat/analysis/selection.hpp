@@ -24,7 +24,15 @@ struct Selection {
   // > 0: drop the edges of `edge` that start no pulse this long (pairing/glitch_filter.hpp); needs
   // one edge kind and both kinds in the input.
   core::Duration min_pulse{0};
+  // With min_pulse 0: drop those that start no pulse of kAutoMinPulse when both sides' lines hold both
+  // kinds of edge (the default of every path, so that a store and its files count alike; a kernel log
+  // holds one kind, and nothing is dropped).
+  bool auto_min_pulse = true;
 };
+
+// A magnet's pass holds a Hall sensor's line for milliseconds (5 degrees at 400 deg/s: 12 ms), a
+// burst of interference for microseconds.
+inline constexpr core::Duration kAutoMinPulse{1'000'000};  // ns
 
 // What the interference filter dropped (Selection::min_pulse), per side.
 struct Glitches {

@@ -145,7 +145,7 @@ void SelectionFlags::add_to(CLI::App& sub) {
   group
       ->add_option("--min-pulse", min_pulse,
                    "Drop edges that start no pulse this long, e.g. 1ms: interference (needs both edges "
-                   "recorded)")
+                   "recorded); auto: 1ms where both lines hold both edges; off: none")
       ->capture_default_str();
 }
 
@@ -158,7 +158,8 @@ analysis::Selection SelectionFlags::selection() const {
     s.edge.reset();
   else
     s.edge = core::parse_edge(edge);
-  if (min_pulse != "off") {
+  s.auto_min_pulse = min_pulse == "auto";
+  if (min_pulse != "off" && min_pulse != "auto") {
     s.min_pulse = duration_flag("--min-pulse", min_pulse);
     if (s.min_pulse.count() <= 0)
       throw core::Error(core::ErrorKind::usage, "--min-pulse: a duration above 0, or off");

@@ -57,7 +57,7 @@ struct StatsFlags {
 struct SelectionFlags {
   std::string cause, effect;  // node[/channel]; empty = by session role
   std::string edge = "falling";
-  std::string min_pulse = "off";  // interference filter (pairing/glitch_filter.hpp)
+  std::string min_pulse = "auto";  // interference filter (pairing/glitch_filter.hpp): auto, off or a duration
   void add_to(CLI::App& sub);
   analysis::Selection selection() const;
 };

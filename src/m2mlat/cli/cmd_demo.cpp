@@ -38,10 +38,6 @@ namespace m2mlat::cli {
 
 namespace {
 
-// The demo's interference filter (docs/matcher.md, step 0): a simulated pass holds its line at least
-// 5 ms, interference at most 50 us.
-constexpr core::Duration kDemoMinPulse = std::chrono::milliseconds{1};
-
 struct DemoCommand {
   std::string store_path;  // empty: a temporary store, removed afterwards
   std::string report_dir;  // the campaign's report (report.html, ...) written here; empty: none
@@ -117,7 +113,7 @@ int run_demo(const DemoCommand& c) {
     auto config = sim::preset(c.scenarios[k]);
     config.seed = c.seed + k;  // each scenario its own random stream
     // The wheels' lines recorded with both edges, as docs/matcher.md advises against interference:
-    // each pass a pulse, interference a pulse of microseconds that --min-pulse drops (kDemoMinPulse).
+    // each pass a pulse, interference a pulse of microseconds that the automatic --min-pulse drops.
     config.cause_sensor.both_edges = config.effect_sensor.both_edges = true;
     if (c.manoeuvres > 0) config.manoeuvres = c.manoeuvres;
     if (!c.match.magnets.empty()) config.magnets_deg = c.match.magnets;  // the wheels and the matcher
@@ -148,11 +144,9 @@ int run_demo(const DemoCommand& c) {
         progress(fmt::format("simulating {}: {} events", config.scenario, events));
       });
       progress(fmt::format("pairing {}", config.scenario));
-      analysis::Selection selection;
-      if (config.cause_sensor.both_edges && config.effect_sensor.both_edges)
-        selection.min_pulse = kDemoMinPulse;
-      // Read back from the store: the same path a real campaign takes.
-      auto input = analysis::load_scenario(store, config.scenario, selection);
+      // Read back from the store: the same path, and the same interference filter (automatic: the
+      // lines hold both edges), as `m2mlat stats` of the store takes.
+      auto input = analysis::load_scenario(store, config.scenario, analysis::Selection{});
       truth = analysis::in_columns(std::move(truth), cause_stamps, effect_stamps, input);
       results.push_back(
           analysis::analyse(std::move(input), match_options, summary_options, c.match.include_ambiguous));

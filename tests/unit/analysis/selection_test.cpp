@@ -102,8 +102,12 @@ TEST(FromEvents, MinPulseDropsInterferenceAndKeepsIds) {
   analysis::Selection sel;
   sel.cause = core::ChannelRef{"operator", ""};
   sel.effect = core::ChannelRef{"vehicle", ""};
+  sel.auto_min_pulse = false;
   EXPECT_EQ(analysis::from_events("x", events, events, sel).effect.t_ns.size(), 2u);  // filter off
   EXPECT_FALSE(analysis::from_events("x", events, events, sel).glitches);
+  // The default: 1 ms (kAutoMinPulse) since both lines hold both edges.
+  sel.auto_min_pulse = true;
+  EXPECT_EQ(analysis::from_events("x", events, events, sel).glitches->min_pulse, analysis::kAutoMinPulse);
   sel.min_pulse = core::Duration{kMs};
   const auto input = analysis::from_events("x", events, events, sel);
   EXPECT_EQ(input.cause.t_ns, (std::vector<std::int64_t>{kT0, kT0 + 3 * kS}));
@@ -154,7 +158,11 @@ TEST_F(SelectionTest, MinPulseOnAStore) {
   EXPECT_EQ(input.glitches->effect, 1);
   const auto result = analysis::analyse(input, {}, {});
   EXPECT_EQ(result.summary.n, 1u);  // without the filter the interference pairs at 300 ms
-  EXPECT_EQ(analysis::analyse(analysis::load_scenario(s, "run", {}), {}, {}).summary.n, 2u);
+  analysis::Selection off;
+  off.auto_min_pulse = false;
+  EXPECT_EQ(analysis::analyse(analysis::load_scenario(s, "run", off), {}, {}).summary.n, 2u);
+  // The default filters as 1 ms does: both lines hold both edges.
+  EXPECT_EQ(analysis::analyse(analysis::load_scenario(s, "run", {}), {}, {}).summary.n, 1u);
 }
 
 TEST(FromTimestamps, FilesInTimeOrderKeepNoSeqColumn) {
