@@ -3,11 +3,14 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "m2mlat/analysis/store_chains.hpp"
 #include "m2mlat/cli/duration_flag.hpp"
 #include "m2mlat/cli/output.hpp"
 #include "m2mlat/core/error.hpp"
 #include "m2mlat/onset/detectors.hpp"
+#include "m2mlat/selftest/budget.hpp"
 
 namespace m2mlat::cli {
 
@@ -100,6 +103,10 @@ void StatsFlags::add_to(CLI::App& sub) {
       ->capture_default_str();
   group->add_option("--calibration-u", calibration_u, "Standard uncertainty of that misalignment, in u")
       ->capture_default_str();
+  group->add_option("--misalignment", misalignment_deg,
+                    "The sensors' misalignment between the wheels, degrees (with --rate): the calibration "
+                    "term as `m2mlat budget` makes it, bound angle / rate, u = bound / sqrt(3)");
+  group->add_option("--rate", rate_deg_s, "The steering rate the misalignment is taken at, deg/s");
 }
 
 namespace {
@@ -124,6 +131,17 @@ analysis::UncertaintyOptions StatsFlags::uncertainty_options() const {
   o.path_u = uncertainty_term("--path-u", path_u);
   o.calibration_max = uncertainty_term("--calibration-error", calibration_error);
   o.calibration_u = uncertainty_term("--calibration-u", calibration_u);
+  if (misalignment_deg != 0 || rate_deg_s != 0) {
+    if (o.calibration_max.count() != 0 || o.calibration_u.count() != 0)
+      throw core::Error(core::ErrorKind::usage,
+                        "--misalignment and --rate make the calibration term: not with --calibration-error or "
+                        "--calibration-u");
+    if (!(rate_deg_s > 0))
+      throw core::Error(core::ErrorKind::usage, "--misalignment needs --rate, the steering rate in deg/s (> 0)");
+    const auto term = selftest::calibration_term(misalignment_deg, rate_deg_s, "");
+    o.calibration_max = core::Duration{term.value_ns};
+    o.calibration_u = core::Duration{std::llround(term.u_ns)};
+  }
   return o;
 }
 

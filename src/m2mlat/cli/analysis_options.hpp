@@ -49,6 +49,9 @@ struct StatsFlags {
   std::string path_u = "100us";      // standard uncertainty of one synchronisation path's asymmetry
   std::string calibration_error = "0us";  // bound on the sensors' misalignment, as time
   std::string calibration_u = "0us";      // its standard uncertainty
+  // The same from the Hall sensors' geometry: a misalignment (degrees) at a steering rate (deg/s).
+  double misalignment_deg = 0;
+  double rate_deg_s = 0;
   void add_to(CLI::App& sub);
   stats::SummaryOptions options() const;
   analysis::UncertaintyOptions uncertainty_options() const;  // throws core::Error(usage) naming the flag

@@ -49,26 +49,32 @@ store::Store open_read_only(const std::string& path) {
 }
 
 // E_sync from the daemons' own bounds: the median max_error of each of the two nodes with clock
-// samples, added.
+// samples, added; its u the root sum of squares of their median est_error.
 selftest::BudgetTerm sync_from_store(const std::string& path) {
   const auto store = open_read_only(path);
-  std::map<std::string, std::vector<std::int64_t>> bounds;
+  std::map<std::string, std::vector<std::int64_t>> bounds, estimates;
   for (const auto& s : store.sessions())
     for (const auto& cs : store.clock_samples(s.id))
-      if (cs.source != "step" && cs.synchronised && cs.max_error_ns >= 0)
+      if (cs.source != "step" && cs.synchronised && cs.max_error_ns >= 0) {
         bounds[s.node].push_back(cs.max_error_ns);
+        estimates[s.node].push_back(std::max<std::int64_t>(0, cs.est_error_ns));
+      }
   if (bounds.size() != 2)
     throw core::Error(core::ErrorKind::data,
                       fmt::format("{}: {} nodes have synchronised clock samples; the sync term needs two",
                                   path, bounds.size()));
   std::int64_t total = 0;
+  double squares = 0;
   std::string nodes;
   for (auto& [node, values] : bounds) {
     std::sort(values.begin(), values.end());
     total += std::llround(stats::quantile(std::span<const std::int64_t>(values), 0.5));
+    const double u = stats::median(estimates[node]);
+    squares += u * u;
     nodes += (nodes.empty() ? "" : " + ") + node;
   }
-  return {"sync", total, fmt::format("{}: median daemon max_error of {}", path, nodes)};
+  return {"sync", total, fmt::format("{}: median daemon max_error of {} (u: their est_error)", path, nodes),
+          std::sqrt(squares)};
 }
 
 selftest::BudgetTerm sync_term(const BudgetCommand& c) {
@@ -76,7 +82,7 @@ selftest::BudgetTerm sync_term(const BudgetCommand& c) {
   if (given != 1)
     throw core::Error(core::ErrorKind::usage,
                       "budget: give the sync term once: --sync, --synctest or --sync-store");
-  if (!c.sync.empty()) return {"sync", duration_flag("--sync", c.sync).count(), "given"};
+  if (!c.sync.empty()) return selftest::bound_term("sync", duration_flag("--sync", c.sync).count(), "given");
   if (!c.sync_store.empty()) return sync_from_store(c.sync_store);
   std::ifstream in(c.synctest);
   if (!in) throw core::Error(core::ErrorKind::no_input, fmt::format("{}: cannot open", c.synctest));
@@ -210,19 +216,22 @@ Runner attach_budget(CLI::App& sub) {
         {sync_term(*c),
          selftest::kernel_term(
              ka, kb, fmt::format("max(A {}, B {})", core::format_duration(ka), core::format_duration(kb))),
-         {"circuit", duration_flag("--circuit", c->circuit).count(), "sensor and input circuit"},
+         selftest::bound_term("circuit", duration_flag("--circuit", c->circuit).count(), "sensor and input circuit"),
          motion_term(*c)});
     if (c->json) {
       print_json(selftest::budget_json(budget));
       return 0;
     }
-    report::Table table({"term", "ms", "from"});
+    report::Table table({"term", "worst (ms)", "u (ms)", "from"});
+    const auto ms = [](double ns) { return fmt::format("{:.4f}", ns / 1e6); };
     for (const auto& t : budget.terms)
-      table.add_row({t.name, fmt::format("{:.4f}", static_cast<double>(t.value_ns) / 1e6), t.source});
-    table.add_row(
-        {"total (sum)", fmt::format("{:.4f}", static_cast<double>(budget.total_ns) / 1e6), "worst case"});
-    table.add_row({"total (rss)", fmt::format("{:.4f}", budget.rss_ns / 1e6), "independent terms"});
-    fmt::print("error budget of one latency sample\n{}", table.render());
+      table.add_row({t.name, ms(static_cast<double>(t.value_ns)), ms(t.u_ns), t.source});
+    table.add_row({"total (sum)", ms(static_cast<double>(budget.total_ns)), ms(budget.u_ns),
+                   "worst case: the sum; u: root sum of squares (independent terms)"});
+    table.add_row({"U95", "", ms(budget.expanded_ns()), "expanded uncertainty, 2 u (k = 2, about 95 %)"});
+    fmt::print("error budget of one latency sample (worst case, and standard uncertainty u, k = 1; "
+               "docs/precision.md)\n{}",
+               table.render());
     return 0;
   };
 }

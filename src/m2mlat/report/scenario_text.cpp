@@ -110,8 +110,9 @@ std::string uncertainty_table(std::span<const analysis::ScenarioResult> results)
                    std::to_string(u.unsynchronised), std::to_string(u.gated), std::to_string(u.refused)});
   }
   if (!any) return {};
-  return "per-sample uncertainty (ms; u = standard uncertainty, k = 1; U95 = 2 u, about 95 %; max_err = "
-         "worst case: both clocks' bounds + kernel term)\n" +
+  return "per-sample uncertainty (ms; u = standard uncertainty, k = 1, of the clocks, the kernel and the "
+         "calibration (--misalignment/--rate or --calibration-u); U95 = 2 u, about 95 %; max_err = worst case: "
+         "both clocks' bounds + kernel + calibration bounds + bounces; docs/precision.md)\n" +
          table.render();
 }
 

@@ -15,20 +15,25 @@ Budget make_budget(std::vector<BudgetTerm> terms) {
   Budget b;
   double squares = 0;
   for (const auto& t : terms) {
-    if (t.value_ns < 0)
+    if (t.value_ns < 0 || t.u_ns < 0)
       throw core::Error(core::ErrorKind::usage, fmt::format("error budget: term '{}' is negative", t.name));
     b.total_ns += t.value_ns;
-    squares += static_cast<double>(t.value_ns) * static_cast<double>(t.value_ns);
+    squares += t.u_ns * t.u_ns;
   }
-  b.rss_ns = std::sqrt(squares);
+  b.u_ns = std::sqrt(squares);
   b.terms = std::move(terms);
   return b;
+}
+
+BudgetTerm bound_term(std::string name, std::int64_t bound_ns, std::string source) {
+  return {std::move(name), bound_ns, std::move(source), static_cast<double>(bound_ns) / std::sqrt(3.0)};
 }
 
 BudgetTerm kernel_term(core::Duration worst_a, core::Duration worst_b, std::string source) {
   if (worst_a.count() < 0 || worst_b.count() < 0)
     throw core::Error(core::ErrorKind::usage, "error budget: scheduling latencies must not be negative");
-  return {"kernel", std::max(worst_a, worst_b).count(), std::move(source)};
+  const double a = static_cast<double>(worst_a.count()), b = static_cast<double>(worst_b.count());
+  return {"kernel", std::max(worst_a, worst_b).count(), std::move(source), std::sqrt((a * a + b * b) / 12.0)};
 }
 
 BudgetTerm calibration_term(double misalignment_deg, double rate_deg_s, std::string source) {
@@ -36,7 +41,7 @@ BudgetTerm calibration_term(double misalignment_deg, double rate_deg_s, std::str
     throw core::Error(core::ErrorKind::usage, "error budget: the steering rate must be positive (deg/s)");
   if (!(misalignment_deg >= 0))
     throw core::Error(core::ErrorKind::usage, "error budget: the misalignment must not be negative (deg)");
-  return {"calibration", std::llround(misalignment_deg / rate_deg_s * 1e9), std::move(source)};
+  return bound_term("calibration", std::llround(misalignment_deg / rate_deg_s * 1e9), std::move(source));
 }
 
 std::optional<RateEstimate> steering_rate(std::span<const std::int64_t> edges_ns, double magnet_angle_deg,
@@ -87,7 +92,15 @@ BudgetTerm sync_term_from_synctest(const nlohmann::json& doc, const std::string&
     throw core::Error(core::ErrorKind::usage,
                       fmt::format("unknown sync statistic '{}' (mean_abs, p95_abs or max_abs)", statistic));
   }
-  return {"sync", std::llround(value), fmt::format("synctest {}: {}", name, what)};
+  // u: the offsets' RMS about zero, from their mean and sd.
+  const auto offset = doc.find("offset");
+  const auto number_at = [&](const char* key) {
+    if (offset == doc.end() || !offset->is_object() || !offset->contains(key) || !offset->at(key).is_number())
+      fail(fmt::format("field 'offset.{}' missing", key));
+    return offset->at(key).get<double>();
+  };
+  const double mean = number_at("mean_ns"), sd = number_at("sd_ns");
+  return {"sync", std::llround(value), fmt::format("synctest {}: {}", name, what), std::sqrt(mean * mean + sd * sd)};
 }
 
 BudgetTerm onset_term_from_onsettest(const nlohmann::json& doc, const std::string& detector,
@@ -98,11 +111,11 @@ BudgetTerm onset_term_from_onsettest(const nlohmann::json& doc, const std::strin
   const auto rows = doc.find("onset");
   if (rows == doc.end() || !rows->is_array()) fail("field 'onset' missing");
   // Per speed class: |p95| of the hand + |p95| of the actuator, ns.
-  std::vector<std::pair<std::string, double>> classes;
+  std::vector<std::pair<std::string, std::pair<double, double>>> classes;  // name, (worst, u)
   for (const auto& cls : doc.value("speed_classes", nlohmann::json::array())) {
     const auto cls_name = cls.value("name", std::string());
     if (speed != "worst" && cls_name != speed) continue;
-    double sum = 0;
+    double sum = 0, squares = 0;
     for (const char* profile : {"hand", "actuator"}) {
       const nlohmann::json* row = nullptr;
       for (const auto& r : *rows)
@@ -114,9 +127,11 @@ BudgetTerm onset_term_from_onsettest(const nlohmann::json& doc, const std::strin
       const auto& e = (*row).value("onset_error", nlohmann::json::object());
       if (!e.contains("abs_p95_ns") || !e["abs_p95_ns"].is_number())
         fail(fmt::format("field 'onset_error.abs_p95_ns' missing ({} {} {})", detector, profile, cls_name));
-      sum += e["abs_p95_ns"].get<double>();
+      const double p95 = e["abs_p95_ns"].get<double>();
+      sum += p95;
+      squares += p95 * p95;
     }
-    classes.emplace_back(cls_name, sum);
+    classes.emplace_back(cls_name, std::pair{sum, std::sqrt(squares) / 1.96});
   }
   if (classes.empty()) {
     if (speed != "worst" && speed != "slow" && speed != "medium" && speed != "fast")
@@ -126,9 +141,10 @@ BudgetTerm onset_term_from_onsettest(const nlohmann::json& doc, const std::strin
                           : fmt::format("no speed class '{}' in 'speed_classes'", speed));
   }
   const auto worst = std::max_element(classes.begin(), classes.end(),
-                                      [](const auto& a, const auto& b) { return a.second < b.second; });
-  return {"onset", std::llround(worst->second),
-          fmt::format("onsettest {}: {} |p95| hand + actuator, {} motions", name, detector, worst->first)};
+                                      [](const auto& a, const auto& b) { return a.second.first < b.second.first; });
+  return {"onset", std::llround(worst->second.first),
+          fmt::format("onsettest {}: {} |p95| hand + actuator, {} motions", name, detector, worst->first),
+          worst->second.second};
 }
 
 nlohmann::json budget_json(const Budget& budget) {
@@ -137,11 +153,15 @@ nlohmann::json budget_json(const Budget& budget) {
     j["terms"].push_back({{"name", t.name},
                           {"ns", t.value_ns},
                           {"ms", static_cast<double>(t.value_ns) / 1e6},
+                          {"u_ns", t.u_ns},
+                          {"u_ms", t.u_ns / 1e6},
                           {"source", t.source}});
   j["total_ns"] = budget.total_ns;
   j["total_ms"] = static_cast<double>(budget.total_ns) / 1e6;
-  j["rss_ns"] = budget.rss_ns;
-  j["rss_ms"] = budget.rss_ns / 1e6;
+  j["u_ns"] = budget.u_ns;
+  j["u_ms"] = budget.u_ns / 1e6;
+  j["U95_ns"] = budget.expanded_ns();
+  j["U95_ms"] = budget.expanded_ns() / 1e6;
   return j;
 }
 

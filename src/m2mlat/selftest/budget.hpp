@@ -17,8 +17,16 @@
 //              actuator (each side's onset off by its worst in the same direction), in one speed class
 //              or the worst of them. Not assumed: measured on the simulator's truth.
 //
-// total_ns is the worst case, the plain sum of the terms; rss_ns their root sum of squares (the
-// typical size if the terms are independent).
+// Each term has two numbers, as every sample's uncertainty has (analysis/uncertainty.hpp, one story:
+// docs/precision.md): its worst case (value_ns, the budget's quoted figure) and its standard
+// uncertainty u (k = 1). A term given as a bound is uniform within it: u = bound / sqrt(3) (sync
+// given, circuit, calibration); the kernel's two stamp delays are each uniform in [0, L]: u =
+// sqrt((L_A^2 + L_B^2) / 12); a synchronisation test's u is its offsets' RMS (sqrt(mean^2 + sd^2)),
+// a store's the daemons' own est_error (root sum of squares of the two boards' medians); an onset
+// test's u is sqrt(p95_hand^2 + p95_actuator^2) / 1.96 (each |error|'s P95 about 1.96 sd).
+//
+// total_ns is the worst case, the plain sum of the terms; u_ns the root sum of squares of the terms'
+// u (independent terms), and the expanded uncertainty U95 = 2 u (k = 2, about 95 %).
 #pragma once
 
 #include <cstdint>
@@ -32,19 +40,24 @@
 
 namespace m2mlat::selftest {
 
-inline constexpr std::string_view kBudgetFormat = "m2mlat-budget/1";
+inline constexpr std::string_view kBudgetFormat = "m2mlat-budget/2";
 inline constexpr std::int64_t kA3144SwitchingNs = 2'000;  // A3144 output rise/fall time, about 2 us
 
 struct BudgetTerm {
-  std::string name;  // "sync", "kernel", "circuit", "calibration"
-  std::int64_t value_ns = 0;
+  std::string name;  // "sync", "kernel", "circuit", "calibration", "onset"
+  std::int64_t value_ns = 0;  // the worst case
   std::string source;  // where the value came from, e.g. "synctest co.json: mean |offset|"
+  double u_ns = 0;     // the standard uncertainty (k = 1), ns
 };
+
+// A term given as a bound (uniform within it): u = bound / sqrt(3).
+BudgetTerm bound_term(std::string name, std::int64_t bound_ns, std::string source);
 
 struct Budget {
   std::vector<BudgetTerm> terms;
-  std::int64_t total_ns = 0;  // sum
-  double rss_ns = 0;          // root sum of squares
+  std::int64_t total_ns = 0;  // the worst case: the sum of the terms
+  double u_ns = 0;            // the standard uncertainty: root sum of squares of the terms' u
+  double expanded_ns() const { return 2 * u_ns; }  // U95 (k = 2)
 };
 
 Budget make_budget(std::vector<BudgetTerm> terms);

@@ -18,19 +18,26 @@ namespace {
 
 using namespace std::chrono_literals;
 
-TEST(Budget, SumAndRootSumSquare) {
-  const auto b = make_budget({{"sync", 3'000, "given"}, {"kernel", 4'000, "given"}, {"circuit", 0, "given"}});
+TEST(Budget, WorstCaseSumAndUncertaintyRootSumSquare) {
+  // Worst cases add; the terms' standard uncertainties add in squares, U95 = 2 u.
+  const auto b = make_budget({{"sync", 3'000, "given", 3'000}, {"kernel", 4'000, "given", 4'000}, {"circuit", 0, "given", 0}});
   EXPECT_EQ(b.total_ns, 7'000);
-  EXPECT_DOUBLE_EQ(b.rss_ns, 5'000);
-  EXPECT_THROW(make_budget({{"sync", -1, "given"}}), core::Error);
+  EXPECT_DOUBLE_EQ(b.u_ns, 5'000);
+  EXPECT_DOUBLE_EQ(b.expanded_ns(), 10'000);
+  EXPECT_THROW(make_budget({{"sync", -1, "given", 0}}), core::Error);
   const auto j = budget_json(b);
-  EXPECT_EQ(j["format"], "m2mlat-budget/1");
+  EXPECT_EQ(j["format"], "m2mlat-budget/2");
   EXPECT_EQ(j["terms"].size(), 3u);
   EXPECT_EQ(j["total_ns"], 7'000);
+  EXPECT_DOUBLE_EQ(j["U95_ns"].get<double>(), 10'000);
+  // A bound is uniform within it: u = bound / sqrt(3).
+  EXPECT_NEAR(bound_term("circuit", 2'000, "").u_ns, 1'154.7, 0.1);
 }
 
 TEST(Budget, KernelAndCalibrationTerms) {
   EXPECT_EQ(kernel_term(5us, 12us, "").value_ns, 12'000);
+  EXPECT_NEAR(kernel_term(5us, 12us, "").u_ns, 3'753, 1);  // sqrt((5^2 + 12^2) / 12) us: delays uniform in [0, L]
+  EXPECT_NEAR(calibration_term(1.0, 100.0, "").u_ns, 10e6 / std::sqrt(3.0), 1);
   EXPECT_EQ(calibration_term(1.0, 100.0, "").value_ns, 10'000'000);  // 1 deg at 100 deg/s = 10 ms
   EXPECT_EQ(calibration_term(0.5, 250.0, "").value_ns, 2'000'000);
   EXPECT_THROW(calibration_term(1.0, 0.0, ""), core::Error);
@@ -62,6 +69,9 @@ TEST(Budget, SyncTermFromASynctestDocument) {
   const auto doc = synctest_json(analyse_offsets(series), false);
   const auto mean = sync_term_from_synctest(doc, "mean_abs", "t.json");
   EXPECT_EQ(mean.value_ns, 109'500);
+  // u: the offsets' RMS, sqrt(mean^2 + sd^2), about the mean |offset| for offsets of either sign.
+  EXPECT_GT(mean.u_ns, 100'000);
+  EXPECT_LT(mean.u_ns, 120'000);
   EXPECT_EQ(sync_term_from_synctest(doc, "max_abs", "t.json").value_ns, 119'000);
   EXPECT_GT(sync_term_from_synctest(doc, "p95_abs", "t.json").value_ns, 117'000);
   EXPECT_THROW(sync_term_from_synctest(doc, "median", "t.json"), core::Error);
