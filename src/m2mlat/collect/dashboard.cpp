@@ -16,6 +16,7 @@
 #include "m2mlat/net/query.hpp"
 #include "m2mlat/net/wire.hpp"
 #include "m2mlat/report/breakdown_view.hpp"
+#include "m2mlat/report/resampling_text.hpp"
 #include "m2mlat/stats/bootstrap.hpp"
 
 namespace m2mlat::collect {
@@ -74,6 +75,8 @@ nlohmann::json summary_json(const LiveSummary& s) {
           {"median_ci_ms", st.bootstrap ? interval_json(st.bootstrap->median_ms) : nlohmann::json(nullptr)},
           {"iqr_ci_ms", st.bootstrap ? interval_json(st.bootstrap->iqr_ms) : nlohmann::json(nullptr)},
           {"ci_level", st.bootstrap ? nlohmann::json(st.bootstrap->level) : nlohmann::json(nullptr)},
+          {"ci_resampled",
+           st.bootstrap ? nlohmann::json(report::resampling_name(st.bootstrap->resampling)) : nlohmann::json(nullptr)},
           {"p95_ms", ms_or_null(st.p95_ms)},
           {"mean_ms", ms_or_null(st.mean_ms)},
           {"min_ns", st.min ? nlohmann::json(st.min->ns) : nlohmann::json(nullptr)},

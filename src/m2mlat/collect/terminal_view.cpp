@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "m2mlat/core/printable.hpp"
+#include "m2mlat/report/resampling_text.hpp"
 
 namespace m2mlat::collect {
 
@@ -53,14 +54,15 @@ std::vector<std::string> render_block(const LiveSummary& s, const std::vector<No
         fmt::format("{}: {} -> {}", s.scenario, core::to_string(s.cause_ref), core::to_string(s.effect_ref)));
     const auto& st = s.summary;
     lines.push_back(
-        fmt::format("samples {}  last {}  median {}  IQR {}  (pairs {}, {} ambiguous; unmatched {} cause, {} "
+        fmt::format("samples {}  last {}  median {}  IQR {}  (pairs {}, {} flagged; unmatched {} cause, {} "
                     "effect; {} bounces)",
                     st.n, s.last ? ns_as_ms(s.last->latency_ns, 1) : "-", ms(st.median_ms), ms(st.iqr_ms),
                     s.pairs, s.ambiguous, s.cause_unmatched, s.effect_unmatched, s.bounces));
     if (st.bootstrap) {
       const auto& ci = *st.bootstrap;
-      lines.push_back(fmt::format("{:.0f} % CI: median {:.1f}-{:.1f} ms, IQR {:.1f}-{:.1f} ms", ci.level * 100,
-                                  ci.median_ms.lower, ci.median_ms.upper, ci.iqr_ms.lower, ci.iqr_ms.upper));
+      lines.push_back(fmt::format("{:.0f} % CI: median {:.1f}-{:.1f} ms, IQR {:.1f}-{:.1f} ms (resampled: {})",
+                                  ci.level * 100, ci.median_ms.lower, ci.median_ms.upper, ci.iqr_ms.lower,
+                                  ci.iqr_ms.upper, report::resampling_name(ci.resampling)));
     }
     for (const auto& w : s.warnings) lines.push_back("warning: " + w);
     if (s.breakdown) {

@@ -83,7 +83,7 @@ TEST(TerminalView, BlockShowsTheNumbersAndEveryNode) {
   ASSERT_EQ(lines.size(), 5u);
   EXPECT_EQ(lines[0], "static_wifi: operator/wheel -> vehicle/wheel");
   EXPECT_EQ(lines[1],
-            "samples 12  last 873.2 ms  median 874.0 ms  IQR 198.3 ms  (pairs 13, 1 ambiguous; unmatched 2 "
+            "samples 12  last 873.2 ms  median 874.0 ms  IQR 198.3 ms  (pairs 13, 1 flagged; unmatched 2 "
             "cause, 3 "
             "effect; 4 bounces)");
   EXPECT_NE(lines[2].find("events/s"), std::string::npos);
