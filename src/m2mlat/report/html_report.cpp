@@ -312,31 +312,37 @@ double other_terms_ms(const ScenarioReport& s) {
 std::string budget_chart(const Report& report) {
   struct Bar {
     const ScenarioReport* s;
-    double cause, effect, other;  // ms
+    double cause, effect, other;  // ms: the worst-case bound's parts
+    double expanded;              // ms: U95 (k = 2), NaN when unknown
   };
   std::vector<Bar> bars;
   double top = 0;
   for (const auto& s : report.scenarios)
     if (s.result.cause_clock_ms && s.result.effect_clock_ms) {
-      bars.push_back({&s, *s.result.cause_clock_ms, *s.result.effect_clock_ms, other_terms_ms(s)});
-      top = std::max(top, bars.back().cause + bars.back().effect + bars.back().other);
+      const double u95 = analysis::summarize_uncertainty(s.result.uncertainty, s.result.refuse_gated).median_U95_ms;
+      bars.push_back({&s, *s.result.cause_clock_ms, *s.result.effect_clock_ms, other_terms_ms(s), u95});
+      top = std::max({top, bars.back().cause + bars.back().effect + bars.back().other, std::isnan(u95) ? 0.0 : u95});
     }
   if (bars.empty()) return {};
-  SvgPlot plot("budget", "Error budget per latency (median over pairs)", "scenario", "bound (ms)", -0.6,
-               static_cast<double>(bars.size()) - 0.4, 0, top * 1.15 + 1e-6, 720, 280);
+  SvgPlot plot("budget", "Uncertainty of one latency (median over pairs): the worst-case bound and U95",
+               "scenario", "ms", -0.6, static_cast<double>(bars.size()) - 0.4, 0, top * 1.15 + 1e-6, 720, 280);
   std::vector<std::pair<double, std::string>> cats;
   for (std::size_t i = 0; i < bars.size(); ++i) {
     const double x = static_cast<double>(i);
     const auto& b = bars[i];
-    plot.rect(x - 0.3, 0, x + 0.3, b.cause, palette(0), "bar");
-    plot.rect(x - 0.3, b.cause, x + 0.3, b.cause + b.effect, palette(1), "bar");
-    if (b.other > 0) plot.rect(x - 0.3, b.cause + b.effect, x + 0.3, b.cause + b.effect + b.other, palette(2), "bar");
+    // Left: the bound, stacked by its parts; right: U95 = 2 u, the same terms combined in quadrature.
+    plot.rect(x - 0.34, 0, x - 0.02, b.cause, palette(0), "bar");
+    plot.rect(x - 0.34, b.cause, x - 0.02, b.cause + b.effect, palette(1), "bar");
+    if (b.other > 0)
+      plot.rect(x - 0.34, b.cause + b.effect, x - 0.02, b.cause + b.effect + b.other, palette(2), "bar");
+    if (!std::isnan(b.expanded)) plot.rect(x + 0.02, 0, x + 0.34, b.expanded, palette(4), "bar");
     cats.emplace_back(x, b.s->result.input.scenario);
   }
   plot.set_x_categories(std::move(cats));
-  plot.legend({{"cause board clock", std::string(palette(0))},
-               {"effect board clock", std::string(palette(1))},
-               {"interrupts, calibration, bounces", std::string(palette(2))}});
+  plot.legend({{"bound: cause board clock", std::string(palette(0))},
+               {"bound: effect board clock", std::string(palette(1))},
+               {"bound: interrupts, calibration, bounces", std::string(palette(2))},
+               {"U95 = 2 u (k = 2)", std::string(palette(4))}});
   return plot.render();
 }
 
@@ -492,8 +498,10 @@ std::string distribution_sections(const Report& report) {
   if (auto b = budget_chart(report); !b.empty()) {
     h += figure(
         b,
-        "Median per-pair bound on a latency's error: the cause board's clock error bound plus the effect "
-        "board's.");
+        "Left: the median per-pair worst-case bound on a latency's error (the two boards' clock bounds, then "
+        "the interrupts, the calibration and bounces); right: the median U95 = 2 u of the same terms in "
+        "quadrature, about 95 % of true latencies within it (docs/precision.md, one sample through the three "
+        "numbers).");
     std::vector<std::vector<std::string>> brows;
     for (const auto& s : report.scenarios)
       brows.push_back({s.result.input.scenario, ms_or_dash(s.result.cause_clock_ms),
