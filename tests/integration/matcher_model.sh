@@ -55,4 +55,18 @@ model, rules = score(sys.argv[1]), score(sys.argv[2])
 print(f"continuous steering: model keeps {model[0]} pairs, {model[1]} wrong; the rules {rules[0]}, {rules[1]} wrong; {len(truth)} true")
 assert model[1] == 0 and model[0] >= 0.95 * len(truth), model
 PYEOF
+# Each pair's posterior probability in the pairs file: the improbable ones are those below 0.99, and
+# the sum of 1 - p over the others is the expected count of wrong pairs kept that stats prints.
+"$M2MLAT" stats --cause-file operator.log --effect-file vehicle.log --matcher model --json --bootstrap 0 > model.json
+"$PY" - model.csv rules.csv model.json <<'PYEOF' || fail "the pairs' probabilities"
+import csv, json, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+p = [float(r["probability"]) for r in rows]
+assert all(0 <= x <= 1 for x in p), min(p)
+assert [x < 0.99 for x in p] == [r["left_out"] == "improbable" for r in rows]
+expected = sum(1 - x for x in p if x >= 0.99)
+printed = json.load(open(sys.argv[3]))["scenarios"][0]["pairing"]["model"]["expected_wrong"]
+assert abs(expected - printed) < 1e-3 * max(1, printed), (expected, printed)
+assert "probability" not in next(csv.DictReader(open(sys.argv[2]))), "the rules have no probabilities"
+PYEOF
 echo "ok: --matcher model"

@@ -28,6 +28,7 @@ class ResultPairs final : public formats::PairSource {
  public:
   ResultPairs(std::span<const ScenarioResult> results, const PairSessions& sessions, bool with_uncertainty)
       : results_(results), with_uncertainty_(with_uncertainty) {
+    for (const auto& r : results) with_probability_ |= !r.match.probability.empty();
     starts_.reserve(results.size() + 1);
     starts_.push_back(0);
     for (std::size_t k = 0; k < results.size(); ++k) {
@@ -40,7 +41,7 @@ class ResultPairs final : public formats::PairSource {
 
   std::size_t size() const override { return starts_.back(); }
   formats::PairColumns columns() const override {
-    return {with_uncertainty_, with_uncertainty_, with_uncertainty_, true};
+    return {with_uncertainty_, with_uncertainty_, with_uncertainty_, true, with_probability_};
   }
 
   void fill(std::size_t first, std::span<formats::PairRecord> out) const override {
@@ -62,6 +63,7 @@ class ResultPairs final : public formats::PairSource {
       record.session = sessions_[k].empty() ? 0 : sessions_[k][i];
       record.left_out = r.left_out(i);
       record.in_statistics = record.left_out.empty();
+      record.probability = i < r.match.probability.size() ? std::optional(r.match.probability[i]) : std::nullopt;
       // Unknown or unbounded uncertainty, and pairs past the end of it, are written empty.
       const bool bounded = i < r.uncertainty.size() && r.uncertainty[i].bounded();
       record.max_error_ns = bounded ? std::optional(r.uncertainty[i].max_error_ns) : std::nullopt;
@@ -73,6 +75,7 @@ class ResultPairs final : public formats::PairSource {
  private:
   std::span<const ScenarioResult> results_;
   bool with_uncertainty_;
+  bool with_probability_ = false;  // a result paired by the alignment model
   std::vector<std::size_t> starts_;                      // the first row of each result, then the total
   std::vector<std::span<const std::int64_t>> sessions_;  // per result: one per pair, or empty
 };

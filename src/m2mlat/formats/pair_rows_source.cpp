@@ -41,7 +41,7 @@ void PairRowsSource::fill(std::size_t first, std::span<PairRecord> out) const {
     const std::size_t i = first + j;
     out[j] = {rows_[i], sessions_.empty() ? 0 : sessions_[i], value(max_error_ns_, i), value(u_ns_, i),
               value(U95_ns_, i), left_out_.empty() || left_out_[i].empty(),
-              left_out_.empty() ? std::string_view() : left_out_[i]};
+              left_out_.empty() ? std::string_view() : left_out_[i], std::nullopt};
   }
 }
 

@@ -27,6 +27,9 @@ struct PairRecord {
   // source has the columns (PairColumns::statistics).
   bool in_statistics = true;
   std::string_view left_out;
+  // The alignment model's posterior probability of the pair (`--matcher model`): read only when the
+  // source has the column (PairColumns::probability); nullopt writes it empty.
+  std::optional<float> probability;
 };
 
 // Which optional uncertainty columns a source's file has (on every row, empty where unknown).
@@ -35,6 +38,7 @@ struct PairColumns {
   bool u_ns = false;
   bool U95_ns = false;
   bool statistics = false;  // in_statistics and left_out
+  bool probability = false;
 };
 
 class PairSource {
@@ -46,7 +50,7 @@ class PairSource {
   virtual void fill(std::size_t first, std::span<PairRecord> out) const = 0;
 };
 
-// Rows per block: 4096 rows of 136 bytes, under half a MiB whatever the number of pairs.
+// Rows per block: 4096 rows of 144 bytes, under half a MiB whatever the number of pairs.
 inline constexpr std::size_t kPairBlockRows = 4096;
 
 // A source's rows in order, read a block at a time into one buffer of at most kPairBlockRows rows:

@@ -107,6 +107,8 @@ void write_pairs_csv(std::ostream& out, const PairSource& pairs, const PairExpor
   if (with_flags) buffer << ",pair_flags";
   const bool with_statistics = pairs.columns().statistics;
   if (with_statistics) buffer << ",in_statistics,left_out";
+  const bool with_probability = pairs.columns().probability;
+  if (with_probability) buffer << ",probability";
   buffer << '\n';
   std::size_t i = 0;
   for (const PairGroup& group : groups) {
@@ -148,6 +150,10 @@ void write_pairs_csv(std::ostream& out, const PairSource& pairs, const PairExpor
       if (with_statistics) {
         buffer << (record.in_statistics ? ",true," : ",false,");
         text.append(record.left_out);
+      }
+      if (with_probability) {
+        buffer << ',';
+        if (record.probability) text.append(fmt::format("{:.9g}", *record.probability));
       }
       buffer << '\n';
       buffer.end_record();
@@ -227,6 +233,9 @@ void write_pairs_jsonl(std::ostream& out, const PairSource& pairs, const PairExp
           text.push_back('"');
         }
       }
+      if (pairs.columns().probability)
+        text.append(record.probability ? fmt::format(",\"probability\":{:.9g}", *record.probability)
+                                       : std::string(",\"probability\":null"));
       text.append("}\n");
       buffer.end_record();
     }

@@ -17,7 +17,7 @@
 // events files' flag_bits, whose bits mean other things); then, when the source knows them,
 // in_statistics (true / false: whether the scenario's statistics hold the pair) and left_out (why not:
 // ambiguous, competing, jump, bounced, improbable, after_clock_step or sync_gated; empty / null when it
-// is in). In JSON Lines each pair is one object with the same members and "format":"m2mlat-pairs/4";
+// is in); then, when a scenario was paired by the alignment model, probability (its posterior). In JSON Lines each pair is one object with the same members and "format":"m2mlat-pairs/4";
 // latency_ms is written as a JSON number with the exact decimal text. (m2mlat-pairs/3 named
 // pair_flags flag_bits and had no in_statistics, left_out; m2mlat-pairs/2 began with "# format:
 // m2mlat-pairs/2", had no scenario, session, label, and named the flags "flags"; m2mlat-pairs/1 had

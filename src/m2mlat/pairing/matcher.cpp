@@ -1089,6 +1089,7 @@ MatchResult match_in_place(std::span<std::int64_t> cause_ns, std::span<std::int6
   result.burst_gap = burst_gap_of(options);
   std::vector<std::uint32_t> matched;
   std::vector<std::uint8_t> flags;
+  std::vector<float> probability;  // per kept cause, with the model
   if (options.method == MatchOptions::Method::model) {
     if (!(options.min_probability > 0 && options.min_probability < 1))
       throw core::Error(core::ErrorKind::usage, "the minimum probability must lie in (0, 1)");
@@ -1101,11 +1102,18 @@ MatchResult match_in_place(std::span<std::int64_t> cause_ns, std::span<std::int6
     auto m = model_match(causes.ns, effects.ns, min_ns, max_ns, options.min_probability);
     matched = std::move(m.matched);
     flags = std::move(m.flags);
+    probability = std::move(m.probability);
     result.model = m.summary;
   } else {
     rule_match(sides, counted, causes, effects, candidate_total, options, matched, flags);
   }
   finish_match(result, sides, causes, effects, cause_ns, effect_ns, matched, flags);
+  // The pairs are the matched kept causes in order: their probabilities in the same order.
+  if (!probability.empty()) {
+    result.probability.reserve(result.pairs.size());
+    for (std::size_t i = 0; i < matched.size(); ++i)
+      if (matched[i] != kNone) result.probability.push_back(probability[i]);
+  }
   return result;
 }
 

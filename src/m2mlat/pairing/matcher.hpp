@@ -69,6 +69,7 @@ struct MatchResult {
   std::int64_t cause_count = 0;  // input sizes, for the reader of a report
   std::int64_t effect_count = 0;
   std::optional<ModelSummary> model;  // with Method::model: the fitted model and its expectation
+  std::vector<float> probability;     // with Method::model: each pair's posterior probability (by pair)
   // Cause edges closer than this are one burst (a sweep): burst_gap_of the options. The statistics
   // resample a burst's pairs together (analysis/manoeuvres.hpp).
   core::Duration burst_gap = kDefaultBurstGap;

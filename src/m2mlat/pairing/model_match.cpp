@@ -16,6 +16,7 @@ ModelMatch model_match(std::span<const std::int64_t> cause_ns, std::span<const s
   ModelMatch out;
   out.matched.assign(cause_ns.size(), kNoCandidate);
   out.flags.assign(cause_ns.size(), 0);
+  out.probability.assign(cause_ns.size(), 0.0f);
   out.summary.parameters = fit.model;
   out.summary.iterations = fit.iterations;
   out.summary.min_probability = min_probability;
@@ -23,6 +24,7 @@ ModelMatch model_match(std::span<const std::int64_t> cause_ns, std::span<const s
   for (std::size_t k = 0; k < a.pairs.size(); ++k) {
     const auto [i, j] = a.pairs[k];
     out.matched[i] = static_cast<std::uint32_t>(j);
+    out.probability[i] = static_cast<float>(a.probability[k]);
     if (a.probability[k] < min_probability) {
       out.flags[i] = kPairImprobable;
     } else {

@@ -25,6 +25,7 @@ struct ModelSummary {
 struct ModelMatch {
   std::vector<std::uint32_t> matched;  // per kept cause: its kept effect's index, or kNoCandidate
   std::vector<std::uint8_t> flags;     // per kept cause: kPairImprobable where p < min_probability
+  std::vector<float> probability;      // per kept cause: its pair's posterior probability (0 unpaired)
   ModelSummary summary;
 };
 

@@ -58,7 +58,7 @@ class MadeRows final : public PairSource {
     EXPECT_LE(out.size(), kPairBlockRows);
     for (std::size_t j = 0; j < out.size(); ++j) {
       const std::size_t i = first + j;
-      out[j] = {table_.rows[i], table_.sessions[i], table_.max_error_ns[i], table_.u_ns[i], table_.U95_ns[i], true, {}};
+      out[j] = {table_.rows[i], table_.sessions[i], table_.max_error_ns[i], table_.u_ns[i], table_.U95_ns[i], true, {}, std::nullopt};
     }
     next_ = first + out.size();
     ++calls_;
