@@ -21,9 +21,12 @@ std::int64_t kth_value(std::span<const std::int64_t> sorted, std::span<const std
   std::int64_t hi = std::max(sorted.empty() ? std::numeric_limits<std::int64_t>::min() : sorted.back(),
                              other.empty() ? std::numeric_limits<std::int64_t>::min() : other.back());
   while (lo < hi) {
-    const std::int64_t mid = lo + static_cast<std::int64_t>((static_cast<std::uint64_t>(hi) - static_cast<std::uint64_t>(lo)) / 2);
-    if (at_or_below(mid) > k) hi = mid;
-    else lo = mid + 1;
+    const auto width = static_cast<std::uint64_t>(hi) - static_cast<std::uint64_t>(lo);  // no overflow
+    const std::int64_t mid = lo + static_cast<std::int64_t>(width / 2);
+    if (at_or_below(mid) > k)
+      hi = mid;
+    else
+      lo = mid + 1;
   }
   return lo;
 }
@@ -37,27 +40,27 @@ std::optional<FlaggedEffect> flagged_effect(std::span<const std::int64_t> statis
   e.included = included;
   const std::size_t n = statistics_sorted.size();
   const std::size_t other_n = included ? n - flagged_sorted.size() : n + flagged_sorted.size();
-  const auto own_quantile = [&](double p) { return stats::quantile(statistics_sorted, p); };
-  const auto other_quantile = [&](double p) {
+  // The quantile at p of the statistics' own sample, or of the other one (flagged added or taken out), ns.
+  const auto quantile = [&](bool own, double p) {
+    if (own) return stats::quantile(statistics_sorted, p);
     const stats::QuantilePosition at = stats::quantile_position(other_n, p);
     const std::int64_t low = kth_value(statistics_sorted, flagged_sorted, !included, at.lower);
     if (at.fraction == 0.0) return static_cast<double>(low);
     return stats::interpolate(low, kth_value(statistics_sorted, flagged_sorted, !included, at.lower + 1),
                               at.fraction);
   };
-  const bool own_empty = n == 0, other_empty = other_n == 0;
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  const auto median = [&](bool own) { return (own ? own_empty : other_empty) ? nan : (own ? own_quantile(0.5) : other_quantile(0.5)) / 1e6; };
-  const auto iqr = [&](bool own) {
-    if (own ? own_empty : other_empty) return nan;
-    return own ? (own_quantile(0.75) - own_quantile(0.25)) / 1e6 : (other_quantile(0.75) - other_quantile(0.25)) / 1e6;
+  const auto fill = [&](bool own, double& median_ms, double& iqr_ms) {
+    if ((own ? n : other_n) == 0) {
+      median_ms = iqr_ms = std::numeric_limits<double>::quiet_NaN();
+      return;
+    }
+    median_ms = quantile(own, 0.5) / 1e6;
+    iqr_ms = (quantile(own, 0.75) - quantile(own, 0.25)) / 1e6;
   };
   e.n_with = included ? n : other_n;
   e.n_without = included ? other_n : n;
-  e.median_with_ms = median(included);
-  e.median_without_ms = median(!included);
-  e.iqr_with_ms = iqr(included);
-  e.iqr_without_ms = iqr(!included);
+  fill(included, e.median_with_ms, e.iqr_with_ms);
+  fill(!included, e.median_without_ms, e.iqr_without_ms);
   if (ci) {
     e.half_median_ci_ms = ci->median_ms.width() / 2;
     e.half_iqr_ci_ms = ci->iqr_ms.width() / 2;

@@ -23,23 +23,22 @@ bool ScenarioResult::in_statistics(std::size_t i) const {
   return (include_ambiguous || !match.pairs[i].ambiguous()) && admitted(i);
 }
 
-bool ScenarioResult::admitted(std::size_t i) const {
-  if (steps.steps() != 0 && step_mark(match.pairs[i]) == StepMark::unknown) return false;
-  return !(refuse_gated && i < uncertainty.size() && uncertainty[i].gated());
+bool ScenarioResult::admitted(std::size_t i) const { return not_admitted(i).empty(); }
+
+std::string_view ScenarioResult::not_admitted(std::size_t i) const {
+  if (steps.steps() != 0 && step_mark(match.pairs[i]) == StepMark::unknown) return "after_clock_step";
+  if (refuse_gated && i < uncertainty.size() && uncertainty[i].gated()) return "sync_gated";
+  return {};
 }
 
 std::string_view ScenarioResult::left_out(std::size_t i) const {
   const std::uint32_t flags = match.pairs[i].flags & pairing::kPairUncertain;
-  if (!include_ambiguous && flags != 0) {
-    if (flags & pairing::kPairAmbiguous) return "ambiguous";
-    if (flags & pairing::kPairCompeting) return "competing";
-    if (flags & pairing::kPairJump) return "jump";
-    if (flags & pairing::kPairBounced) return "bounced";
-    return "improbable";
-  }
-  if (steps.steps() != 0 && step_mark(match.pairs[i]) == StepMark::unknown) return "after_clock_step";
-  if (refuse_gated && i < uncertainty.size() && uncertainty[i].gated()) return "sync_gated";
-  return {};
+  if (include_ambiguous || flags == 0) return not_admitted(i);
+  if (flags & pairing::kPairAmbiguous) return "ambiguous";
+  if (flags & pairing::kPairCompeting) return "competing";
+  if (flags & pairing::kPairJump) return "jump";
+  if (flags & pairing::kPairBounced) return "bounced";
+  return "improbable";
 }
 
 std::vector<std::int64_t> ScenarioResult::latencies_ns() const {

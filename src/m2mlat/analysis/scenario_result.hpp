@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "m2mlat/analysis/board_record.hpp"
@@ -52,8 +53,9 @@ struct ScenarioResult {
   // include_ambiguous, not gated when refused, not after a clock step of unknown offset).
   bool in_statistics(std::size_t i) const;
   // Whether match.pairs[i] would be in the statistics whatever its pairing flags: not gated when refused,
-  // not after a clock step of unknown offset.
+  // not after a clock step of unknown offset; and if not, why (after_clock_step, sync_gated; else empty).
   bool admitted(std::size_t i) const;
+  std::string_view not_admitted(std::size_t i) const;
   // Why match.pairs[i] is not in the statistics: its lowest pairing flag's name (ambiguous, competing,
   // jump, bounced, improbable), after_clock_step or sync_gated; empty when it is in.
   std::string_view left_out(std::size_t i) const;
