@@ -1,4 +1,4 @@
-// A scenario's pairing counts from its match, its statistics and its interference filter.
+// A scenario's pairing counts from its match and its statistics.
 #include "m2mlat/analysis/pairing_counts.hpp"
 
 namespace m2mlat::analysis {
@@ -14,10 +14,6 @@ PairingCounts pairing_counts(const ScenarioResult& r) {
       case pairing::UnmatchedReason::no_candidate: ++side.no_candidate; break;
       case pairing::UnmatchedReason::outmatched: ++side.outmatched; break;
     }
-  }
-  if (const auto& g = r.input.glitches) {
-    c.cause.interference = static_cast<std::size_t>(g->cause);
-    c.effect.interference = static_cast<std::size_t>(g->effect);
   }
   c.pairs = r.match.pairs.size();
   c.flagged = r.ambiguous_pairs();

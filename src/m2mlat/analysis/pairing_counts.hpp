@@ -4,20 +4,17 @@
 #pragma once
 
 #include <cstddef>
-#include <optional>
 
 #include "m2mlat/analysis/scenario_result.hpp"
 
 namespace m2mlat::analysis {
 
 struct SideCounts {
-  std::size_t edges = 0;         // given to the matcher (after the interference filter)
+  std::size_t edges = 0;         // given to the matcher (after the interference filter, whose drops are
+                                 // ScenarioInput::glitches)
   std::size_t bounces = 0;       // dropped as bounces within the refractory period of a kept edge
   std::size_t no_candidate = 0;  // not bounces, no edge of the other side within the window
   std::size_t outmatched = 0;    // not bounces, candidates taken by a better alignment
-  // Dropped before pairing as interference (--min-pulse): unset when the filter did not run (a
-  // kernel log or export holds one edge per pass: no pulse width to judge).
-  std::optional<std::size_t> interference;
   std::size_t unpaired() const { return no_candidate + outmatched; }  // edges without partner, bounces apart
 };
 
