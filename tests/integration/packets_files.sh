@@ -21,7 +21,16 @@ pcap("sender.pcap", 101, [(T0 + k * 10_000_000 + 250_000, udp_ip(c)) for k, c in
 # The receiver sees command 1 first (reordered on the way), 2 never.
 pcap("receiver.pcap", 101, [(T0 + 10_000_000 + 20_000_007, udp_ip(cmds[1])), (T0 + 20_123_456, udp_ip(cmds[0]))])
 pcap("wifi.pcap", 105, [(T0, b"\0" * 40)])
+# pcap's seconds are unsigned 32-bit: times from 2038-01-19 03:14:08 UTC to 2106.
+LATE = [2**31 * 10**9 + 5, 4_200_000_000 * 10**9 + 123_456_789]
+pcap("late.pcap", 101, [(t, udp_ip(json.dumps({"seq": k}).encode())) for k, t in enumerate(LATE)])
+open("late.expected", "w").write(" ".join(map(str, LATE)))
 PYEOF
+"$M2MLAT" packets late.pcap --key json:seq --json | $PY -c '
+import json, sys
+d = json.load(sys.stdin)
+times = " ".join(str(m["time_ns"]) for m in d["markers"])
+assert times == open("late.expected").read(), times'
 "$M2MLAT" packets sender.pcap --peer receiver.pcap --key json:seq --sender-ms stamp --csv -o oneway.csv
 expected='key,sent_ns,received_ns,one_way_ns,one_way_ms,sender_ns,sender_to_sent_ns,sender_to_received_ns,sent_origin,received_origin
 0,1764000000000250000,1764000000020123456,19873456,19.873456,1764000000000000000,250000,20123456,sender.pcap#1 udp 10.0.0.1:40000>10.0.0.2:7001,receiver.pcap#2 udp 10.0.0.1:40000>10.0.0.2:7001

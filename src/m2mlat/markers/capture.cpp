@@ -18,6 +18,10 @@ namespace {
 
 constexpr int kLiveTimeoutMs = 100;  // a live read returns after this long without a packet
 
+// A pcap file's seconds are unsigned 32-bit (to 2106); libpcap hands them on through a signed 32-bit
+// field, so a time from 2038-01-19 03:14:08 UTC on arrives negative.
+std::int64_t seconds_since_epoch(std::int64_t tv_sec) { return tv_sec < 0 ? tv_sec + (std::int64_t{1} << 32) : tv_sec; }
+
 }  // namespace
 
 struct Capture::Filter {  // a compiled BPF filter, freed with it
@@ -164,7 +168,7 @@ bool Capture::next(RawPacket& packet) {
     if (filter_ && pcap_offline_filter(&filter_->program, header, data) == 0) continue;
     if (dumper_ != nullptr) pcap_dump(reinterpret_cast<u_char*>(dumper_), header, data);
     // With nanosecond precision requested, libpcap's tv_usec field holds nanoseconds.
-    packet.time_ns = std::int64_t{header->ts.tv_sec} * 1'000'000'000 + std::int64_t{header->ts.tv_usec};
+    packet.time_ns = seconds_since_epoch(header->ts.tv_sec) * 1'000'000'000 + std::int64_t{header->ts.tv_usec};
     packet.index = read_;
     packet.bytes = std::span<const std::uint8_t>(data, header->caplen);
     packet.wire_length = header->len;
