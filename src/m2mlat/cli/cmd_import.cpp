@@ -135,11 +135,15 @@ std::map<std::string, std::vector<store::ClockSample>> clock_of(const formats::E
 // chronyd's steps as step records: the line's stamp is after the step (chronyd logs it at once; the
 // logger stamps it on receipt, allowed 1 s) and before the stamp's next tick; the size is exact to
 // the microsecond chronyd prints.
-std::vector<store::ClockSample> chrony_steps(const std::string& path) {
+struct ChronySteps {
+  std::vector<store::ClockSample> samples;
+  std::size_t failed = 0;  // "Could not step system clock": no step stored
+};
+ChronySteps chrony_steps(const std::string& path) {
   const auto input = formats::InputText::read_file(path);
   formats::check_input(input.text(), input.name());
   const auto log = formats::import_chrony_log(input.text(), input.name());
-  std::vector<store::ClockSample> out;
+  ChronySteps out{{}, log.failed_steps};
   for (const auto& s : log.steps) {
     store::ClockStep step;
     step.at_ns = s.time_ns + s.resolution_ns;
@@ -147,7 +151,7 @@ std::vector<store::ClockSample> chrony_steps(const std::string& path) {
     step.size_ns = s.size_ns;
     if (s.size_ns) step.size_max_ns = 500, step.size_est_ns = 289;  // +-0.5 us, uniform: 0.5/sqrt(3)
     step.origin = "chrony";
-    out.push_back(store::step_clock_sample(step));
+    out.samples.push_back(store::step_clock_sample(step));
   }
   return out;
 }
@@ -283,8 +287,8 @@ int run_import(const ImportCommand& c) {
 
   if (!c.clock_log.empty()) {
     // chronyd's steps go with the node's sessions of this import, or into one of their own.
-    auto steps = chrony_steps(c.clock_log);
-    nlohmann::json entry{{"file", c.clock_log}, {"format", "chrony-log"}, {"steps", steps.size()}};
+    auto [steps, failed] = chrony_steps(c.clock_log);
+    nlohmann::json entry{{"file", c.clock_log}, {"format", "chrony-log"}, {"steps", steps.size()}, {"failed_steps", failed}};
     bool placed = false;
     for (auto& p : pending)
       if (p.session.node == c.node) {
@@ -370,8 +374,11 @@ int write_import(const ImportCommand& c, std::vector<PendingSession>& pending,
     print_json(doc);
   } else {
     for (const auto& f : clock_logs)
-      fmt::print("{} (chrony-log): {} clock steps of {}\n", core::printable(f["file"].get<std::string>()),
-                 f["steps"].get<std::size_t>(), core::printable(f["node"].get<std::string>()));
+      fmt::print("{} (chrony-log): {} clock steps of {}{}\n", core::printable(f["file"].get<std::string>()),
+                 f["steps"].get<std::size_t>(), core::printable(f["node"].get<std::string>()),
+                 f["failed_steps"].get<std::size_t>() > 0
+                     ? fmt::format(" ({} failed steps, not counted)", f["failed_steps"].get<std::size_t>())
+                     : "");
     for (const auto& f : report)
       for (const auto& s : f["sessions"])
         if (s.contains("samples"))

@@ -18,6 +18,9 @@ constexpr std::string_view kWrong = "System clock wrong by ";
 constexpr std::string_view kForward = "Forward time jump detected!";
 constexpr std::string_view kBackward = "Backward time jump detected!";
 constexpr std::string_view kSeconds = " seconds";
+constexpr std::string_view kInitial = "System's initial offset : ";
+constexpr std::string_view kLeap = "System clock was stepped for leap second";
+constexpr std::string_view kFailed = "Could not step system clock";
 
 bool digits(std::string_view text, std::size_t pos, std::size_t count, int& out) {
   if (pos + count > text.size()) return false;
@@ -93,23 +96,44 @@ ChronyLogImport import_chrony_log(std::string_view text, std::string_view name) 
   ChronyLogImport result;
   LineReader reader(text);
   std::string_view line;
+  bool last_announced = false;  // the last step kept was announced, not yet confirmed
   while (reader.next(line)) {
     const long number = reader.line_number();
     std::optional<std::int64_t> size;
     bool step = false;
+    bool announced = false;  // told before it is made: "(step)", which a failure may still undo
     std::size_t at = 0;
     if ((at = line.find(kStepped)) != std::string_view::npos) {
       step = true;
       size = require_decimal_seconds(name, number, "step", trim(seconds_after(line, at, kStepped)));
     } else if ((at = line.find(kWrong)) != std::string_view::npos) {
       if (line.find(" seconds (step)", at) != std::string_view::npos) {
-        step = true;
+        step = announced = true;
         size = require_decimal_seconds(name, number, "step", trim(seconds_after(line, at, kWrong)));
       }
+    } else if ((at = line.find(kInitial)) != std::string_view::npos) {
+      // initstepslew: "X seconds fast of true (step)" steps the clock back by X, "slow" forward.
+      if (line.find(" of true (step)", at) != std::string_view::npos) {
+        step = announced = true;
+        size = require_decimal_seconds(name, number, "step", trim(seconds_after(line, at, kInitial)));
+        if (line.find(" seconds fast of true", at) != std::string_view::npos) *size = -*size;
+      }
+    } else if (line.find(kLeap) != std::string_view::npos) {
+      step = true;  // one second back for an inserted leap second, forward for a deleted one: unsaid
     } else if (line.find(kForward) != std::string_view::npos || line.find(kBackward) != std::string_view::npos) {
       step = true;
+    } else if (line.find(kFailed) != std::string_view::npos) {
+      ++result.chrony_lines;
+      ++result.failed_steps;
+      // The step it announced did not happen (the clock kept its reading: the stamps stay close).
+      if (!result.steps.empty() && last_announced) {
+        const auto stamp = parse_log_stamp(trim(line));
+        if (stamp && std::llabs(stamp->ns - result.steps.back().time_ns) <= 2'000'000'000) result.steps.pop_back();
+      }
+      last_announced = false;
+      continue;
     }
-    if (step || line.find("System clock") != std::string_view::npos)
+    if (step || line.find("System clock") != std::string_view::npos || line.find(kInitial) != std::string_view::npos)
       ++result.chrony_lines;
     else if (!is_blank(line))
       ++result.ignored_lines;
@@ -124,9 +148,13 @@ ChronyLogImport import_chrony_log(std::string_view text, std::string_view name) 
     if (!result.steps.empty()) {
       const auto& last = result.steps.back();
       const std::int64_t near = 2'000'000'000 + (size ? std::llabs(*size) : 0);
-      if (last.size_ns == size && std::llabs(s.time_ns - last.time_ns) <= near) continue;
+      if (last.size_ns == size && std::llabs(s.time_ns - last.time_ns) <= near) {
+        last_announced = last_announced && announced;
+        continue;
+      }
     }
     result.steps.push_back(s);
+    last_announced = announced;
   }
   if (result.chrony_lines == 0)
     throw_line_error(name, 0,

@@ -4,8 +4,13 @@
 // sources: reference.c, sched.c):
 //   "System clock was stepped by X seconds"   chronyd stepped the clock by X (makestep, chronyc makestep)
 //   "System clock wrong by X seconds (step)"  chronyd -q stepped it by X
+//   "System's initial offset : X seconds fast of true (step)"
+//                                             initstepslew stepped it by -X ("slow": by +X; "(slew)": no step)
+//   "System clock was stepped for leap second" a leap second: a step of unknown sign (1 s)
 //   "Forward time jump detected!" / "Backward time jump detected!"
 //                                             something else set the clock: a step of unknown size
+//   "Could not step system clock"             the step announced just before (a "(step)" line within
+//                                             2 s) did not happen: it is taken back, and counted
 // "System clock wrong by X seconds" without "(step)" ("adjustment started", "(ignored)", or the
 // notice before a "stepped by" line) is a slew, a dry run or the same step again: not a step.
 // X is exact decimal seconds (chrony prints microseconds: the size is known to +-0.5 us).
@@ -35,6 +40,7 @@ struct ChronyLogImport {
   std::vector<ChronyStep> steps;   // in file order; a step reported twice is kept once
   std::size_t chrony_lines = 0;    // lines with a chronyd message about the system clock
   std::size_t ignored_lines = 0;   // every other line
+  std::size_t failed_steps = 0;    // "Could not step system clock" lines
 };
 
 // Throws core::Error(data) naming file:line for a step line whose stamp cannot be read, and for a

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <fstream>
 #include <sstream>
 
 #include "formats_test_support.hpp"
@@ -115,6 +116,41 @@ TEST(ChronyLog, StepsWithTheirSizeTimeAndResolution) {
   EXPECT_EQ(log.steps[3], (ChronyStep{7, k0900 + 3'600'000'000'000, 1'000'000'000, -2'320'000}));
   EXPECT_EQ(log.chrony_lines, 6u);
   EXPECT_EQ(log.ignored_lines, 1u);
+}
+
+TEST(ChronyLog, InitialOffsetsLeapSecondsAndFailedSteps) {
+  const auto log = import_chrony_log(
+      "2026-06-01T09:00:00Z chronyd[1]: System's initial offset : 0.250000 seconds fast of true (step)\n"
+      "2026-06-01T09:01:00Z chronyd[1]: System's initial offset : 1.500000 seconds slow of true (step)\n"
+      "2026-06-01T09:02:00Z chronyd[1]: System's initial offset : 0.000100 seconds fast of true (slew)\n"
+      "2026-06-01T09:03:00Z chronyd[1]: System clock wrong by 3.000000 seconds (step)\n"
+      "2026-06-01T09:03:00Z chronyd[1]: Could not step system clock\n"
+      "2026-06-01T09:04:00Z chronyd[1]: System clock wrong by 2.535004 seconds\n"
+      "2026-06-01T09:04:00Z chronyd[1]: Could not step system clock\n"
+      "2026-06-30T23:59:60Z chronyd[1]: System clock was stepped for leap second\n",
+      "chrony.log");
+  constexpr std::int64_t k0900 = 1'780'304'400'000'000'000;  // 2026-06-01T09:00:00Z
+  ASSERT_EQ(log.steps.size(), 3u);
+  EXPECT_EQ(log.steps[0], (ChronyStep{1, k0900, 1'000'000'000, -250'000'000}));
+  EXPECT_EQ(log.steps[1], (ChronyStep{2, k0900 + 60'000'000'000, 1'000'000'000, 1'500'000'000}));
+  EXPECT_EQ(log.steps[2].line, 8);
+  EXPECT_EQ(log.steps[2].size_ns, std::nullopt);  // its sign is not in the line
+  EXPECT_EQ(log.failed_steps, 2u);
+  EXPECT_EQ(log.chrony_lines, 8u);
+}
+
+// A real chronyd's debug log from another system (../shared/data/real/chrony, beside the checkout):
+// eleven "wrong by" notices, none of them a step.
+TEST(ChronyLog, ARealDebugLogOfNoticesHasNoSteps) {
+  const std::string path = std::string(M2MLAT_TEST_DATA) + "/../../../shared/data/real/chrony/omnios_chronyd_debug.log";
+  std::ifstream in(path);
+  ASSERT_TRUE(in) << path << " (the shared data beside the checkout) is missing";
+  std::stringstream text;
+  text << in.rdbuf();
+  const auto log = import_chrony_log(text.str(), path);
+  EXPECT_TRUE(log.steps.empty());
+  EXPECT_EQ(log.chrony_lines, 11u);
+  EXPECT_EQ(log.ignored_lines, 0u);
 }
 
 TEST(ChronyLog, UnplaceableOrForeignLogsAreRefused) {
