@@ -3,7 +3,11 @@
 
 #include <fmt/format.h>
 
+#include <nlohmann/json.hpp>
+
+#include <charconv>
 #include <chrono>
+#include <climits>
 #include <cstdlib>
 
 #include "m2mlat/formats/fields.hpp"
@@ -37,6 +41,27 @@ std::string_view seconds_after(std::string_view line, std::size_t at, std::strin
   const std::size_t from = at + prefix.size();
   const std::size_t end = line.find(kSeconds, from);
   return end == std::string_view::npos ? std::string_view{} : line.substr(from, end - from);
+}
+
+// A line of `journalctl -o json`: its MESSAGE and its __REALTIME_TIMESTAMP (us since 1970, a string).
+struct JournalEntry {
+  std::string message;
+  LogStamp stamp;
+};
+std::optional<JournalEntry> journal_entry(std::string_view line) {
+  if (line.empty() || line.front() != '{') return std::nullopt;
+  const auto doc = nlohmann::json::parse(line, nullptr, false);
+  if (!doc.is_object() || !doc.contains("MESSAGE") || !doc["MESSAGE"].is_string()) return std::nullopt;
+  JournalEntry entry{doc["MESSAGE"].get<std::string>(), {}};
+  const auto at = doc.find("__REALTIME_TIMESTAMP");
+  if (at != doc.end() && at->is_string()) {
+    const auto text = at->get<std::string>();
+    std::int64_t us = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), us);
+    if (ec == std::errc{} && end == text.data() + text.size() && us >= 0 && us < INT64_MAX / 1000)
+      entry.stamp = LogStamp{us * 1000, 1000, 0};
+  }
+  return entry;
 }
 
 }  // namespace
@@ -99,6 +124,13 @@ ChronyLogImport import_chrony_log(std::string_view text, std::string_view name) 
   bool last_announced = false;  // the last step kept was announced, not yet confirmed
   while (reader.next(line)) {
     const long number = reader.line_number();
+    const auto journal = journal_entry(line);
+    if (journal) line = journal->message;
+    // The line's time: the journal's field, else the stamp the line starts with.
+    const auto stamp_of = [&]() -> std::optional<LogStamp> {
+      if (journal) return journal->stamp.resolution_ns > 0 ? std::optional(journal->stamp) : std::nullopt;
+      return parse_log_stamp(trim(line));
+    };
     std::optional<std::int64_t> size;
     bool step = false;
     bool announced = false;  // told before it is made: "(step)", which a failure may still undo
@@ -127,7 +159,7 @@ ChronyLogImport import_chrony_log(std::string_view text, std::string_view name) 
       ++result.failed_steps;
       // The step it announced did not happen (the clock kept its reading: the stamps stay close).
       if (!result.steps.empty() && last_announced) {
-        const auto stamp = parse_log_stamp(trim(line));
+        const auto stamp = stamp_of();
         if (stamp && std::llabs(stamp->ns - result.steps.back().time_ns) <= 2'000'000'000) result.steps.pop_back();
       }
       last_announced = false;
@@ -138,7 +170,7 @@ ChronyLogImport import_chrony_log(std::string_view text, std::string_view name) 
     else if (!is_blank(line))
       ++result.ignored_lines;
     if (!step) continue;
-    const auto stamp = parse_log_stamp(trim(line));
+    const auto stamp = stamp_of();
     if (!stamp)
       throw_line_error(name, number,
                        "a chronyd step message without a time and zone at the start of the line: write "

@@ -1,5 +1,5 @@
 // chronyd's own messages about clock steps, read from a log: the journal (`journalctl -u chrony -o
-// short-iso-precise`, or -o short-iso), rsyslog's high-precision files (RFC 3339 stamps), or
+// short-iso-precise`, -o short-iso, or -o json: MESSAGE at __REALTIME_TIMESTAMP), rsyslog's high-precision files (RFC 3339 stamps), or
 // chronyd's own log (`-d`, `logfile`: "2026-06-01T09:00:00Z ..."). The messages (chrony's
 // sources: reference.c, sched.c):
 //   "System clock was stepped by X seconds"   chronyd stepped the clock by X (makestep, chronyc makestep)

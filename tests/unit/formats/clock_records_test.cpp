@@ -139,6 +139,23 @@ TEST(ChronyLog, InitialOffsetsLeapSecondsAndFailedSteps) {
   EXPECT_EQ(log.chrony_lines, 8u);
 }
 
+TEST(ChronyLog, TheJournalsJsonLines) {
+  const auto log = import_chrony_log(
+      R"({"__REALTIME_TIMESTAMP":"1780304400123456","_SYSTEMD_UNIT":"chrony.service","MESSAGE":"System clock wrong by 16.044301 seconds"})"
+      "\n"
+      R"({"__REALTIME_TIMESTAMP":"1780304416200000","_SYSTEMD_UNIT":"chrony.service","MESSAGE":"System clock was stepped by 16.044301 seconds"})"
+      "\n"
+      R"({"__REALTIME_TIMESTAMP":"1780304417000000","MESSAGE":"Selected source 10.0.0.1"})"
+      "\n",
+      "journal.json");
+  ASSERT_EQ(log.steps.size(), 1u);
+  EXPECT_EQ(log.steps[0], (ChronyStep{2, 1'780'304'416'200'000'000, 1000, 16'044'301'000}));
+  EXPECT_EQ(log.chrony_lines, 2u);
+  EXPECT_EQ(log.ignored_lines, 1u);
+  expect_data_error([] { import_chrony_log(R"({"MESSAGE":"System clock was stepped by 1.0 seconds"})", "j.json"); },
+                    {"j.json:1:"});
+}
+
 // A real chronyd's debug log from another system (../shared/data/real/chrony, beside the checkout):
 // eleven "wrong by" notices, none of them a step.
 TEST(ChronyLog, ARealDebugLogOfNoticesHasNoSteps) {
