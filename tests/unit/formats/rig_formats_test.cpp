@@ -63,6 +63,26 @@ TEST(RigExport, LabelsFilterAndLeanScan) {
   EXPECT_EQ(series[1].ns, (std::vector<std::int64_t>{11'000'000'006}));
 }
 
+// The rig's export.sh: Line counts the rows, the pin is in the file's name.
+TEST(RigExport, ARowCounterIsOnePinTheFilesName) {
+  const std::string text = "Line,Seconds,Nanoseconds\n0,10,5\n1,11,6\n2,12,0\n";
+  ImportOptions options;
+  options.node = "vehicle";
+  const EventImport imported = import_rig_export_csv(text, "runs/Static_5G_measuremest_16.csv", options);
+  ASSERT_EQ(imported.events.size(), 3u);
+  for (const auto& e : imported.events) EXPECT_EQ(e.channel, "gpio16");
+  EXPECT_EQ(imported.events[2].time.ns(), 12'000'000'000);
+  EXPECT_EQ(import_rig_export_csv(text, "edges.csv", options).events[0].channel, "line");
+  const auto series = scan_rig_export_timestamps(text, "a_measurement_23.csv");
+  ASSERT_EQ(series.size(), 1u);
+  EXPECT_EQ(series[0].label, "23");
+  EXPECT_EQ(series[0].ns.size(), 3u);
+  // Counting from 1 is a counter too; a pin that repeats, or a count that skips, is not.
+  EXPECT_EQ(rig_export_line_label("Line,Seconds,Nanoseconds\n1,1,0\n2,2,0\n", "x_measuremest_5.csv"), "5");
+  EXPECT_EQ(rig_export_line_label("Line,Seconds,Nanoseconds\n0,1,0\n2,2,0\n", "x_measuremest_5.csv"), "");
+  EXPECT_EQ(rig_export_line_label("Line,Seconds,Nanoseconds\n16,1,0\n16,2,0\n", "x_measuremest_5.csv"), "");
+}
+
 TEST(RigExport, MalformedRows) {
   const std::string header = "Line,Seconds,Nanoseconds\n";
   expect_data_error([&] { import_rig_export_csv(header + "16,1,1000000000\n", "e.csv", {}); },
