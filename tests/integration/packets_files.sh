@@ -54,5 +54,9 @@ expect_exit 66 "$M2MLAT" packets missing.pcap
 expect_exit 2 "$M2MLAT" packets sender.pcap --key json
 grep -q "key 'json'" err.txt || fail "bad key: $(cat err.txt)"
 expect_exit 2 "$M2MLAT" packets sender.pcap --filter 'udp port x'
+# A filter that passes nothing says so, with what the capture held; the summary comes first.
+"$M2MLAT" packets sender.pcap --key json:seq --filter 'tcp port 7000' >none.txt 2>none.err
+grep -q "the filter 'tcp port 7000' passed none of its 3 packets" none.err || fail "empty filter: $(cat none.err)"
+head -1 table.txt | grep -q "^one-way: n 2" || fail "summary first: $(head -2 table.txt)"
 expect_exit 2 "$M2MLAT" packets sender.pcap --interface lo
 echo "packets_files: ok"

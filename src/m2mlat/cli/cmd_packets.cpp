@@ -54,6 +54,14 @@ std::string counts_text(const markers::CaptureCounts& c) {
   return text;
 }
 
+// A filter that passed nothing is said, with what the capture held.
+void warn_if_filtered_out(const PacketsCommand& c, const markers::CaptureCounts& counts) {
+  if (c.filter.empty() || counts.packets != 0) return;
+  std::cerr << fmt::format("m2mlat: warning: {}: the filter '{}' passed none of its {} packets{}\n",
+                           c.interface.empty() ? c.file : c.interface, c.filter, counts.seen,
+                           counts.seen == 0 ? "" : "; `tcpdump -nr FILE | head` shows what they are");
+}
+
 std::vector<markers::Marker> read_capture(const PacketsCommand& c, markers::CaptureCounts& counts) {
   markers::MarkerOptions options;
   options.rule.filter = c.filter;
@@ -64,6 +72,7 @@ std::vector<markers::Marker> read_capture(const PacketsCommand& c, markers::Capt
   const auto keep = [&](markers::Marker&& m) { found.push_back(std::move(m)); };
   if (c.interface.empty()) {
     found = markers::read_file_markers(c.file, options, &counts);
+    warn_if_filtered_out(c, counts);
     return found;
   }
   const auto duration = duration_flag("--duration", c.duration, true);
@@ -80,6 +89,7 @@ std::vector<markers::Marker> read_capture(const PacketsCommand& c, markers::Capt
     if (!stop.take().empty()) return false;
     return duration.count() == 0 || core::monotonic_now() < end;
   });
+  warn_if_filtered_out(c, counts);
   return found;
 }
 
@@ -106,7 +116,7 @@ int run_packets(const PacketsCommand& c) {
       for (const auto& m : sent)
         table.add_row({m.node, core::format_seconds(m.time.ns()), m.key,
                        m.sender_time ? ms_of(m.time.ns() - m.sender_time->ns()) : "-", m.origin});
-      core::write_output_file(c.out, fmt::format("{}{} markers; {}\n", table.render(), sent.size(), counts_text(counts)));
+      core::write_output_file(c.out, fmt::format("{} markers; {}\n{}", sent.size(), counts_text(counts), table.render()));
     }
     return 0;
   }
@@ -132,13 +142,12 @@ int run_packets(const PacketsCommand& c) {
                    command.sender_ns ? ms_of(command.sent_ns - *command.sender_ns) : "-",
                    command.sender_ns ? ms_of(command.received_ns - *command.sender_ns) : "-"});
   const auto summary = markers::summarize(match);
-  std::string text = table.render();
-  text += fmt::format("one-way: n {}, median {} ms, p95 {} ms\n", summary.n, report::ms_text(summary.median_ns / 1e6, 3),
+  std::string text = fmt::format("one-way: n {}, median {} ms, p95 {} ms\n", summary.n, report::ms_text(summary.median_ns / 1e6, 3),
                       report::ms_text(summary.p95_ns / 1e6, 3));
   text += fmt::format("unmatched: {} only in the sender's capture, {} only in the receiver's, {} repeated keys\n",
                       match.sender_only, match.receiver_only, match.repeated_keys);
   text += fmt::format("sender's capture: {}\nreceiver's capture: {}\n", counts_text(counts), counts_text(peer_counts));
-  core::write_output_file(c.out, text);
+  core::write_output_file(c.out, text + table.render());
   return 0;
 }
 

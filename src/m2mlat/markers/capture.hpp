@@ -64,6 +64,8 @@ class Capture {
   const std::string& name() const { return name_; }  // the file's path or the interface
   // The kernel's drop count of a live capture (packets it had no room for); 0 for a file.
   std::uint64_t dropped() const;
+  // Packets read so far, before the filter.
+  std::uint64_t read() const { return read_; }
 
  private:
   Capture(pcap* handle, std::string name, bool live, StampSource source);

@@ -40,7 +40,7 @@ std::string markers_csv(std::span<const Marker> markers) {
 }
 
 nlohmann::json counts_json(const CaptureCounts& c) {
-  return {{"packets", c.packets},         {"segments", c.segments},
+  return {{"seen", c.seen},               {"packets", c.packets},         {"segments", c.segments},
           {"other", c.other},             {"fragments", c.fragments},
           {"snapped", c.snapped},         {"malformed", c.malformed},
           {"messages", c.messages},       {"without_key", c.without_key},

@@ -68,6 +68,7 @@ CaptureCounts read_markers(Capture& capture, const MarkerOptions& options,
   counts.out_of_order = streams.out_of_order_segments();
   counts.incomplete_bytes = streams.incomplete_bytes();
   counts.dropped = capture.dropped();
+  counts.seen = capture.read();
   return counts;
 }
 

@@ -17,6 +17,7 @@ namespace m2mlat::markers {
 
 // What a capture held besides its markers: every count is shown, nothing is dropped silently.
 struct CaptureCounts {
+  std::uint64_t seen = 0;         // packets read, before the filter
   std::uint64_t packets = 0;      // packets the filter passed
   std::uint64_t segments = 0;     // of them, UDP or TCP segments
   std::uint64_t other = 0;        // of another protocol
