@@ -83,7 +83,7 @@ int run_bag(const BagCommand& c) {
 
 Runner attach_bag(CLI::App& sub) {
   auto c = std::make_shared<BagCommand>();
-  sub.add_option("bag", c->bag, "The ROS 2 bag: an .mcap file")->required();
+  sub.add_option("bag", c->bag, "The ROS 2 bag: an .mcap file, or a rosbag2 folder (metadata.yaml and its .mcap files)")->required();
   sub.add_option("--topic", c->topics, "TOPIC or TOPIC:MARKERNAME (repeatable); the marker's name is the topic by default")
       ->required();
   sub.add_option("--time", c->time,

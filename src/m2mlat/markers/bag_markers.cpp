@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -42,15 +43,60 @@ BagKey parse_bag_key(const std::string& text) {
 }
 
 
-BagMarkers bag_markers(const std::string& path, const BagOptions& options) {
-  if (options.topics.empty()) throw core::Error(core::ErrorKind::usage, "no --topic given");
+namespace {
+
+// rosbag2's sqlite3 storage: not MCAP.
+[[noreturn]] void refuse_db3(const std::string& path) {
+  throw core::Error(core::ErrorKind::data,
+                    fmt::format("{}: a rosbag2 bag in sqlite3 storage (.db3); m2mlat reads MCAP: convert it with "
+                                "`ros2 bag convert -i BAG -o out.yaml` (out.yaml: output_bags: [{{uri: BAG_mcap, "
+                                "storage_id: mcap}}])",
+                                path));
+}
+
+// The MCAP files of a bag: the file itself, or a rosbag2 folder's .mcap files in the order of
+// their split number (<bag>_0.mcap, <bag>_1.mcap, ... <bag>_10.mcap).
+std::vector<std::string> bag_files(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (fs::path(path).extension() == ".db3") refuse_db3(path);
+  if (!fs::is_directory(path)) return {path};
+  std::vector<std::pair<std::pair<std::size_t, std::string>, std::string>> found;  // (split, name) -> path
+  bool db3 = false;
+  for (const auto& entry : fs::directory_iterator(path)) {
+    const auto file = entry.path();
+    if (file.extension() == ".db3") db3 = true;
+    if (file.extension() != ".mcap") continue;
+    const std::string stem = file.stem().string();
+    const auto underscore = stem.find_last_of('_');
+    std::size_t split = 0;
+    if (underscore != std::string::npos && stem.find_first_not_of("0123456789", underscore + 1) == std::string::npos &&
+        underscore + 1 < stem.size())
+      split = std::stoul(stem.substr(underscore + 1));
+    found.push_back({{split, file.filename().string()}, file.string()});
+  }
+  if (found.empty() && db3) refuse_db3(path);
+  if (found.empty())
+    throw core::Error(core::ErrorKind::no_input, fmt::format("{}: a folder without .mcap files (a rosbag2 bag holds "
+                                                             "metadata.yaml and <bag>_0.mcap ...)", path));
+  std::sort(found.begin(), found.end());
+  std::vector<std::string> out;
+  for (auto& f : found) out.push_back(std::move(f.second));
+  return out;
+}
+
+// The markers' node by default: a file's name without its extension, a folder's name.
+std::string default_node(const std::string& path) {
+  auto p = std::filesystem::path(path).lexically_normal();
+  if (!p.has_filename()) p = p.parent_path();  // "bag/"
+  return std::filesystem::is_directory(path) ? p.filename().string() : p.stem().string();
+}
+
+// One MCAP file's markers and topic counts (bag_markers without the check of missing topics).
+void file_markers(const std::string& path, const BagOptions& options, const std::string& node, BagMarkers& out) {
   std::map<std::string, std::string> wanted;  // topic -> marker name
   for (const auto& t : options.topics) wanted[t.topic] = t.marker.empty() ? t.topic : t.marker;
-  const std::string node =
-      options.node.empty() ? std::filesystem::path(path).stem().string() : options.node;
   const bool need_stamp_always = options.time == BagTime::header || options.key == BagKey::stamp;
 
-  BagMarkers out;
   // Whether each chosen channel's type has a header, decided at its first message.
   std::map<std::uint16_t, bool> header_of;
   const std::string& where_file = path;
@@ -98,8 +144,20 @@ BagMarkers bag_markers(const std::string& path, const BagOptions& options) {
     count.topic = channel.topic;
     if (const auto s = result.schemas.find(channel.schema_id); s != result.schemas.end()) count.type = s->second.name;
     if (const auto n = result.messages.find(id); n != result.messages.end()) count.messages = n->second;
-    out.topics.push_back(std::move(count));
+    // A topic again in a later file of the bag adds its messages to the first file's count.
+    const auto same = std::find_if(out.topics.begin(), out.topics.end(), [&](const auto& t) { return t.topic == count.topic; });
+    if (same != out.topics.end()) same->messages += count.messages;
+    else out.topics.push_back(std::move(count));
   }
+}
+
+}  // namespace
+
+BagMarkers bag_markers(const std::string& path, const BagOptions& options) {
+  if (options.topics.empty()) throw core::Error(core::ErrorKind::usage, "no --topic given");
+  const std::string node = options.node.empty() ? default_node(path) : options.node;
+  BagMarkers out;
+  for (const auto& file : bag_files(path)) file_markers(file, options, node, out);
   std::set<std::string> present;
   for (const auto& t : out.topics) present.insert(t.topic);
   for (const auto& t : options.topics) {
