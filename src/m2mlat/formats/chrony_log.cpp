@@ -7,7 +7,7 @@
 
 #include <charconv>
 #include <chrono>
-#include <climits>
+#include <cstdint>
 #include <cstdlib>
 
 #include "m2mlat/formats/fields.hpp"
@@ -134,6 +134,7 @@ ChronyLogImport import_chrony_log(std::string_view text, std::string_view name) 
     std::optional<std::int64_t> size;
     bool step = false;
     bool announced = false;  // told before it is made: "(step)", which a failure may still undo
+    bool initial = false;    // an initstepslew line, a step or a slew
     std::size_t at = 0;
     if ((at = line.find(kStepped)) != std::string_view::npos) {
       step = true;
@@ -144,6 +145,7 @@ ChronyLogImport import_chrony_log(std::string_view text, std::string_view name) 
         size = require_decimal_seconds(name, number, "step", trim(seconds_after(line, at, kWrong)));
       }
     } else if ((at = line.find(kInitial)) != std::string_view::npos) {
+      initial = true;
       // initstepslew: "X seconds fast of true (step)" steps the clock back by X, "slow" forward.
       if (line.find(" of true (step)", at) != std::string_view::npos) {
         step = announced = true;
@@ -165,7 +167,7 @@ ChronyLogImport import_chrony_log(std::string_view text, std::string_view name) 
       last_announced = false;
       continue;
     }
-    if (step || line.find("System clock") != std::string_view::npos || line.find(kInitial) != std::string_view::npos)
+    if (step || initial || line.find("System clock") != std::string_view::npos)
       ++result.chrony_lines;
     else if (!is_blank(line))
       ++result.ignored_lines;
